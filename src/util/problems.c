@@ -1,0 +1,34 @@
+/*
+ * problems.c: the bounded problem list used by validation and rule checks.
+ */
+#include "util/problems.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+void prsm_problems_init(prsm_problems *p)
+{
+	p->count = 0;
+	p->dropped = 0;
+}
+
+void prsm_problems_add(prsm_problems *p, const char *pointer, const char *code, const char *fmt, ...)
+{
+	if (p->count >= PRSM_PROBLEMS_MAX) {
+		p->dropped++;
+		return;
+	}
+	prsm_problem *it = &p->items[p->count++];
+	snprintf(it->pointer, sizeof it->pointer, "%s", pointer ? pointer : "");
+	snprintf(it->code, sizeof it->code, "%s", code ? code : "");
+	va_list ap;
+	va_start(ap, fmt);
+	vsnprintf(it->message, sizeof it->message, fmt, ap);
+	va_end(ap);
+}
+
+int prsm_problems_total(const prsm_problems *p)
+{
+	return p->count + p->dropped;
+}
