@@ -1,0 +1,28 @@
+/*
+ * analysis_json.h: the nominal analysis as the JSON result document, and as a one-page text
+ * summary for engineers (`prsm analyze --format text`). Units are in every field name.
+ */
+#ifndef PRSM_IO_ANALYSIS_JSON_H
+#define PRSM_IO_ANALYSIS_JSON_H
+
+#include <cJSON.h>
+#include <stdio.h>
+
+#include "model/analysis.h"
+#include "util/problems.h"
+
+/* Build the result object; the caller owns it (cJSON_Delete). NULL when out of memory. */
+cJSON *prsm_io_analysis_to_json(const prsm_analysis *a, const prsm_design *d,
+                                const prsm_problems *warnings);
+
+/* Problems as a JSON array of {pointer, code, message}; caller owns it. */
+cJSON *prsm_io_problems_to_json(const prsm_problems *p);
+
+/* RFC 7807 problem document for a list of problems; caller owns it. */
+cJSON *prsm_io_problem_document(int status, const char *title, const prsm_problems *p);
+
+/* Write the engineer's one-page summary. */
+void prsm_io_analysis_print_text(FILE *out, const prsm_analysis *a, const prsm_design *d,
+                                 const prsm_problems *warnings);
+
+#endif

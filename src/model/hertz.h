@@ -1,0 +1,38 @@
+/*
+ * hertz.h: Hertz point contact in Harris's formulation (MODEL.md §6).
+ *
+ * From the relative principal curvatures k1 <= k2 (1/mm): sum rho = k1 + k2 and the curvature
+ * difference F(rho) = (k2 - k1)/(k1 + k2). The ellipticity kappa = a/b solves
+ *   F(rho) = ((kappa^2 + 1) E(e) - 2 K(e)) / ((kappa^2 - 1) E(e)),  e^2 = 1 - 1/kappa^2
+ * with complete elliptic integrals K, E (GSL). Then
+ *   a* = (2 kappa^2 E / pi)^(1/3), b* = (2 E / (pi kappa))^(1/3),
+ *   delta* = (2 K / pi) (pi / (2 kappa^2 E))^(1/3),
+ *   a = a* (3 Q S / (2 sum rho))^(1/3), b likewise, delta = delta* (3 Q S/(2 sum rho))^(2/3) sum rho/2,
+ *   p_max = 3 Q / (2 pi a b),  S = (1 - nu1^2)/E1 + (1 - nu2^2)/E2.
+ */
+#ifndef PRSM_MODEL_HERTZ_H
+#define PRSM_MODEL_HERTZ_H
+
+typedef struct {
+	double sum_rho_per_mm;   /* k1 + k2, 1/mm */
+	double curvature_difference; /* F(rho), - */
+	double kappa;            /* a/b, >= 1 */
+	double ellint_K, ellint_E; /* complete elliptic integrals of modulus e */
+	double a_star, b_star, delta_star; /* dimensionless Harris coefficients */
+	double a_mm, b_mm;       /* semi-axes of the contact ellipse, mm */
+	double delta_mm;         /* approach of the two bodies, mm */
+	double p_max_MPa;        /* peak pressure, MPa */
+	double load_N;           /* normal load Q, N */
+} prsm_hertz;
+
+/* Solve the contact of two bodies with relative principal curvatures k1, k2 (1/mm, both > 0)
+ * under normal load Q_N >= 0. Returns 0, or PRSM_EINVAL for non-positive curvature sums or
+ * moduli. */
+int prsm_hertz_solve(prsm_hertz *out, double k1_per_mm, double k2_per_mm, double E1_MPa,
+                     double nu1, double E2_MPa, double nu2, double Q_N);
+
+/* Only the dimensionless part: kappa, K, E, a*, b*, delta* for a curvature difference F in
+ * [0, 1). Returns 0 or PRSM_EINVAL. */
+int prsm_hertz_coefficients(prsm_hertz *out, double curvature_difference);
+
+#endif

@@ -1,0 +1,55 @@
+/*
+ * kinematics.c: ideal and contact-radius kinematics, sliding velocities (MODEL.md §5).
+ */
+#include "model/kinematics.h"
+
+#include <math.h>
+
+#include "model/geometry.h"
+
+/* Roller velocity minus body velocity at contact c (pair frame: screw axis at the origin,
+ * roller axis at (a, 0)), per unit screw speed, expressed in the body's cylindrical frame.
+ * body_spin: 1 for the screw, 0 for the nut; the nut translates axially at v. */
+static void relative_velocity(double out[3], const prsm_contact *c, double a, double kc,
+                              double spin, double v, double body_spin, double body_v)
+{
+	const double x = c->x_mm, y = c->y_mm;
+	/* roller: carrier rotation about z, spin about its axis, axial translation */
+	double vr[3] = {-kc * y - spin * y, kc * x + spin * (x - a), v};
+	double vb[3] = {-body_spin * y, body_spin * x, body_v};
+	double d[3] = {vr[0] - vb[0], vr[1] - vb[1], vr[2] - vb[2]};
+	double rho = hypot(x, y), er[2] = {x / rho, y / rho};
+	out[0] = d[0] * er[0] + d[1] * er[1];
+	out[1] = -d[0] * er[1] + d[1] * er[0];
+	out[2] = d[2];
+}
+
+static double norm3(const double v[3])
+{
+	return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+}
+
+int prsm_kinematics_compute(prsm_kinematics *out, const prsm_design *d, const prsm_contact *screw,
+                            const prsm_contact *nut)
+{
+	const double rs = d->screw_radius_mm, rr = d->roller_radius_mm, rn = d->nut_radius_mm;
+	const double a = prsm_design_orbit_radius_mm(d);
+	/* MODEL.md §5: rolling at the pitch circles */
+	out->carrier_ratio_ideal = rs / (2.0 * (rs + rr));
+	out->roller_spin_ratio_ideal = -(rn / rr) * out->carrier_ratio_ideal;
+	out->roller_abs_ratio_ideal = out->carrier_ratio_ideal + out->roller_spin_ratio_ideal;
+	/* rolling at the contact radii: Omega = -k_c rho_n/u_n; rho_s = k_c rho_s - Omega u_s */
+	const double rho_s = screw->body_rho_mm, u_s = screw->roller_u_mm;
+	const double rho_n = nut->body_rho_mm, u_n = nut->roller_u_mm;
+	out->carrier_ratio = rho_s / (rho_s + u_s * rho_n / u_n);
+	out->roller_spin_ratio = -out->carrier_ratio * rho_n / u_n;
+	out->roller_abs_ratio = out->carrier_ratio + out->roller_spin_ratio;
+	/* the nut advances one lead per screw turn, against the helix (MODEL.md §1) */
+	const double v = -prsm_design_screw_p(d);
+	out->nut_speed_mm_per_rad = v;
+	relative_velocity(out->slip_screw, screw, a, out->carrier_ratio, out->roller_spin_ratio, v, 1.0, 0.0);
+	relative_velocity(out->slip_nut, nut, a, out->carrier_ratio, out->roller_spin_ratio, v, 0.0, v);
+	out->slip_ratio_screw = norm3(out->slip_screw) / fabs(v);
+	out->slip_ratio_nut = norm3(out->slip_nut) / fabs(v);
+	return 0;
+}

@@ -1,0 +1,13 @@
+/*
+ * clock.c: monotonic clock.
+ */
+#include "util/clock.h"
+
+#include <time.h>
+
+double prsm_clock_seconds(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}

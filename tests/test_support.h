@@ -1,0 +1,51 @@
+/*
+ * test_support.h: shared fixtures of the unit tests (cmocka).
+ */
+#ifndef PRSM_TEST_SUPPORT_H
+#define PRSM_TEST_SUPPORT_H
+
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <cmocka.h>
+#include <math.h>
+#include <stdio.h>
+
+#include "model/geometry.h"
+
+#define DEG (M_PI / 180.0)
+
+/* |actual - expected| <= tol, with a readable failure message. */
+#define assert_close(actual, expected, tol)                                                       \
+	do {                                                                                          \
+		double a_ = (actual), e_ = (expected), t_ = (tol);                                        \
+		if (!(fabs(a_ - e_) <= t_)) {                                                             \
+			print_error("%s = %.12g, expected %.12g within %.3g\n", #actual, a_, e_, t_);        \
+			fail();                                                                               \
+		}                                                                                         \
+	} while (0)
+
+/* A standard-rule design, resolved; aborts the test on problems. */
+static inline void standard_design(prsm_design *d, int starts, double pitch_mm, double roller_radius_mm,
+                                   double flank_deg, int rollers, int threads)
+{
+	prsm_problems e;
+	prsm_problems_init(&e);
+	prsm_design_init(d);
+	d->starts = starts;
+	d->pitch_mm = pitch_mm;
+	d->roller_radius_mm = roller_radius_mm;
+	d->flank_angle_rad = flank_deg * DEG;
+	d->rollers = rollers;
+	d->engaged_threads = threads;
+	assert_int_equal(prsm_design_resolve(d, &e), 0);
+}
+
+/* Case A of MODEL.md §2: r_s 9.75, r_r 3.25, r_n 16.25, P 2, n 5, beta 45 deg, t = 0. */
+static inline void case_a(prsm_design *d)
+{
+	standard_design(d, 5, 2.0, 3.25, 45.0, 10, 10);
+}
+
+#endif
