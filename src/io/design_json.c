@@ -1,0 +1,289 @@
+/*
+ * design_json.c: reading a design document into prsm_design (see design_json.h), reporting
+ * every problem of the document at once with its JSON pointer.
+ *
+ * The field list and limits here and in schemas/design.schema.json must agree; the tests load
+ * every example in studies/ through this reader.
+ */
+#include "io/design_json.h"
+
+#include <assert.h>
+#include <math.h>
+#include <stdlib.h>
+
+#include "io/json_util.h"
+
+static const char *const design_keys[] = {
+	"name", "description", "geometry", "thinning", "target_axial_clearance_um", "materials",
+	"friction", "operating_point", NULL};
+static const char *const geometry_keys[] = {
+	"starts", "hand", "pitch_mm", "flank_angle_deg", "roller_radius_mm", "screw_radius_mm",
+	"nut_radius_mm", "roller_arc_radius_mm", "screw_crest_radius_mm", "screw_root_radius_mm",
+	"roller_crest_radius_mm", "roller_root_radius_mm", "nut_crest_radius_mm", "nut_root_radius_mm",
+	"rollers", "engaged_threads", "nut_length_mm", "running_clearance_mm", NULL};
+static const char *const thinning_keys[] = {"screw_um", "roller_um", "nut_um", NULL};
+static const char *const materials_keys[] = {"screw", "roller", "nut", NULL};
+static const char *const material_keys[] = {"E_GPa", "poisson", NULL};
+static const char *const friction_keys[] = {"screw_roller", "nut_roller", NULL};
+static const char *const operating_keys[] = {"axial_load_N", "screw_speed_rpm", NULL};
+static const char *const hand_names[] = {"right", "left", NULL}; /* index 0, 1 */
+
+static prsm_json_range range(double min, int min_exclusive, double max, int max_exclusive)
+{
+	return (prsm_json_range){min, max, min_exclusive, max_exclusive};
+}
+
+/* (0, inf): lengths and radii */
+static prsm_json_range positive(void)
+{
+	return range(0.0, 1, INFINITY, 0);
+}
+
+/* obj[key] is there at all, whatever its type (for the either/or rules). */
+static int has_member(const cJSON *obj, const char *key)
+{
+	return cJSON_IsObject(obj) && cJSON_GetObjectItemCaseSensitive(obj, key) != NULL;
+}
+
+/* engaged_threads, or nut_length_mm converted to whole threads; exactly one of them. */
+static void read_engagement(prsm_design *d, const cJSON *g, const char *gp, int pitch_ok,
+                            prsm_problems *problems)
+{
+	char ptr[PRSM_JSON_POINTER_MAX];
+	const int has_threads = has_member(g, "engaged_threads");
+	const int has_length = has_member(g, "nut_length_mm");
+	if (!has_threads && !has_length) {
+		prsm_json_pointer_append(ptr, sizeof ptr, gp, "engaged_threads");
+		prsm_problems_add(problems, ptr, "required",
+		                  "is required (an integer from 1 to %d), or give nut_length_mm instead",
+		                  PRSM_DESIGN_ENGAGED_THREADS_MAX);
+		return;
+	}
+	if (has_threads)
+		prsm_json_get_int(&d->engaged_threads, g, gp, "engaged_threads", PRSM_JSON_REQUIRED, 1,
+		                  PRSM_DESIGN_ENGAGED_THREADS_MAX, problems);
+	double length_mm = NAN;
+	int length_ok = has_length && prsm_json_get_number(&length_mm, g, gp, "nut_length_mm",
+	                                                   PRSM_JSON_REQUIRED, positive(),
+	                                                   problems) == PRSM_JSON_PRESENT;
+	prsm_json_pointer_append(ptr, sizeof ptr, gp, "nut_length_mm");
+	if (has_threads && has_length) {
+		prsm_problems_add(problems, ptr, "conflict",
+		                  "give engaged_threads or nut_length_mm, not both");
+		return;
+	}
+	if (!length_ok || !pitch_ok)
+		return;
+	/* whole threads in the nut length; a ratio within 1e-9 of a whole number counts as whole */
+	double threads = floor(length_mm / d->pitch_mm + 1e-9);
+	if (threads < 1.0)
+		prsm_problems_add(problems, ptr, "range",
+		                  "nut_length_mm %g mm is shorter than one pitch (%g mm): no thread engages",
+		                  length_mm, d->pitch_mm);
+	else if (threads > PRSM_DESIGN_ENGAGED_THREADS_MAX)
+		prsm_problems_add(problems, ptr, "range",
+		                  "nut_length_mm %g mm gives %g engaged threads at pitch %g mm, more than %d",
+		                  length_mm, threads, d->pitch_mm, PRSM_DESIGN_ENGAGED_THREADS_MAX);
+	else
+		d->engaged_threads = (int)threads;
+}
+
+static void read_geometry(prsm_design *d, const cJSON *doc, const char *base, prsm_problems *problems)
+{
+	char gp[PRSM_JSON_POINTER_MAX];
+	const cJSON *g;
+	if (prsm_json_get_object(&g, doc, base, "geometry", PRSM_JSON_REQUIRED, problems) != PRSM_JSON_PRESENT)
+		return;
+	prsm_json_pointer_append(gp, sizeof gp, base, "geometry");
+	prsm_json_check_keys(g, gp, geometry_keys, problems);
+
+	prsm_json_get_int(&d->starts, g, gp, "starts", PRSM_JSON_REQUIRED, 1, PRSM_DESIGN_STARTS_MAX,
+	                  problems);
+	int hand;
+	if (prsm_json_get_enum(&hand, g, gp, "hand", PRSM_JSON_OPTIONAL, hand_names, problems) == PRSM_JSON_PRESENT)
+		d->hand = hand == 0 ? PRSM_HAND_RIGHT : PRSM_HAND_LEFT;
+	const int pitch_ok = prsm_json_get_number(&d->pitch_mm, g, gp, "pitch_mm", PRSM_JSON_REQUIRED,
+	                                          range(0.0, 1, PRSM_DESIGN_PITCH_MAX_MM, 0),
+	                                          problems) == PRSM_JSON_PRESENT;
+	double beta_deg;
+	if (prsm_json_get_number(&beta_deg, g, gp, "flank_angle_deg", PRSM_JSON_OPTIONAL,
+	                         range(0.0, 1, 90.0, 1), problems) == PRSM_JSON_PRESENT)
+		d->flank_angle_rad = beta_deg * (M_PI / 180.0);
+	prsm_json_get_number(&d->roller_radius_mm, g, gp, "roller_radius_mm", PRSM_JSON_REQUIRED,
+	                     positive(), problems);
+
+	/* optional radii: left NaN when absent, for prsm_design_resolve() */
+	const struct {
+		const char *key;
+		double *field; /* mm */
+	} radii[] = {
+		{"screw_radius_mm", &d->screw_radius_mm},
+		{"nut_radius_mm", &d->nut_radius_mm},
+		{"roller_arc_radius_mm", &d->roller_arc_radius_mm},
+		{"screw_crest_radius_mm", &d->screw_crest_radius_mm},
+		{"screw_root_radius_mm", &d->screw_root_radius_mm},
+		{"roller_crest_radius_mm", &d->roller_crest_radius_mm},
+		{"roller_root_radius_mm", &d->roller_root_radius_mm},
+		{"nut_crest_radius_mm", &d->nut_crest_radius_mm},
+		{"nut_root_radius_mm", &d->nut_root_radius_mm},
+	};
+	for (size_t i = 0; i < sizeof radii / sizeof radii[0]; i++)
+		prsm_json_get_number(radii[i].field, g, gp, radii[i].key, PRSM_JSON_OPTIONAL, positive(),
+		                     problems);
+
+	prsm_json_get_int(&d->rollers, g, gp, "rollers", PRSM_JSON_REQUIRED, 1, PRSM_DESIGN_ROLLERS_MAX,
+	                  problems);
+	read_engagement(d, g, gp, pitch_ok, problems);
+	prsm_json_get_number(&d->running_clearance_mm, g, gp, "running_clearance_mm", PRSM_JSON_OPTIONAL,
+	                     range(0.0, 0, INFINITY, 0), problems);
+}
+
+/* thinning (given flank shifts) or target_axial_clearance_um (the rule solves them), not both */
+static void read_backlash(prsm_design *d, const cJSON *doc, const char *base, prsm_problems *problems)
+{
+	char tp[PRSM_JSON_POINTER_MAX];
+	const cJSON *t;
+	const prsm_json_range thin = range(-PRSM_DESIGN_THINNING_MAX_UM, 0, PRSM_DESIGN_THINNING_MAX_UM, 0);
+	if (prsm_json_get_object(&t, doc, base, "thinning", PRSM_JSON_OPTIONAL, problems) == PRSM_JSON_PRESENT) {
+		prsm_json_pointer_append(tp, sizeof tp, base, "thinning");
+		prsm_json_check_keys(t, tp, thinning_keys, problems);
+		const struct {
+			const char *key;
+			double *shift; /* mm per flank */
+		} parts[] = {
+			{"screw_um", &d->flank_shift_screw_mm},
+			{"roller_um", &d->flank_shift_roller_mm},
+			{"nut_um", &d->flank_shift_nut_mm},
+		};
+		for (size_t i = 0; i < sizeof parts / sizeof parts[0]; i++) {
+			double um;
+			/* MODEL.md §3: a thickness change dt shifts each flank by dt/2 */
+			if (prsm_json_get_number(&um, t, tp, parts[i].key, PRSM_JSON_OPTIONAL, thin, problems) == PRSM_JSON_PRESENT)
+				*parts[i].shift = um / 2.0 / 1000.0;
+		}
+		d->thinning_rule = PRSM_THINNING_GIVEN;
+	}
+	double clearance_um;
+	if (prsm_json_get_number(&clearance_um, doc, base, "target_axial_clearance_um", PRSM_JSON_OPTIONAL,
+	                         range(0.0, 0, PRSM_DESIGN_CLEARANCE_MAX_UM, 0), problems) == PRSM_JSON_PRESENT) {
+		d->target_axial_clearance_mm = clearance_um / 1000.0;
+		d->thinning_rule = PRSM_THINNING_EQUAL_GAPS;
+	}
+	if (has_member(doc, "thinning") && has_member(doc, "target_axial_clearance_um")) {
+		prsm_json_pointer_append(tp, sizeof tp, base, "target_axial_clearance_um");
+		prsm_problems_add(problems, tp, "conflict",
+		                  "give either thinning (flank shifts) or target_axial_clearance_um "
+		                  "(the engine solves the thinning), not both");
+	}
+}
+
+static void read_materials(prsm_design *d, const cJSON *doc, const char *base, prsm_problems *problems)
+{
+	char mp[PRSM_JSON_POINTER_MAX], pp[PRSM_JSON_POINTER_MAX];
+	const cJSON *m;
+	if (prsm_json_get_object(&m, doc, base, "materials", PRSM_JSON_OPTIONAL, problems) != PRSM_JSON_PRESENT)
+		return;
+	prsm_json_pointer_append(mp, sizeof mp, base, "materials");
+	prsm_json_check_keys(m, mp, materials_keys, problems);
+	prsm_material *parts[] = {&d->screw_material, &d->roller_material, &d->nut_material};
+	for (int i = 0; i < 3; i++) {
+		const cJSON *part;
+		if (prsm_json_get_object(&part, m, mp, materials_keys[i], PRSM_JSON_OPTIONAL, problems) != PRSM_JSON_PRESENT)
+			continue;
+		prsm_json_pointer_append(pp, sizeof pp, mp, materials_keys[i]);
+		prsm_json_check_keys(part, pp, material_keys, problems);
+		double e_gpa;
+		if (prsm_json_get_number(&e_gpa, part, pp, "E_GPa", PRSM_JSON_OPTIONAL,
+		                         range(0.0, 1, PRSM_DESIGN_E_MAX_GPA, 0), problems) == PRSM_JSON_PRESENT)
+			parts[i]->E_MPa = e_gpa * 1000.0;
+		prsm_json_get_number(&parts[i]->poisson, part, pp, "poisson", PRSM_JSON_OPTIONAL,
+		                     range(0.0, 0, 0.5, 1), problems);
+	}
+}
+
+static void read_friction(prsm_design *d, const cJSON *doc, const char *base, prsm_problems *problems)
+{
+	char fp[PRSM_JSON_POINTER_MAX];
+	const cJSON *f;
+	if (prsm_json_get_object(&f, doc, base, "friction", PRSM_JSON_OPTIONAL, problems) != PRSM_JSON_PRESENT)
+		return;
+	prsm_json_pointer_append(fp, sizeof fp, base, "friction");
+	prsm_json_check_keys(f, fp, friction_keys, problems);
+	prsm_json_get_number(&d->mu_screw_roller, f, fp, "screw_roller", PRSM_JSON_OPTIONAL,
+	                     range(0.0, 0, 1.0, 1), problems);
+	prsm_json_get_number(&d->mu_nut_roller, f, fp, "nut_roller", PRSM_JSON_OPTIONAL,
+	                     range(0.0, 0, 1.0, 1), problems);
+}
+
+static void read_operating_point(prsm_design *d, const cJSON *doc, const char *base,
+                                 prsm_problems *problems)
+{
+	char op[PRSM_JSON_POINTER_MAX];
+	const cJSON *o;
+	if (prsm_json_get_object(&o, doc, base, "operating_point", PRSM_JSON_OPTIONAL, problems) != PRSM_JSON_PRESENT)
+		return;
+	prsm_json_pointer_append(op, sizeof op, base, "operating_point");
+	prsm_json_check_keys(o, op, operating_keys, problems);
+	prsm_json_get_number(&d->axial_load_N, o, op, "axial_load_N", PRSM_JSON_OPTIONAL,
+	                     range(0.0, 0, PRSM_DESIGN_LOAD_MAX_N, 0), problems);
+	double rpm;
+	if (prsm_json_get_number(&rpm, o, op, "screw_speed_rpm", PRSM_JSON_OPTIONAL,
+	                         range(-PRSM_DESIGN_SPEED_MAX_RPM, 0, PRSM_DESIGN_SPEED_MAX_RPM, 0),
+	                         problems) == PRSM_JSON_PRESENT)
+		d->screw_speed_rad_s = rpm * (2.0 * M_PI / 60.0);
+}
+
+int prsm_io_design_from_json(prsm_design *out, const cJSON *doc, const char *base_pointer,
+                             prsm_problems *problems)
+{
+	assert(out != NULL && problems != NULL);
+	const char *base = base_pointer ? base_pointer : "";
+	const int before = prsm_problems_total(problems);
+	prsm_design_init(out);
+	if (prsm_json_object_value(doc, base, problems) != 0)
+		return PRSM_EINVAL;
+	prsm_json_check_keys(doc, base, design_keys, problems);
+	const char *text;
+	prsm_json_get_string(&text, doc, base, "name", PRSM_JSON_OPTIONAL, PRSM_DESIGN_NAME_MAX_CHARS,
+	                     problems);
+	prsm_json_get_string(&text, doc, base, "description", PRSM_JSON_OPTIONAL,
+	                     PRSM_DESIGN_DESCRIPTION_MAX_CHARS, problems);
+	read_geometry(out, doc, base, problems);
+	read_backlash(out, doc, base, problems);
+	read_materials(out, doc, base, problems);
+	read_friction(out, doc, base, problems);
+	read_operating_point(out, doc, base, problems);
+	return prsm_problems_total(problems) > before ? PRSM_EINVAL : 0;
+}
+
+int prsm_io_design_load(prsm_design *out, prsm_geometry *geom, prsm_problems *warnings,
+                        const cJSON *doc, const char *base_pointer, prsm_problems *problems)
+{
+	assert(out != NULL && problems != NULL);
+	int rc = prsm_io_design_from_json(out, doc, base_pointer, problems);
+	if (rc != 0)
+		return rc;
+	/* the model's checks know only the design's own pointers: collect, then prefix */
+	prsm_geometry local_geom;
+	prsm_problems *scratch = malloc(2 * sizeof *scratch); /* ~50 kB: kept off worker stacks */
+	if (scratch == NULL) {
+		prsm_problems_add(problems, base_pointer ? base_pointer : "", "out_of_memory",
+		                  "out of memory while checking the design");
+		return PRSM_ENOMEM;
+	}
+	prsm_problems *errors = &scratch[0], *rule_warnings = &scratch[1];
+	prsm_problems_init(errors);
+	prsm_problems_init(rule_warnings);
+	rc = prsm_design_resolve(out, errors);
+	prsm_json_problems_append_prefixed(problems, errors, base_pointer);
+	if (rc != 0)
+		goto cleanup;
+	prsm_problems_init(errors);
+	rc = prsm_geometry_check(geom ? geom : &local_geom, rule_warnings, errors, out);
+	prsm_json_problems_append_prefixed(problems, errors, base_pointer);
+	if (warnings != NULL)
+		prsm_json_problems_append_prefixed(warnings, rule_warnings, base_pointer);
+cleanup:
+	free(scratch);
+	return rc;
+}
