@@ -1,1 +1,51 @@
-int main(void){return 0;}
+/*
+ * main.c: the `prsm` command line, one subcommand per job kind (DESIGN.md, "Shape").
+ *
+ * Exit codes: 0 ok, 1 the request was invalid (the message names the field), 2 the computation
+ * failed, 64 usage.
+ */
+#include <stdio.h>
+#include <string.h>
+
+#include "cli/commands.h"
+
+static void usage(FILE *out)
+{
+	fprintf(out,
+	        "usage: prsm <command> [options]\n"
+	        "\n"
+	        "commands:\n"
+	        "  analyze FILE|-   nominal analysis of one design (JSON result on stdout)\n"
+	        "                   --format json|text, --out FILE\n"
+	        "  validate FILE|-  check a design document, print every problem\n"
+	        "                   --format text|json\n"
+	        "  bench            throughput of the engine's kernels, as JSON\n"
+	        "                   --seconds S (per kernel, default 0.5)\n"
+	        "  version          engine and model versions\n"
+	        "\n"
+	        "exit codes: 0 ok, 1 invalid request, 2 computation failed, 64 usage\n");
+}
+
+int main(int argc, char **argv)
+{
+	if (argc < 2) {
+		usage(stderr);
+		return PRSM_EXIT_USAGE;
+	}
+	const char *cmd = argv[1];
+	if (strcmp(cmd, "analyze") == 0)
+		return prsm_cli_analyze(argc - 1, argv + 1);
+	if (strcmp(cmd, "validate") == 0)
+		return prsm_cli_validate(argc - 1, argv + 1);
+	if (strcmp(cmd, "bench") == 0)
+		return prsm_cli_bench(argc - 1, argv + 1);
+	if (strcmp(cmd, "version") == 0 || strcmp(cmd, "--version") == 0)
+		return prsm_cli_version(argc - 1, argv + 1);
+	if (strcmp(cmd, "help") == 0 || strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0) {
+		usage(stdout);
+		return 0;
+	}
+	fprintf(stderr, "prsm: unknown command '%s'\n", cmd);
+	usage(stderr);
+	return PRSM_EXIT_USAGE;
+}

@@ -4,7 +4,8 @@
  * This is what io/ fills from a design document and what every model function reads. All
  * quantities are in the engine's units: mm, N, MPa, rad, s. Fields that the document may leave
  * out are resolved by prsm_design_resolve() (standard-rule radii, default crest and root radii,
- * roller arc radius, thinning for a target clearance), so after it every field is set.
+ * roller arc radius), so after it every field is set; the flank shifts of a target clearance
+ * are solved by prsm_analysis_nominal(), which needs the contact solver.
  */
 #ifndef PRSM_MODEL_DESIGN_H
 #define PRSM_MODEL_DESIGN_H
