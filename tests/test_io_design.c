@@ -386,7 +386,7 @@ static void thinning_or_target(void **state)
 	assert_near(d.flank_shift_screw_mm, 0.0, 0.0);
 
 	assert_int_equal(load_text(&d, &p, "{\"geometry\": {" CASE_A_GEOMETRY ", \"engaged_threads\": 10},"
-	                                   " \"thinning\": {\"nut_um\": 2000.5, \"gear_um\": 1}}"), PRSM_EINVAL);
+	                                   " \"thinning\": {\"nut_um\": 20000.5, \"gear_um\": 1}}"), PRSM_EINVAL);
 	expect(&p, "/thinning/nut_um", "range");
 	expect(&p, "/thinning/gear_um", "unknown_field");
 }

@@ -90,7 +90,7 @@ static int load(prsm_design *d, prsm_geometry *g, prsm_problems *warnings, prsm_
 	size_t len = 0;
 	prsm_error err = PRSM_ERROR_INIT;
 	if (prsm_file_read(&text, &len, path, PRSM_CLI_MAX_REQUEST_BYTES, &err)) {
-		fprintf(stderr, "prsm: %s\n", err.message);
+		prsm_problems_add(problems, "", err.code == PRSM_EIO ? "unreadable" : "too_large", "%s", err.message);
 		return err.code == PRSM_EIO ? PRSM_EXIT_USAGE : PRSM_EXIT_INVALID;
 	}
 	cJSON *doc = prsm_json_parse(text, len, problems);
@@ -113,8 +113,20 @@ int prsm_cli_validate(int argc, char **argv)
 	prsm_problems_init(&warnings);
 	prsm_problems_init(&problems);
 	int rc = load(&d, &g, &warnings, &problems, o.path);
-	if (rc == PRSM_EXIT_USAGE)
+	if (rc == PRSM_EXIT_USAGE) {
+		print_problems(stderr, o.path, &problems);
 		return rc;
+	}
+	if (rc == 0) {
+		/* the contacts must lie on their flanks: only the solver can tell */
+		prsm_analysis a;
+		prsm_error err = PRSM_ERROR_INIT;
+		prsm_problems_init(&warnings);
+		if (prsm_analysis_nominal(&a, &d, &warnings, &err)) {
+			prsm_problems_add(&problems, err.pointer, err.code == PRSM_EEDGE ? "edge_contact" : "no_contact", "%s", err.message);
+			rc = PRSM_EXIT_INVALID;
+		}
+	}
 	if (o.text) {
 		print_problems(stdout, o.path, &problems);
 		if (rc == 0) {
@@ -154,7 +166,7 @@ int prsm_cli_analyze(int argc, char **argv)
 	int arc = prsm_analysis_nominal(&a, &d, &warnings, &err);
 	if (arc) {
 		fprintf(stderr, "%s: %s: %s\n", o.path, err.pointer[0] ? err.pointer : "/", err.message);
-		return prsm_error_exit_code(arc == PRSM_EEDGE ? PRSM_EINVAL : arc);
+		return prsm_error_exit_code(arc);
 	}
 	if (o.text) {
 		FILE *f = o.out_path ? fopen(o.out_path, "w") : stdout;

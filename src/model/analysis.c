@@ -35,7 +35,11 @@ static int solve_side(prsm_contact *out, const prsm_design *d, int side, prsm_er
 		                      "(rho %.4f mm, u %.4f mm); change the crest/root radii or the flank angle",
 		                      who, edge_name(out->edge), out->body_rho_mm, out->roller_u_mm);
 	if (rc)
-		return prsm_error_set(err, rc, "/geometry", "the %s contact solve did not converge", who);
+		/* the nominal flanks have no common normal near the pitch circles: not a working design */
+		return prsm_error_set(err, PRSM_EGEOMETRY, "/geometry",
+		                      "the nominal %s flanks have no contact point on the flanks (no common "
+		                      "normal near the pitch circles; Newton left the roller arc): check the "
+		                      "flank angle and the radii", who);
 	return 0;
 }
 

@@ -37,7 +37,8 @@ void prsm_analysis_solve_thinning(prsm_design *d, double g0_screw_mm, double g0_
 
 /* Nominal analysis of a resolved, checked design. When d->thinning_rule asks for it the flank
  * shifts are solved and written back into d. Returns 0, PRSM_EEDGE (a nominal contact is off
- * its flank: err names it) or PRSM_ENOCONVERGE. */
+ * its flank: err names it) or PRSM_EGEOMETRY (no contact point at all, or a contact where Hertz
+ * theory does not apply). */
 int prsm_analysis_nominal(prsm_analysis *out, prsm_design *d, prsm_problems *warnings,
                           prsm_error *err);
 

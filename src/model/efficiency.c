@@ -35,7 +35,7 @@ int prsm_efficiency_sliding(prsm_efficiency *out, const prsm_design *d, const pr
 	out->loss_per_axial_mm = F_drive > 0.0 ? loss_drive / F_drive : INFINITY;
 
 	const double beta = d->flank_angle_rad, rho = atan(mu_s);
-	out->eta_closed_form = tan(beta) / tan(beta + rho);
+	out->eta_closed_form = beta + rho < M_PI / 2 ? tan(beta) / tan(beta + rho) : 0.0;
 	out->eta_back_closed_form = beta > rho ? tan(beta - rho) / tan(beta) : 0.0;
 
 	/* operating point: T = F L / (2 pi eta) (MODEL.md §5), N mm -> N m */

@@ -48,7 +48,8 @@ int prsm_error_http_status(int code)
 	switch (code) {
 	case PRSM_OK: return 200;
 	case PRSM_EINVAL:
-	case PRSM_EGEOMETRY: return 422;
+	case PRSM_EGEOMETRY:
+	case PRSM_EEDGE: return 422;
 	case PRSM_ENOTFOUND: return 404;
 	case PRSM_ECANCELLED: return 409;
 	case PRSM_ENOMEM: return 503;
@@ -62,6 +63,7 @@ int prsm_error_exit_code(int code)
 	case PRSM_OK: return 0;
 	case PRSM_EINVAL:
 	case PRSM_EGEOMETRY:
+	case PRSM_EEDGE:
 	case PRSM_ENOTFOUND: return 1;
 	default: return 2;
 	}
