@@ -102,30 +102,42 @@ static int load(prsm_design *d, prsm_geometry *g, prsm_problems *warnings, prsm_
 	return rc ? PRSM_EXIT_INVALID : 0;
 }
 
+/* Parse, load and analyse the design: the checks shared by validate and analyze. Problems of
+ * the document and of the nominal contacts (edge contact, no contact point) go to *problems;
+ * warnings are those of the analysis. Returns 0 or an exit code. */
+static int load_and_analyse(prsm_design *d, prsm_analysis *a, prsm_problems *warnings,
+                            prsm_problems *problems, const char *path)
+{
+	prsm_geometry g;
+	int rc = load(d, &g, warnings, problems, path);
+	if (rc)
+		return rc;
+	/* the analysis re-checks the geometry and reports its own warnings */
+	prsm_problems_init(warnings);
+	prsm_error err = PRSM_ERROR_INIT;
+	int arc = prsm_analysis_nominal(a, d, warnings, &err);
+	if (arc == 0)
+		return 0;
+	/* only the contact solver can tell that the contacts lie on their flanks */
+	prsm_problems_add(problems, err.pointer, arc == PRSM_EEDGE ? "edge_contact" : "no_contact",
+	                  "%s", err.message);
+	return prsm_error_exit_code(arc);
+}
+
 int prsm_cli_validate(int argc, char **argv)
 {
 	options o;
 	if (parse_options(&o, argc, argv, 1))
 		return PRSM_EXIT_USAGE;
 	prsm_design d;
-	prsm_geometry g;
+	prsm_analysis a;
 	prsm_problems warnings, problems;
 	prsm_problems_init(&warnings);
 	prsm_problems_init(&problems);
-	int rc = load(&d, &g, &warnings, &problems, o.path);
+	int rc = load_and_analyse(&d, &a, &warnings, &problems, o.path);
 	if (rc == PRSM_EXIT_USAGE) {
 		print_problems(stderr, o.path, &problems);
 		return rc;
-	}
-	if (rc == 0) {
-		/* the contacts must lie on their flanks: only the solver can tell */
-		prsm_analysis a;
-		prsm_error err = PRSM_ERROR_INIT;
-		prsm_problems_init(&warnings);
-		if (prsm_analysis_nominal(&a, &d, &warnings, &err)) {
-			prsm_problems_add(&problems, err.pointer, err.code == PRSM_EEDGE ? "edge_contact" : "no_contact", "%s", err.message);
-			rc = PRSM_EXIT_INVALID;
-		}
 	}
 	if (o.text) {
 		print_problems(stdout, o.path, &problems);
@@ -151,22 +163,14 @@ int prsm_cli_analyze(int argc, char **argv)
 	if (parse_options(&o, argc, argv, 0))
 		return PRSM_EXIT_USAGE;
 	prsm_design d;
-	prsm_geometry g;
+	prsm_analysis a;
 	prsm_problems warnings, problems;
 	prsm_problems_init(&warnings);
 	prsm_problems_init(&problems);
-	int rc = load(&d, &g, &warnings, &problems, o.path);
+	int rc = load_and_analyse(&d, &a, &warnings, &problems, o.path);
 	if (rc) {
 		print_problems(stderr, o.path, &problems);
 		return rc;
-	}
-	prsm_analysis a;
-	prsm_error err = PRSM_ERROR_INIT;
-	prsm_problems_init(&warnings); /* the analysis re-checks the geometry and adds its own */
-	int arc = prsm_analysis_nominal(&a, &d, &warnings, &err);
-	if (arc) {
-		fprintf(stderr, "%s: %s: %s\n", o.path, err.pointer[0] ? err.pointer : "/", err.message);
-		return prsm_error_exit_code(arc);
 	}
 	if (o.text) {
 		FILE *f = o.out_path ? fopen(o.out_path, "w") : stdout;
