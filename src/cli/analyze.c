@@ -112,8 +112,6 @@ static int load_and_analyse(prsm_design *d, prsm_analysis *a, prsm_problems *war
 	int rc = load(d, &g, warnings, problems, path);
 	if (rc)
 		return rc;
-	/* the analysis re-checks the geometry and reports its own warnings */
-	prsm_problems_init(warnings);
 	prsm_error err = PRSM_ERROR_INIT;
 	int arc = prsm_analysis_nominal(a, d, warnings, &err);
 	if (arc == 0)

@@ -92,10 +92,9 @@ static void read_geometry(prsm_design *d, const cJSON *doc, const char *base, pr
 {
 	char gp[PRSM_JSON_POINTER_MAX];
 	const cJSON *g;
-	if (prsm_json_get_object(&g, doc, base, "geometry", PRSM_JSON_REQUIRED, problems) != PRSM_JSON_PRESENT)
+	if (prsm_json_get_section(&g, gp, sizeof gp, doc, base, "geometry",
+	                          PRSM_JSON_REQUIRED, geometry_keys, problems) != PRSM_JSON_PRESENT)
 		return;
-	prsm_json_pointer_append(gp, sizeof gp, base, "geometry");
-	prsm_json_check_keys(g, gp, geometry_keys, problems);
 
 	prsm_json_get_int(&d->starts, g, gp, "starts", PRSM_JSON_REQUIRED, 1, PRSM_DESIGN_STARTS_MAX,
 	                  problems);
@@ -144,9 +143,8 @@ static void read_backlash(prsm_design *d, const cJSON *doc, const char *base, pr
 	char tp[PRSM_JSON_POINTER_MAX];
 	const cJSON *t;
 	const prsm_json_range thin = range(-PRSM_DESIGN_THINNING_MAX_UM, 0, PRSM_DESIGN_THINNING_MAX_UM, 0);
-	if (prsm_json_get_object(&t, doc, base, "thinning", PRSM_JSON_OPTIONAL, problems) == PRSM_JSON_PRESENT) {
-		prsm_json_pointer_append(tp, sizeof tp, base, "thinning");
-		prsm_json_check_keys(t, tp, thinning_keys, problems);
+	if (prsm_json_get_section(&t, tp, sizeof tp, doc, base, "thinning",
+	                          PRSM_JSON_OPTIONAL, thinning_keys, problems) == PRSM_JSON_PRESENT) {
 		const struct {
 			const char *key;
 			double *shift; /* mm per flank */
@@ -181,17 +179,15 @@ static void read_materials(prsm_design *d, const cJSON *doc, const char *base, p
 {
 	char mp[PRSM_JSON_POINTER_MAX], pp[PRSM_JSON_POINTER_MAX];
 	const cJSON *m;
-	if (prsm_json_get_object(&m, doc, base, "materials", PRSM_JSON_OPTIONAL, problems) != PRSM_JSON_PRESENT)
+	if (prsm_json_get_section(&m, mp, sizeof mp, doc, base, "materials",
+	                          PRSM_JSON_OPTIONAL, materials_keys, problems) != PRSM_JSON_PRESENT)
 		return;
-	prsm_json_pointer_append(mp, sizeof mp, base, "materials");
-	prsm_json_check_keys(m, mp, materials_keys, problems);
 	prsm_material *parts[] = {&d->screw_material, &d->roller_material, &d->nut_material};
 	for (int i = 0; i < 3; i++) {
 		const cJSON *part;
-		if (prsm_json_get_object(&part, m, mp, materials_keys[i], PRSM_JSON_OPTIONAL, problems) != PRSM_JSON_PRESENT)
+		if (prsm_json_get_section(&part, pp, sizeof pp, m, mp, materials_keys[i],
+		                          PRSM_JSON_OPTIONAL, material_keys, problems) != PRSM_JSON_PRESENT)
 			continue;
-		prsm_json_pointer_append(pp, sizeof pp, mp, materials_keys[i]);
-		prsm_json_check_keys(part, pp, material_keys, problems);
 		double e_gpa;
 		if (prsm_json_get_number(&e_gpa, part, pp, "E_GPa", PRSM_JSON_OPTIONAL,
 		                         range(0.0, 1, PRSM_DESIGN_E_MAX_GPA, 0), problems) == PRSM_JSON_PRESENT)
@@ -205,10 +201,9 @@ static void read_friction(prsm_design *d, const cJSON *doc, const char *base, pr
 {
 	char fp[PRSM_JSON_POINTER_MAX];
 	const cJSON *f;
-	if (prsm_json_get_object(&f, doc, base, "friction", PRSM_JSON_OPTIONAL, problems) != PRSM_JSON_PRESENT)
+	if (prsm_json_get_section(&f, fp, sizeof fp, doc, base, "friction",
+	                          PRSM_JSON_OPTIONAL, friction_keys, problems) != PRSM_JSON_PRESENT)
 		return;
-	prsm_json_pointer_append(fp, sizeof fp, base, "friction");
-	prsm_json_check_keys(f, fp, friction_keys, problems);
 	prsm_json_get_number(&d->mu_screw_roller, f, fp, "screw_roller", PRSM_JSON_OPTIONAL,
 	                     range(0.0, 0, 1.0, 1), problems);
 	prsm_json_get_number(&d->mu_nut_roller, f, fp, "nut_roller", PRSM_JSON_OPTIONAL,
@@ -220,10 +215,9 @@ static void read_operating_point(prsm_design *d, const cJSON *doc, const char *b
 {
 	char op[PRSM_JSON_POINTER_MAX];
 	const cJSON *o;
-	if (prsm_json_get_object(&o, doc, base, "operating_point", PRSM_JSON_OPTIONAL, problems) != PRSM_JSON_PRESENT)
+	if (prsm_json_get_section(&o, op, sizeof op, doc, base, "operating_point",
+	                          PRSM_JSON_OPTIONAL, operating_keys, problems) != PRSM_JSON_PRESENT)
 		return;
-	prsm_json_pointer_append(op, sizeof op, base, "operating_point");
-	prsm_json_check_keys(o, op, operating_keys, problems);
 	prsm_json_get_number(&d->axial_load_N, o, op, "axial_load_N", PRSM_JSON_OPTIONAL,
 	                     range(0.0, 0, PRSM_DESIGN_LOAD_MAX_N, 0), problems);
 	double rpm;

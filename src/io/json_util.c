@@ -821,6 +821,18 @@ int prsm_json_get_object(const cJSON **out, const cJSON *obj, const char *obj_po
 	return PRSM_JSON_PRESENT;
 }
 
+int prsm_json_get_section(const cJSON **out, char *ptr, size_t cap, const cJSON *obj,
+                          const char *obj_pointer, const char *key, int required,
+                          const char *const *allowed, prsm_problems *problems)
+{
+	int rc = prsm_json_get_object(out, obj, obj_pointer, key, required, problems);
+	if (rc != PRSM_JSON_PRESENT)
+		return rc;
+	prsm_json_pointer_append(ptr, cap, obj_pointer, key);
+	prsm_json_check_keys(*out, ptr, allowed, problems);
+	return rc;
+}
+
 void prsm_json_problems_append_prefixed(prsm_problems *dst, const prsm_problems *src,
                                         const char *prefix)
 {

@@ -130,6 +130,11 @@ int prsm_json_get_bool(int *out, const cJSON *obj, const char *obj_pointer, cons
  * call prsm_json_check_keys() on it. */
 int prsm_json_get_object(const cJSON **out, const cJSON *obj, const char *obj_pointer,
                          const char *key, int required, prsm_problems *problems);
+/* A section of a document: prsm_json_get_object(), and when the member is present its pointer
+ * is written to ptr (cap bytes) and its keys are checked against allowed (NULL-terminated). */
+int prsm_json_get_section(const cJSON **out, char *ptr, size_t cap, const cJSON *obj,
+                          const char *obj_pointer, const char *key, int required,
+                          const char *const *allowed, prsm_problems *problems);
 
 /* Copy every problem of src to dst with prefix put before its pointer (prefix "" or NULL copies
  * them as they are). For nesting a document whose checks know only their own pointers. */

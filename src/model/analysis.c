@@ -48,9 +48,10 @@ int prsm_analysis_nominal(prsm_analysis *out, prsm_design *d, prsm_problems *war
 {
 	int rc;
 	memset(out, 0, sizeof *out);
-	prsm_problems dummy_errors;
-	prsm_problems_init(&dummy_errors);
-	prsm_geometry_check(&out->geometry, warnings, &dummy_errors, d);
+	/* derived geometry only: the design was checked before (its rule warnings are the caller's) */
+	prsm_problems scratch;
+	prsm_problems_init(&scratch);
+	prsm_geometry_check(&out->geometry, &scratch, &scratch, d);
 
 	/* G0: gaps with no flank shifts (MODEL.md §2, "Tooth thickness and backlash") */
 	prsm_design bare = *d;

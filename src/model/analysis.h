@@ -35,10 +35,11 @@ typedef struct {
  * g0_* are the gaps with zero shifts. */
 void prsm_analysis_solve_thinning(prsm_design *d, double g0_screw_mm, double g0_nut_mm);
 
-/* Nominal analysis of a resolved, checked design. When d->thinning_rule asks for it the flank
- * shifts are solved and written back into d. Returns 0, PRSM_EEDGE (a nominal contact is off
- * its flank: err names it) or PRSM_EGEOMETRY (no contact point at all, or a contact where Hertz
- * theory does not apply). */
+/* Nominal analysis of a resolved, checked design (prsm_geometry_check reported its rule
+ * warnings; warnings here gets only what the analysis finds, e.g. interfering teeth). When
+ * d->thinning_rule asks for it the flank shifts are solved and written back into d.
+ * Returns 0, PRSM_EEDGE (a nominal contact is off its flank: err names it) or PRSM_EGEOMETRY
+ * (no contact point at all, or a contact where Hertz theory does not apply). */
 int prsm_analysis_nominal(prsm_analysis *out, prsm_design *d, prsm_problems *warnings,
                           prsm_error *err);
 

@@ -7,17 +7,12 @@
 
 #include "model/geometry.h"
 
-static double norm3(const double v[3])
-{
-	return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-}
-
 int prsm_efficiency_sliding(prsm_efficiency *out, const prsm_design *d, const prsm_kinematics *k,
                             const prsm_contact *screw, const prsm_contact *nut)
 {
 	const double v = fabs(k->nut_speed_mm_per_rad); /* mm per rad of screw */
 	const double mu_s = d->mu_screw_roller, mu_n = d->mu_nut_roller;
-	const double slip_s = norm3(k->slip_screw), slip_n = norm3(k->slip_nut);
+	const double slip_s = k->slip_ratio_screw * v, slip_n = k->slip_ratio_nut * v; /* mm/rad */
 	const double sz = slip_s > 0.0 ? fabs(k->slip_screw[2]) / slip_s : 0.0;
 	const double nz_s = fabs(screw->normal[2]), nz_n = fabs(nut->normal[2]);
 
