@@ -36,6 +36,7 @@ typedef struct {
 	double x_mm, y_mm;               /* its nominal contact point in the pair frame */
 	double gap_mm;                   /* its nominal gap, mm */
 	double sens[PRSM_PERTURB_COUNT]; /* dG/de_i at the contact (perturb.h units) */
+	double u2_mm2;                   /* squared distance of the contact from the roller axis */
 } prsm_assembly_pair;
 
 typedef struct {
@@ -81,6 +82,10 @@ int prsm_assembly_init(prsm_assembly *as, const prsm_design *d, const prsm_analy
  * side, direction at screw angle theta (rad). */
 void prsm_assembly_perturbation(double *out, const prsm_assembly *as, const prsm_errors *e,
                                 int j, int k, int side, int dir, double theta_rad);
+
+/* Linear mode for one contact: the nominal gap plus the first-order change of perturbation e
+ * at the frozen nominal contact (the roller radii's own curvature included exactly). */
+double prsm_assembly_gap_linear(const prsm_assembly_pair *ap, const double *e);
 
 /* Every gap of one load direction at screw angle theta. Returns 0, or PRSM_ENOCONVERGE when
  * an exact contact failed (it is counted, and its gap is the linear one). */

@@ -1,0 +1,488 @@
+/*
+ * assembly.c: part errors to flank gaps, rigid backlash and the elastic load sharing
+ * (MODEL.md §3, §4; conventions in docs/assembly-model.md).
+ */
+#include "model/assembly.h"
+
+#include <math.h>
+#include <string.h>
+
+void prsm_assembly_options_default(prsm_assembly_options *o)
+{
+	o->mode = PRSM_MODE_LINEAR;
+	o->measuring_load_N = 50.0;
+	o->angles_per_revolution = 64;
+	o->stroke_mm = 0.0;
+	o->spectrum_revolutions = 16;
+	o->curve = 0;
+}
+
+/* The "+" chain (MODEL.md §4: screw side closes with w_j, nut side with u - w_j) is the nut
+ * pair as contact.c models it and the screw pair mirrored; "-" the opposite. */
+static int is_mirrored(int side, int dir)
+{
+	return (side == PRSM_SIDE_SCREW) == (dir == PRSM_DIR_PLUS);
+}
+
+static int prepare_pair(prsm_assembly_pair *ap, const prsm_design *d, int side, int dir)
+{
+	prsm_flank_pair_nominal(&ap->pair, d, side);
+	ap->mirrored = is_mirrored(side, dir);
+	if (ap->mirrored) {
+		/* z -> -z: the other flank of both threads, helices of the opposite hand */
+		ap->pair.body_p = -ap->pair.body_p;
+		ap->pair.roller_p = -ap->pair.roller_p;
+	}
+	prsm_contact c;
+	int rc = prsm_contact_solve(&c, &ap->pair);
+	if (rc)
+		return rc;
+	ap->x_mm = c.x_mm;
+	ap->y_mm = c.y_mm;
+	ap->gap_mm = c.gap_mm;
+	prsm_perturb_sensitivities(ap->sens, &ap->pair, c.x_mm, c.y_mm);
+	const double wx = c.x_mm - ap->pair.roller_x_mm, wy = c.y_mm - ap->pair.roller_y_mm;
+	ap->u2_mm2 = wx * wx + wy * wy;
+	return 0;
+}
+
+/* Axial Hertz constant K (N/mm^1.5): normal approach delta_n = C Q^{2/3} gives K_n = Q /
+ * delta_n^{3/2} (any Q); an axial approach delta_a is a normal one of |n_z| delta_a and a
+ * normal load Q an axial one of |n_z| Q, so f = K_n |n_z|^{5/2} delta_a^{3/2} (MODEL.md §4, §6). */
+static int axial_constant(double *K, const prsm_contact *c, const prsm_material *mb,
+                          const prsm_material *mr)
+{
+	prsm_hertz h;
+	int rc = prsm_hertz_solve(&h, c->curvature_per_mm[0], c->curvature_per_mm[1], mb->E_MPa,
+	                          mb->poisson, mr->E_MPa, mr->poisson, 1.0);
+	if (rc || !(h.delta_mm > 0.0))
+		return PRSM_EGEOMETRY;
+	const double nz = fabs(c->normal[2]);
+	*K = pow(h.delta_mm, -1.5) * pow(nz, 2.5);
+	return 0;
+}
+
+int prsm_assembly_init(prsm_assembly *as, const prsm_design *d, const prsm_analysis *a,
+                       prsm_error *err)
+{
+	memset(as, 0, sizeof *as);
+	if (d->rollers > PRSM_ERRORS_MAX_ROLLERS ||
+	    (long)d->rollers * d->engaged_threads > PRSM_ASSEMBLY_MAX_CONTACTS)
+		return prsm_error_set(err, PRSM_EINVAL, "/geometry",
+		                      "the error analysis takes at most %d rollers and %d contacts per flank "
+		                      "side (rollers x engaged threads); this design has %d x %d",
+		                      PRSM_ERRORS_MAX_ROLLERS, PRSM_ASSEMBLY_MAX_CONTACTS, d->rollers,
+		                      d->engaged_threads);
+	as->design = *d;
+	as->rollers = d->rollers;
+	as->threads = d->engaged_threads;
+	as->starts = d->starts;
+	as->hand = d->hand;
+	as->pitch_mm = d->pitch_mm;
+	as->screw_p = prsm_design_screw_p(d);
+	as->roller_p = prsm_design_roller_p(d);
+	/* the gear mesh holds the rolling ratios of the pitch circles (MODEL.md §4, §5) */
+	as->carrier_ratio = a->kinematics.carrier_ratio_ideal;
+	as->spin_ratio = a->kinematics.roller_spin_ratio_ideal;
+	for (int side = 0; side < 2; side++)
+		for (int dir = 0; dir < 2; dir++)
+			if (prepare_pair(&as->pairs[side][dir], d, side, dir))
+				return prsm_error_set(err, PRSM_EGEOMETRY, "/geometry",
+				                      "the %s %s flank has no contact point on its flank",
+				                      side == PRSM_SIDE_SCREW ? "screw-roller" : "nut-roller",
+				                      is_mirrored(side, dir) ? "mirrored" : "modelled");
+	if (axial_constant(&as->k_axial[PRSM_SIDE_SCREW], &a->screw, &d->screw_material, &d->roller_material) ||
+	    axial_constant(&as->k_axial[PRSM_SIDE_NUT], &a->nut, &d->nut_material, &d->roller_material))
+		return prsm_error_set(err, PRSM_EGEOMETRY, "/geometry",
+		                      "a contact has non-positive relative curvature: no Hertz constant");
+	/* nominal stiffness: every contact carries F / (Z n_t), springs in series per roller */
+	const double f = d->axial_load_N / ((double)as->rollers * as->threads);
+	if (f > 0.0) {
+		double ks = 1.5 * cbrt(f * as->k_axial[0] * as->k_axial[0]); /* df/ddelta = 1.5 K^{2/3} f^{1/3} */
+		double kn = 1.5 * cbrt(f * as->k_axial[1] * as->k_axial[1]);
+		as->nominal_stiffness_N_per_mm = (double)as->rollers * as->threads * ks * kn / (ks + kn);
+	}
+	return 0;
+}
+
+void prsm_assembly_frequencies_of(prsm_assembly_frequencies *f, const prsm_assembly *as)
+{
+	f->screw = 1.0 - as->carrier_ratio;
+	f->carrier = as->carrier_ratio;
+	f->roller_spin = fabs(as->spin_ratio);
+	f->roller_pass_screw = as->rollers * (1.0 - as->carrier_ratio);
+	f->roller_pass_nut = as->rollers * as->carrier_ratio;
+}
+
+/* ---- part errors to pair perturbations ------------------------------------------------- */
+
+/* What the errors do to roller j at screw angle theta, split into the part constant along the
+ * engagement (at z = 0) and the part proportional to z (tilt, cumulative lead). Lengths mm.
+ * body_*: screw [0] and nut [1]; D = axial displacement of a flank towards +z. */
+typedef struct {
+	double body_dx[2], body_dy[2], body_dx_z[2], body_dy_z[2]; /* axis offset, per mm of z */
+	double body_D[2], body_D_z[2];
+	double roller_dx, roller_dy, roller_dx_z, roller_dy_z;
+	double roller_D[2], roller_D_z;                          /* [side] */
+	int start_offset;                                        /* m_j: starts passed (below) */
+} roller_terms;
+
+static void rotate(double *x, double *y, double r, double angle)
+{
+	if (r == 0.0) {
+		*x = *y = 0.0;
+		return;
+	}
+	*x = r * cos(angle);
+	*y = r * sin(angle);
+}
+
+static void compute_terms(roller_terms *t, const prsm_assembly *as, const prsm_errors *e, int j,
+                          double theta)
+{
+	const double slot = 2.0 * M_PI * j / as->rollers;
+	const double psi = slot + as->carrier_ratio * theta;       /* carrier angle of roller j */
+	const double sigma = as->spin_ratio * theta;               /* spin relative to the carrier */
+	const double travel = -as->screw_p * theta;                /* nut position on the screw, mm */
+	for (int side = 0; side < 2; side++) {
+		const prsm_body_errors *b = side == PRSM_SIDE_SCREW ? &e->screw : &e->nut;
+		const double rot = side == PRSM_SIDE_SCREW ? theta : 0.0; /* the part's own angle */
+		/* run-out and tilt turn with the part; the pair frame is the ground turned by -psi */
+		rotate(&t->body_dx[side], &t->body_dy[side], b->runout_mm, rot + b->runout_phase_rad - psi);
+		rotate(&t->body_dx_z[side], &t->body_dy_z[side], tan(b->tilt_rad),
+		       rot + b->tilt_phase_rad - psi);
+		/* material angle of the contact on the part: psi - rot */
+		double D = b->lead_periodic_mm == 0.0 ? 0.0 :
+		           b->lead_periodic_mm * sin(psi - rot + b->lead_periodic_phase_rad);
+		if (side == PRSM_SIDE_SCREW)
+			D += travel * b->lead_deviation; /* the screw's flanks under the nut at this travel */
+		t->body_D[side] = D;
+		t->body_D_z[side] = b->lead_deviation;
+	}
+	const prsm_roller_errors *r = &e->roller[j];
+	double cx, cy, rx, ry;
+	rotate(&cx, &cy, e->carrier.runout_mm, e->carrier.runout_phase_rad - slot);
+	rotate(&rx, &ry, r->runout_mm, sigma + r->runout_phase_rad);
+	t->roller_dx = r->pin_radial_mm + cx + rx;
+	t->roller_dy = r->pin_tangential_mm + cy + ry;
+	t->roller_dx_z = tan(r->tilt_radial_rad);
+	t->roller_dy_z = tan(r->tilt_tangential_rad);
+	/* roller material angle at the contact: screw side pi - sigma, nut side -sigma */
+	const double wob = r->lead_periodic_mm == 0.0 ? 0.0 :
+	                   r->lead_periodic_mm * sin(r->lead_periodic_phase_rad - sigma);
+	const double phase = as->roller_p * r->gear_phase_rad;
+	t->roller_D[PRSM_SIDE_SCREW] = phase - wob; /* sin(pi + x) = -sin(x) */
+	t->roller_D[PRSM_SIDE_NUT] = phase + wob;
+	t->roller_D_z = r->lead_deviation;
+	/* starts passed by the flanks at the roller's angle (docs/assembly-model.md) */
+	t->start_offset = (int)floor(as->starts * psi / (2.0 * M_PI));
+}
+
+/* Perturbation of (side, dir) at z = 0 (e0) and per mm of z (e1), without the start errors. */
+static void pair_terms(double *e0, double *e1, const prsm_assembly *as, const prsm_errors *e,
+                       const roller_terms *t, int j, int side, int dir)
+{
+	const prsm_body_errors *b = side == PRSM_SIDE_SCREW ? &e->screw : &e->nut;
+	const prsm_roller_errors *r = &e->roller[j];
+	/* an axial displacement D towards +z: a modelled pair's body flank closes the gap (shift
+	 * -D), its roller flank opens it (+D); a mirrored pair the opposite */
+	const double ax = as->pairs[side][dir].mirrored ? -1.0 : 1.0;
+	e0[PRSM_PERTURB_BODY_DX] = t->body_dx[side];
+	e0[PRSM_PERTURB_BODY_DY] = t->body_dy[side];
+	e0[PRSM_PERTURB_BODY_RADIUS] = b->pitch_radius_mm;
+	e0[PRSM_PERTURB_BODY_BETA] = b->flank_angle_rad;
+	e0[PRSM_PERTURB_BODY_SHIFT] = -0.5 * b->thickness_mm - ax * t->body_D[side];
+	e0[PRSM_PERTURB_ROLLER_DX] = t->roller_dx;
+	e0[PRSM_PERTURB_ROLLER_DY] = t->roller_dy;
+	e0[PRSM_PERTURB_ROLLER_RADIUS] = r->pitch_radius_mm;
+	e0[PRSM_PERTURB_ROLLER_ARC] = r->arc_radius_mm;
+	e0[PRSM_PERTURB_ROLLER_SHIFT] = -0.5 * r->thickness_mm + ax * t->roller_D[side];
+	memset(e1, 0, PRSM_PERTURB_COUNT * sizeof *e1);
+	e1[PRSM_PERTURB_BODY_DX] = t->body_dx_z[side];
+	e1[PRSM_PERTURB_BODY_DY] = t->body_dy_z[side];
+	e1[PRSM_PERTURB_BODY_SHIFT] = -ax * t->body_D_z[side];
+	e1[PRSM_PERTURB_ROLLER_DX] = t->roller_dx_z;
+	e1[PRSM_PERTURB_ROLLER_DY] = t->roller_dy_z;
+	e1[PRSM_PERTURB_ROLLER_SHIFT] = ax * t->roller_D_z;
+}
+
+/* z_k of thread k, mm */
+static double thread_z(const prsm_assembly *as, int k)
+{
+	return (k - 0.5 * (as->threads - 1)) * as->pitch_mm;
+}
+
+/* Axial displacement (towards +z) of the body flank thread k meets, from its start's index
+ * error: thread k meets start (k - hand m_j) mod n. */
+static double start_shift(const prsm_assembly *as, const prsm_body_errors *b, int k, int m)
+{
+	int i = (k - as->hand * m) % as->starts;
+	if (i < 0)
+		i += as->starts;
+	return as->screw_p * b->start_index_rad[i];
+}
+
+void prsm_assembly_perturbation(double *out, const prsm_assembly *as, const prsm_errors *e,
+                                int j, int k, int side, int dir, double theta)
+{
+	roller_terms t;
+	double e1[PRSM_PERTURB_COUNT];
+	compute_terms(&t, as, e, j, theta);
+	pair_terms(out, e1, as, e, &t, j, side, dir);
+	const double z = thread_z(as, k);
+	for (int i = 0; i < PRSM_PERTURB_COUNT; i++)
+		out[i] += z * e1[i];
+	const prsm_body_errors *b = side == PRSM_SIDE_SCREW ? &e->screw : &e->nut;
+	const double ax = as->pairs[side][dir].mirrored ? -1.0 : 1.0;
+	out[PRSM_PERTURB_BODY_SHIFT] -= ax * start_shift(as, b, k, t.start_offset);
+}
+
+/* Linear-mode gap change of e at the frozen nominal contact. The roller's pitch and arc radii
+ * enter G only through z_c - sqrt(R^2 - u^2), which is cheap to evaluate exactly at the fixed
+ * point: its curvature would otherwise cost 1.5 % at 50 um of pitch radius (test_perturb). The
+ * rest is the envelope theorem (MODEL.md §3): sens . e. */
+static double linear_change(const prsm_assembly_pair *ap, const double *e)
+{
+	double s = 0.0;
+	for (int i = 0; i < PRSM_PERTURB_COUNT; i++)
+		if (i != PRSM_PERTURB_ROLLER_RADIUS && i != PRSM_PERTURB_ROLLER_ARC)
+			s += ap->sens[i] * e[i];
+	const double dr = e[PRSM_PERTURB_ROLLER_RADIUS], dR = e[PRSM_PERTURB_ROLLER_ARC];
+	if (dr != 0.0 || dR != 0.0) {
+		const double r = ap->pair.roller_radius_mm, R = ap->pair.arc_radius_mm;
+		const double r1 = r + dr, R1 = R + dR;
+		s += sqrt(R1 * R1 - r1 * r1) - sqrt(R * R - r * r) -
+		     (sqrt(R1 * R1 - ap->u2_mm2) - sqrt(R * R - ap->u2_mm2));
+	}
+	return s;
+}
+
+double prsm_assembly_gap_linear(const prsm_assembly_pair *ap, const double *e)
+{
+	return ap->gap_mm + linear_change(ap, e);
+}
+
+static double dot(const double *a, const double *b)
+{
+	double s = 0.0;
+	for (int i = 0; i < PRSM_PERTURB_COUNT; i++)
+		s += a[i] * b[i];
+	return s;
+}
+
+int prsm_assembly_gaps_at(prsm_assembly_gaps *out, const prsm_assembly *as, const prsm_errors *e,
+                          int dir, double theta, int mode)
+{
+	const int Z = as->rollers, nt = as->threads;
+	int rc = 0;
+	out->edge_contacts = out->failed_contacts = 0;
+	for (int j = 0; j < Z; j++) {
+		roller_terms t;
+		compute_terms(&t, as, e, j, theta);
+		for (int side = 0; side < 2; side++) {
+			const prsm_assembly_pair *ap = &as->pairs[side][dir];
+			const prsm_body_errors *b = side == PRSM_SIDE_SCREW ? &e->screw : &e->nut;
+			const double ax = ap->mirrored ? -1.0 : 1.0;
+			double e0[PRSM_PERTURB_COUNT], e1[PRSM_PERTURB_COUNT];
+			pair_terms(e0, e1, as, e, &t, j, side, dir);
+			/* e1 holds no radius terms: its part is the plain dot product */
+			const double g0 = prsm_assembly_gap_linear(ap, e0), g1 = dot(ap->sens, e1);
+			double *g = &out->gap_mm[side][j * nt];
+			/* linear mode (MODEL.md §3): nominal gap + sensitivities . perturbation; the shift
+			 * sensitivity is exactly 1 */
+			for (int k = 0; k < nt; k++)
+				g[k] = g0 + g1 * thread_z(as, k) - ax * start_shift(as, b, k, t.start_offset);
+			if (mode != PRSM_MODE_EXACT)
+				continue;
+			for (int k = 0; k < nt; k++) {
+				double ek[PRSM_PERTURB_COUNT], gk;
+				const double z = thread_z(as, k);
+				for (int i = 0; i < PRSM_PERTURB_COUNT; i++)
+					ek[i] = e0[i] + z * e1[i];
+				ek[PRSM_PERTURB_BODY_SHIFT] -= ax * start_shift(as, b, k, t.start_offset);
+				int edge = 0;
+				if (prsm_perturb_gap_exact(&gk, &edge, &ap->pair, ap->x_mm, ap->y_mm, ek)) {
+					out->failed_contacts++;
+					rc = PRSM_ENOCONVERGE;
+					continue; /* keeps the linear gap */
+				}
+				if (edge)
+					out->edge_contacts++;
+				g[k] = gk;
+			}
+		}
+	}
+	return rc;
+}
+
+static double min_of(const double *v, int n)
+{
+	double m = v[0];
+	for (int i = 1; i < n; i++)
+		if (v[i] < m)
+			m = v[i];
+	return m;
+}
+
+static double chain_backlash(const prsm_assembly *as, const prsm_assembly_gaps *g)
+{
+	const int nt = as->threads;
+	double b = INFINITY;
+	for (int j = 0; j < as->rollers; j++) {
+		double c = min_of(&g->gap_mm[0][j * nt], nt) + min_of(&g->gap_mm[1][j * nt], nt);
+		if (c < b)
+			b = c;
+	}
+	return b;
+}
+
+double prsm_assembly_backlash(const prsm_assembly *as, const prsm_assembly_gaps *plus,
+                              const prsm_assembly_gaps *minus, double *plus_mm, double *minus_mm)
+{
+	const double bp = chain_backlash(as, plus), bm = chain_backlash(as, minus);
+	if (plus_mm)
+		*plus_mm = bp;
+	if (minus_mm)
+		*minus_mm = bm;
+	return bp + bm;
+}
+
+/* ---- elastic solve ---------------------------------------------------------------------- */
+
+/* Sum over contacts of K (x - g_k)_+^{3/2} and its derivative in x. */
+static double side_force(const double *g, int n, double K, double x, double *deriv)
+{
+	double f = 0.0, df = 0.0;
+	for (int k = 0; k < n; k++) {
+		const double d = x - g[k];
+		if (d > 0.0) {
+			const double s = sqrt(d);
+			f += d * s;
+			df += s;
+		}
+	}
+	*deriv = 1.5 * K * df;
+	return K * f;
+}
+
+/* Roller j at nut displacement u: the w in which its screw side (closing with w) and nut side
+ * (closing with u - w) carry the same load. h(w) = S(w) - N(u - w) is increasing: safeguarded
+ * Newton inside the bracket [gs, u - gn]. Returns the roller load; *w is the start point on
+ * entry; *dF gets dF_j/du = S'N'/(S' + N') (the two sides in series), *dw dw/du = N'/(S' + N'). */
+static double roller_balance(const double *gs, const double *gn, int n, double Ks, double Kn,
+                             double u, double gs_min, double gn_min, double *w, double *dF,
+                             double *dw)
+{
+	double lo = gs_min, hi = u - gn_min;
+	if (!(hi > lo)) {
+		/* the chain is open: the roller carries nothing */
+		*w = lo;
+		*dF = *dw = 0.0;
+		return 0.0;
+	}
+	double x = *w;
+	if (!(x > lo && x < hi))
+		x = 0.5 * (lo + hi);
+	double S = 0.0, dS = 0.0, N = 0.0, dN = 0.0;
+	for (int it = 0; it < 100; it++) {
+		S = side_force(gs, n, Ks, x, &dS);
+		N = side_force(gn, n, Kn, u - x, &dN);
+		const double h = S - N, dh = dS + dN;
+		if (h > 0.0)
+			hi = x;
+		else
+			lo = x;
+		double step = dh > 0.0 ? h / dh : 0.0;
+		double nx = x - step;
+		if (!(dh > 0.0) || !(nx > lo && nx < hi))
+			nx = 0.5 * (lo + hi);
+		const double dx = fabs(nx - x);
+		x = nx;
+		if (dx <= 1e-13 * (1.0 + fabs(x)) || hi - lo <= 1e-15 * (1.0 + fabs(x)))
+			break;
+	}
+	S = side_force(gs, n, Ks, x, &dS);
+	N = side_force(gn, n, Kn, u - x, &dN);
+	*w = x;
+	*dF = dS + dN > 0.0 ? dS * dN / (dS + dN) : 0.0;
+	*dw = dS + dN > 0.0 ? dN / (dS + dN) : 0.5;
+	return 0.5 * (S + N);
+}
+
+int prsm_assembly_solve(prsm_assembly_state *st, const prsm_assembly *as,
+                        const prsm_assembly_gaps *g, double F, int warm)
+{
+	const int Z = as->rollers, nt = as->threads;
+	const double Ks = as->k_axial[0], Kn = as->k_axial[1];
+	double gs_min[PRSM_ERRORS_MAX_ROLLERS], gn_min[PRSM_ERRORS_MAX_ROLLERS];
+	double chain_lo = INFINITY, chain_hi = -INFINITY, chain_mean = 0.0;
+	for (int j = 0; j < Z; j++) {
+		gs_min[j] = min_of(&g->gap_mm[0][j * nt], nt);
+		gn_min[j] = min_of(&g->gap_mm[1][j * nt], nt);
+		const double c = gs_min[j] + gn_min[j];
+		chain_lo = fmin(chain_lo, c);
+		chain_hi = fmax(chain_hi, c);
+		chain_mean += c / Z;
+	}
+	/* bracket (MODEL.md §4): below the smallest closed chain nothing carries load; once every
+	 * chain is closed by the approach that one contact per side needs for F, every roller
+	 * carries at least F */
+	const double ds = pow(F / Ks, 2.0 / 3.0), dn = pow(F / Kn, 2.0 / 3.0);
+	double lo = chain_lo, hi = chain_hi + ds + dn;
+	double u;
+	if (warm && st->u_mm > lo && st->u_mm < hi) {
+		u = st->u_mm;
+	} else {
+		/* equal sharing over every contact */
+		const double f = F / ((double)Z * nt);
+		u = chain_mean + pow(f / Ks, 2.0 / 3.0) + pow(f / Kn, 2.0 / 3.0);
+		if (!(u > lo && u < hi))
+			u = 0.5 * (lo + hi);
+		for (int j = 0; j < Z; j++)
+			st->w_mm[j] = gs_min[j] + pow(f / Ks, 2.0 / 3.0);
+	}
+	double total = 0.0, dtotal = 0.0, dw[PRSM_ERRORS_MAX_ROLLERS];
+	int it;
+	for (it = 1; it <= 200; it++) {
+		total = dtotal = 0.0;
+		for (int j = 0; j < Z; j++) {
+			double dF;
+			st->roller_load_N[j] = roller_balance(&g->gap_mm[0][j * nt], &g->gap_mm[1][j * nt], nt,
+			                                      Ks, Kn, u, gs_min[j], gn_min[j], &st->w_mm[j], &dF,
+			                                      &dw[j]);
+			total += st->roller_load_N[j];
+			dtotal += dF;
+		}
+		const double r = total - F;
+		if (fabs(r) <= 1e-11 * F)
+			break;
+		if (r > 0.0)
+			hi = u;
+		else
+			lo = u;
+		double nu = dtotal > 0.0 ? u - r / dtotal : 0.5 * (lo + hi);
+		if (!(nu > lo && nu < hi))
+			nu = 0.5 * (lo + hi);
+		if (fabs(nu - u) <= 1e-15 * (1.0 + fabs(u)) || hi - lo <= 1e-15 * (1.0 + fabs(u))) {
+			u = nu;
+			break;
+		}
+		/* move the rollers with the nut as the linearisation says: dw/du = N'/(S' + N') */
+		for (int j = 0; j < Z; j++)
+			st->w_mm[j] += dw[j] * (nu - u);
+		u = nu;
+	}
+	st->load_N = F;
+	st->u_mm = u;
+	st->iterations = it;
+	st->stiffness_N_per_mm = dtotal;
+	double peak = 0.0;
+	st->loaded_rollers = 0;
+	for (int j = 0; j < Z; j++) {
+		if (st->roller_load_N[j] > 0.0)
+			st->loaded_rollers++;
+		peak = fmax(peak, st->roller_load_N[j]);
+	}
+	st->sharing_factor = peak / (F / Z);
+	return 0;
+}
