@@ -12,6 +12,8 @@
 
 #include "cli/commands.h"
 #include "model/analysis.h"
+#include "model/assembly.h"
+#include "model/assembly_report.h"
 #include "model/contact.h"
 #include "model/geometry.h"
 #include "util/clock.h"
@@ -89,6 +91,87 @@ static double bench_analysis(double budget_s)
 	return (double)n / (t - t0);
 }
 
+/* An error set with every kind of error present (tens of um, a few mrad), varied per call by
+ * the deterministic index i as a Monte Carlo sample would be. */
+static void sample_errors(prsm_errors *e, int Z, int n, long i)
+{
+	prsm_errors_zero(e, Z);
+	const double v = sin(0.37 * (double)i);
+	prsm_body_errors *b[2] = {&e->screw, &e->nut};
+	for (int p = 0; p < 2; p++) {
+		b[p]->pitch_radius_mm = 0.004 * v;
+		b[p]->thickness_mm = -0.003 + 0.002 * v;
+		b[p]->flank_angle_rad = 0.001 * v;
+		b[p]->runout_mm = 0.008;
+		b[p]->runout_phase_rad = 1.0 + v;
+		b[p]->lead_deviation = 1e-5 * v;
+		b[p]->lead_periodic_mm = 0.002;
+		b[p]->lead_periodic_phase_rad = v;
+		for (int k = 0; k < n; k++)
+			b[p]->start_index_rad[k] = 0.001 * sin(1.3 * k + v);
+		b[p]->tilt_rad = 2e-4;
+		b[p]->tilt_phase_rad = 0.5 * v;
+	}
+	e->carrier.runout_mm = 0.005;
+	for (int j = 0; j < Z; j++) {
+		prsm_roller_errors *r = &e->roller[j];
+		const double w = sin(0.37 * (double)i + 1.7 * j);
+		r->pitch_radius_mm = 0.003 * w;
+		r->thickness_mm = 0.002 * w;
+		r->arc_radius_mm = 0.01 * w;
+		r->runout_mm = 0.004;
+		r->runout_phase_rad = w;
+		r->lead_periodic_mm = 0.001;
+		r->pin_radial_mm = 0.005 * w;
+		r->pin_tangential_mm = -0.005 * w;
+		r->gear_phase_rad = 0.002 * w;
+		r->tilt_radial_rad = 1e-4 * w;
+	}
+}
+
+/* MODEL.md §4 kernels, case A (Z = 10, n_t = 10): (a) gaps of both directions, backlash and the
+ * elastic load sharing at the operating load; (b) the TE curve, 64 screw angles at 50 N. */
+static double bench_assembly(double budget_s, int mode, int te)
+{
+	prsm_design d;
+	case_a(&d);
+	prsm_analysis a;
+	prsm_problems w;
+	prsm_problems_init(&w);
+	prsm_assembly as;
+	if (prsm_analysis_nominal(&a, &d, &w, NULL) || prsm_assembly_init(&as, &d, &a, NULL))
+		return 0.0;
+	prsm_assembly_gaps *g = malloc(2 * sizeof *g);
+	if (g == NULL)
+		return 0.0;
+	double te_mm[64];
+	prsm_errors e;
+	prsm_assembly_state st;
+	long n = 0;
+	double acc = 0.0, t0 = prsm_clock_seconds(), t = t0;
+	while (t - t0 < budget_s) {
+		const int batch = te ? 4 : 64;
+		for (int i = 0; i < batch; i++) {
+			sample_errors(&e, as.rollers, as.starts, n + i);
+			if (te) {
+				prsm_assembly_te_record(te_mm, 64, 2.0 * M_PI / 64, &as, &e, mode, 50.0, &g[0], NULL, NULL);
+				acc += te_mm[63];
+			} else {
+				prsm_assembly_gaps_at(&g[0], &as, &e, PRSM_DIR_PLUS, 0.1 * (double)i, mode);
+				prsm_assembly_gaps_at(&g[1], &as, &e, PRSM_DIR_MINUS, 0.1 * (double)i, mode);
+				acc += prsm_assembly_backlash(&as, &g[0], &g[1], NULL, NULL);
+				prsm_assembly_solve(&st, &as, &g[0], d.axial_load_N, 0);
+				acc += st.sharing_factor;
+			}
+		}
+		n += batch;
+		t = prsm_clock_seconds();
+	}
+	free(g);
+	sink = acc;
+	return (double)n / (t - t0);
+}
+
 static void add(cJSON *list, const char *name, double value, const char *unit, int threads)
 {
 	cJSON *b = cJSON_CreateObject();
@@ -120,6 +203,10 @@ int prsm_cli_bench(int argc, char **argv)
 	add(list, "contact_solve_warm", bench_contact(budget, 1), "solves/s", 1);
 	add(list, "contact_solve_cold", bench_contact(budget, 0), "solves/s", 1);
 	add(list, "nominal_analysis", bench_analysis(budget), "analyses/s", 1);
+	add(list, "backlash_load_sharing_linear", bench_assembly(budget, PRSM_MODE_LINEAR, 0), "evaluations/s", 1);
+	add(list, "backlash_load_sharing_exact", bench_assembly(budget, PRSM_MODE_EXACT, 0), "evaluations/s", 1);
+	add(list, "te_curve_64_linear", bench_assembly(budget, PRSM_MODE_LINEAR, 1), "curves/s", 1);
+	add(list, "te_curve_64_exact", bench_assembly(budget, PRSM_MODE_EXACT, 1), "curves/s", 1);
 	char *text = cJSON_Print(doc);
 	printf("%s\n", text);
 	free(text);

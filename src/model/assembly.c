@@ -384,25 +384,22 @@ static double roller_balance(const double *gs, const double *gn, int n, double K
 	if (!(x > lo && x < hi))
 		x = 0.5 * (lo + hi);
 	double S = 0.0, dS = 0.0, N = 0.0, dN = 0.0;
-	for (int it = 0; it < 100; it++) {
+	for (int it = 0; it < 200; it++) {
 		S = side_force(gs, n, Ks, x, &dS);
 		N = side_force(gn, n, Kn, u - x, &dN);
 		const double h = S - N, dh = dS + dN;
+		/* balanced to 1e-12 of the load, or the bracket has closed */
+		if (fabs(h) <= 1e-12 * (S + N) || hi - lo <= 1e-15 * (1.0 + fabs(x)))
+			break;
 		if (h > 0.0)
 			hi = x;
 		else
 			lo = x;
-		double step = dh > 0.0 ? h / dh : 0.0;
-		double nx = x - step;
-		if (!(dh > 0.0) || !(nx > lo && nx < hi))
+		double nx = dh > 0.0 ? x - h / dh : 0.5 * (lo + hi);
+		if (!(nx > lo && nx < hi))
 			nx = 0.5 * (lo + hi);
-		const double dx = fabs(nx - x);
 		x = nx;
-		if (dx <= 1e-13 * (1.0 + fabs(x)) || hi - lo <= 1e-15 * (1.0 + fabs(x)))
-			break;
 	}
-	S = side_force(gs, n, Ks, x, &dS);
-	N = side_force(gn, n, Kn, u - x, &dN);
 	*w = x;
 	*dF = dS + dN > 0.0 ? dS * dN / (dS + dN) : 0.0;
 	*dw = dS + dN > 0.0 ? dN / (dS + dN) : 0.5;
