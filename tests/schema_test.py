@@ -2,7 +2,8 @@
 """Schema tests: the JSON Schemas in schemas/ against the 2020-12 metaschema, the example designs
 against design.schema.json, what `prsm analyze` and `prsm validate --format json` print against
 analysis.schema.json and validation.schema.json, and the design schema against the C validator:
-for every document below both must accept it or both must refuse it.
+for every document below both must accept it or both must refuse it. Analyze requests (a design
+with `errors` and `assembly`) against analyze-request.schema.json, schema side only (section 7).
 
 Args: PRSM_BINARY SOURCE_DIR. Needs only Debian's python3-jsonschema (Draft202012Validator).
 Prints one line per failure and closes with "schemas: N passed, M failed"; exits 1 on a failure.
@@ -133,7 +134,7 @@ for path in sorted(glob.glob(os.path.join(SCHEMA_DIR, "*.json"))):
     check(f"{name} $id", s.get("$id") == BASE_URI + name, s.get("$id"))
 
 for required in ("design.schema.json", "analysis.schema.json", "problem.schema.json",
-                 "validation.schema.json"):
+                 "validation.schema.json", "analyze-request.schema.json"):
     check(f"schemas/{required} exists", required in schemas)
 if failed:
     print(f"schemas: {passed} passed, {failed} failed")
@@ -154,6 +155,7 @@ V_DESIGN = make_validator(schemas["design.schema.json"])
 V_ANALYSIS = make_validator(schemas["analysis.schema.json"])
 V_PROBLEM = make_validator(schemas["problem.schema.json"])
 V_VALIDATION = make_validator(schemas["validation.schema.json"])
+V_REQUEST = make_validator(schemas["analyze-request.schema.json"])
 
 
 def schema_errors(validator, doc):
@@ -663,6 +665,155 @@ for label, change in [("type other than about:blank", ("type", "https://prsm.exa
         d[change[0]] = change[1]
     check(f"problem document with {label} is refused", bool(schema_errors(V_PROBLEM, d)),
           "the schema accepts it")
+
+# ---- 7. the analyze request: a design, or a design with an error set and assembly options ------
+# Schema only: the CLI reads the request form later. The C reader of `errors` and `assembly`
+# (src/io/errors_json.c) is tested on the same kinds of documents in tests/test_io_errors.c.
+
+def rollers(n=10, **at):
+    """n roller objects, {} except at[index] (keys are 'r3' for roller 3)."""
+    return [at.get(f"r{j}", {}) for j in range(n)]
+
+
+FULL_BODY = {"pitch_radius_um": 3.17, "thickness_um": -7.43, "flank_angle_mrad": 1.29,
+             "runout_um": 4.61, "runout_phase_deg": 37.3, "lead_deviation_um_per_300mm": -12.7,
+             "lead_periodic_um": 2.83, "lead_periodic_phase_deg": -113.9,
+             "start_index_mrad": [0.11, -0.23, 0.37, -0.41, 0.53], "tilt_mrad": 0.087,
+             "tilt_phase_deg": 211.4}
+FULL_ROLLER = {"pitch_radius_um": 2.113, "thickness_um": -3.271, "arc_radius_um": 5.417,
+               "runout_um": 1.931, "runout_phase_deg": 47.17, "lead_deviation_um_per_300mm": 8.191,
+               "lead_periodic_um": 0.733, "lead_periodic_phase_deg": -151.3, "pin_radial_um": 4.441,
+               "pin_tangential_um": -2.297, "gear_phase_mrad": 0.613, "tilt_radial_mrad": 0.0917,
+               "tilt_tangential_mrad": -0.0533}
+FULL_ASSEMBLY = {"mode": "exact", "measuring_load_N": 123.5, "angles_per_revolution": 256,
+                 "stroke_mm": 250.75, "spectrum_revolutions": 32, "curve": True}
+
+
+def request(errors=None, assembly=None, **extra):
+    r = {"design": copy.deepcopy(BASE)}
+    if errors is not None:
+        r["errors"] = errors
+    if assembly is not None:
+        r["assembly"] = assembly
+    r.update(extra)
+    return r
+
+
+REQUEST_VALID = [
+    ("a plain design document", BASE),
+    ("a design alone", request()),
+    ("empty errors and assembly", request({}, {})),
+    ("every field", request({"screw": FULL_BODY, "nut": FULL_BODY,
+                             "carrier": {"runout_um": 6.73, "runout_phase_deg": -71.2},
+                             "rollers": [FULL_ROLLER] * 10}, FULL_ASSEMBLY)),
+    ("limits are inclusive",
+     request({"screw": {"pitch_radius_um": -500, "thickness_um": 500, "flank_angle_mrad": -50,
+                        "runout_um": 500, "runout_phase_deg": -3600, "lead_deviation_um_per_300mm": 1000,
+                        "lead_periodic_um": 0, "lead_periodic_phase_deg": 3600,
+                        "start_index_mrad": [-100, 100, 0, 0, 0], "tilt_mrad": 20, "tilt_phase_deg": 3600},
+              "nut": {"lead_deviation_um_per_300mm": -1000, "tilt_mrad": 0},
+              "rollers": rollers(r0={"arc_radius_um": -500, "pin_radial_um": 500, "pin_tangential_um": -500,
+                                     "gear_phase_mrad": 100, "tilt_radial_mrad": -20,
+                                     "tilt_tangential_mrad": 20})},
+             {"measuring_load_N": 1e6, "angles_per_revolution": 4096, "stroke_mm": 0,
+              "spectrum_revolutions": 1})),
+    ("integers written as 64.0", request(assembly={"angles_per_revolution": 64.0, "spectrum_revolutions": 1e1})),
+]
+REQUEST_INVALID = [
+    ("errors without a design", {"errors": {}}),
+    ("a design document with errors beside it", {**BASE, "errors": {}}),
+    ("an extra member", request(extra=1)),
+    ("an invalid design inside", {"design": variant(("geometry/pitch_mm", -2))}),
+    ("errors not an object", request([])),
+    ("unknown part", request({"colour": 1})),
+    ("screw not an object", request({"screw": 5})),
+    ("string value", request({"screw": {"runout_um": "3"}})),
+    ("null value", request({"screw": {"thickness_um": None}})),
+    ("boolean value", request({"nut": {"flank_angle_mrad": True}})),
+    ("pitch radius above 500 um", request({"screw": {"pitch_radius_um": 500.5}})),
+    ("thickness below -500 um", request({"nut": {"thickness_um": -501}})),
+    ("flank angle above 50 mrad", request({"screw": {"flank_angle_mrad": 50.01}})),
+    ("negative run-out", request({"screw": {"runout_um": -0.5}})),
+    ("negative periodic lead", request({"nut": {"lead_periodic_um": -1}})),
+    ("negative carrier run-out", request({"carrier": {"runout_um": -2}})),
+    ("negative tilt", request({"screw": {"tilt_mrad": -0.1}})),
+    ("tilt above 20 mrad", request({"screw": {"tilt_mrad": 20.5}})),
+    ("phase above 3600 deg", request({"screw": {"runout_phase_deg": 3600.1}})),
+    ("lead deviation below -1000", request({"screw": {"lead_deviation_um_per_300mm": -1000.5}})),
+    ("start index above 100 mrad", request({"nut": {"start_index_mrad": [0, 0, 0, 100.5, 0]}})),
+    ("start index not an array", request({"nut": {"start_index_mrad": 0.3}})),
+    ("start index element a string", request({"nut": {"start_index_mrad": [0, 0, "x", 0, 0]}})),
+    ("unknown field in screw", request({"screw": {"runout": 3}})),
+    ("tilt on the carrier", request({"carrier": {"tilt_mrad": 1}})),
+    ("rollers not an array", request({"rollers": {}})),
+    ("rollers empty", request({"rollers": []})),
+    ("roller not an object", request({"rollers": rollers(r3=5)})),
+    ("roller gear phase above 100 mrad", request({"rollers": rollers(r0={"gear_phase_mrad": 100.1})})),
+    ("roller tilt below -20 mrad", request({"rollers": rollers(r9={"tilt_radial_mrad": -20.1})})),
+    ("roller negative run-out", request({"rollers": rollers(r7={"runout_um": -1})})),
+    ("unknown field in a roller", request({"rollers": rollers(r2={"pin": 1})})),
+    ("assembly not an object", request(assembly=[])),
+    ("mode Exact", request(assembly={"mode": "Exact"})),
+    ("mode 1", request(assembly={"mode": 1})),
+    ("measuring load 0", request(assembly={"measuring_load_N": 0})),
+    ("measuring load above 1e6 N", request(assembly={"measuring_load_N": 1000000.5})),
+    ("7 angles per revolution", request(assembly={"angles_per_revolution": 7})),
+    ("4097 angles per revolution", request(assembly={"angles_per_revolution": 4097})),
+    ("64.5 angles per revolution", request(assembly={"angles_per_revolution": 64.5})),
+    ("negative stroke", request(assembly={"stroke_mm": -0.1})),
+    ("stroke above 10000 mm", request(assembly={"stroke_mm": 10000.01})),
+    ("0 spectrum revolutions", request(assembly={"spectrum_revolutions": 0})),
+    ("1001 spectrum revolutions", request(assembly={"spectrum_revolutions": 1001})),
+    ("curve a string", request(assembly={"curve": "yes"})),
+    ("unknown assembly option", request(assembly={"speed": 1})),
+]
+# Valid for the schema, refused by the engine (tests/test_io_errors.c): the lengths depend on the
+# design, and the sample count on its lead.
+REQUEST_BEYOND_SCHEMA = [
+    ("9 rollers for Z = 10", request({"rollers": rollers(9)})),
+    ("4 start indices for n = 5", request({"screw": {"start_index_mrad": [0, 0, 0, 0]}})),
+    ("4096 angles x 245 revolutions", request(assembly={"angles_per_revolution": 4096,
+                                                        "spectrum_revolutions": 245})),
+]
+for name, doc in REQUEST_VALID + REQUEST_BEYOND_SCHEMA:
+    e = schema_errors(V_REQUEST, doc)
+    check(f"request '{name}': analyze-request.schema.json accepts it", not e, e)
+for name, doc in REQUEST_INVALID:
+    check(f"request '{name}': analyze-request.schema.json refuses it",
+          bool(schema_errors(V_REQUEST, doc)), "the schema accepts it")
+# the limits of the C reader (#defines in src/io/errors_json.h) are the schema's
+defines = {}
+with open(os.path.join(SRC, "src", "io", "errors_json.h"), encoding="utf-8") as f:
+    for line in f:
+        parts = line.split()
+        if len(parts) >= 3 and parts[0] == "#define" and parts[1].startswith("PRSM_IO_"):
+            defines[parts[1]] = float(parts[2])
+rd = schemas["analyze-request.schema.json"]["$defs"]
+ra = rd["assembly"]["properties"]
+LIMITS = [
+    ("PRSM_IO_ERRORS_LENGTH_MAX_UM", [rd["signed_length_um"]["maximum"], -rd["signed_length_um"]["minimum"]]),
+    ("PRSM_IO_ERRORS_MAGNITUDE_MAX_UM", [rd["magnitude_um"]["maximum"]]),
+    ("PRSM_IO_ERRORS_FLANK_ANGLE_MAX_MRAD", [rd["body"]["properties"]["flank_angle_mrad"]["maximum"],
+                                             -rd["body"]["properties"]["flank_angle_mrad"]["minimum"]]),
+    ("PRSM_IO_ERRORS_INDEX_MAX_MRAD", [rd["index_mrad"]["maximum"], -rd["index_mrad"]["minimum"]]),
+    ("PRSM_IO_ERRORS_TILT_MAX_MRAD", [rd["body"]["properties"]["tilt_mrad"]["maximum"],
+                                      rd["tilt_component_mrad"]["maximum"], -rd["tilt_component_mrad"]["minimum"]]),
+    ("PRSM_IO_ERRORS_LEAD_MAX_UM_PER_300MM", [rd["lead_um_per_300mm"]["maximum"], -rd["lead_um_per_300mm"]["minimum"]]),
+    ("PRSM_IO_ERRORS_PHASE_MAX_DEG", [rd["phase_deg"]["maximum"], -rd["phase_deg"]["minimum"]]),
+    ("PRSM_IO_ASSEMBLY_LOAD_MAX_N", [ra["measuring_load_N"]["maximum"]]),
+    ("PRSM_IO_ASSEMBLY_ANGLES_MIN", [ra["angles_per_revolution"]["minimum"]]),
+    ("PRSM_IO_ASSEMBLY_ANGLES_MAX", [ra["angles_per_revolution"]["maximum"]]),
+    ("PRSM_IO_ASSEMBLY_STROKE_MAX_MM", [ra["stroke_mm"]["maximum"]]),
+    ("PRSM_IO_ASSEMBLY_SPECTRUM_REVOLUTIONS_MAX", [ra["spectrum_revolutions"]["maximum"]]),
+]
+for name, values in LIMITS:
+    check(f"errors_json.h {name} is the schema's", name in defines and all(v == defines[name] for v in values),
+          f"{defines.get(name)} vs {values}")
+check("errors_json.h PRSM_IO_ASSEMBLY_SAMPLES_MAX is the schema's",
+      f"{int(defines.get('PRSM_IO_ASSEMBLY_SAMPLES_MAX', 0))} transmission-error samples" in rd["assembly"]["description"])
+check("analyze-request.schema.json says the array lengths are checked by the engine",
+      "cannot express" in schemas["analyze-request.schema.json"]["$defs"]["errors"]["properties"]
+      ["rollers"]["description"])
 
 if known_seen:
     print(f"known disagreements: {len(known_seen)} still reproduce (see KNOWN in {os.path.basename(__file__)})")

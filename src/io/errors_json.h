@@ -1,0 +1,82 @@
+/*
+ * errors_json.h: the analyze request's `errors` object (one concrete error set: a measured part
+ * or one Monte Carlo sample, MODEL.md §3) to prsm_errors and back, and its `assembly` options
+ * object to prsm_assembly_options (schemas/analyze-request.schema.json).
+ *
+ * Units convert here and nowhere else: the API names the unit in the field, the engine works in
+ * mm, rad and mm per mm (model/errors.h):
+ *   *_um                       -> mm            (/ 1000)
+ *   *_mrad                     -> rad           (/ 1000)
+ *   *_deg                      -> rad           (* pi / 180)
+ *   *_um_per_300mm             -> mm per mm     (/ 1000 / 300)
+ * Every problem is added with its JSON pointer, all of them at once (io/json_util.h).
+ *
+ * The limits below are the schema's; schemas/analyze-request.schema.json states the same
+ * numbers. The two rules a schema cannot express are checked here only: `rollers` has exactly
+ * Z = d->rollers elements and each `start_index_mrad` exactly n = d->starts.
+ */
+#ifndef PRSM_IO_ERRORS_JSON_H
+#define PRSM_IO_ERRORS_JSON_H
+
+#include <cJSON.h>
+
+#include "model/assembly.h"
+#include "model/design.h"
+#include "model/errors.h"
+#include "util/problems.h"
+
+/* errors: |x| <= limit for signed values, [0, limit] for magnitudes (run-out, periodic lead
+ * amplitude, tilt), whose direction is a separate phase. */
+#define PRSM_IO_ERRORS_LENGTH_MAX_UM 500.0      /* pitch_radius, thickness, arc_radius, pin_* */
+#define PRSM_IO_ERRORS_MAGNITUDE_MAX_UM 500.0   /* runout_um, lead_periodic_um: [0, max] */
+#define PRSM_IO_ERRORS_FLANK_ANGLE_MAX_MRAD 50.0
+#define PRSM_IO_ERRORS_INDEX_MAX_MRAD 100.0     /* start_index_mrad[], gear_phase_mrad */
+#define PRSM_IO_ERRORS_TILT_MAX_MRAD 20.0       /* tilt_mrad: [0, max]; tilt_radial/tangential: |x| */
+#define PRSM_IO_ERRORS_LEAD_MAX_UM_PER_300MM 1000.0
+#define PRSM_IO_ERRORS_PHASE_MAX_DEG 3600.0     /* every *_phase_deg */
+
+/* assembly options */
+#define PRSM_IO_ASSEMBLY_LOAD_MAX_N 1e6         /* measuring_load_N in (0, max] */
+#define PRSM_IO_ASSEMBLY_ANGLES_MIN 8           /* angles_per_revolution */
+#define PRSM_IO_ASSEMBLY_ANGLES_MAX 4096
+#define PRSM_IO_ASSEMBLY_STROKE_MAX_MM 10000.0  /* stroke_mm in [0, max] */
+#define PRSM_IO_ASSEMBLY_SPECTRUM_REVOLUTIONS_MAX 1000 /* spectrum_revolutions in [1, max] */
+/* angles_per_revolution * max(spectrum_revolutions, stroke_mm / lead_mm) may not exceed this */
+#define PRSM_IO_ASSEMBLY_SAMPLES_MAX 1000000
+
+/*
+ * Read the `errors` object (a concrete error set: a measured part or one sample) into out.
+ * d is the resolved design (for the roller count Z = d->rollers and the start count
+ * n = d->starts). out is prsm_errors_zero(out, d->rollers) first, so absent fields are 0; obj
+ * NULL (no `errors` in the request) leaves it so and returns 0. pointer is the errors object's
+ * own pointer (e.g. "/errors"); every problem is added below it. Returns 0, or PRSM_EINVAL when
+ * a problem was added (out then holds the fields that were valid).
+ */
+int prsm_io_errors_from_json(prsm_errors *out, const cJSON *obj, const char *pointer,
+                             const prsm_design *d, prsm_problems *problems);
+
+/*
+ * Read the `assembly` options object into out: prsm_assembly_options_default() first, so absent
+ * fields keep their defaults; obj NULL leaves the defaults and returns 0. d (resolved) gives the
+ * lead n P for the sample-count rule, which is reported at pointer itself. Returns 0 or
+ * PRSM_EINVAL (a problem was added).
+ */
+int prsm_io_assembly_options_from_json(prsm_assembly_options *out, const cJSON *obj,
+                                       const char *pointer, const prsm_design *d,
+                                       prsm_problems *problems);
+
+/*
+ * The error set as an `errors` object in the API's units, only its non-zero fields: a zero set
+ * is {}, a part without errors is left out, `rollers` is left out when every roller is zero
+ * (otherwise it has e->rollers elements, {} for a zero roller) and `start_index_mrad` when every
+ * start is zero (otherwise it has `starts` elements). Reading the object back with a design of
+ * e->rollers rollers and `starts` starts gives the same set, bit for bit, for every set that was
+ * read from JSON, and any other set within the limits above to a relative 2^-52 (not every
+ * double in mm is a double in µm divided by 1000). Values are written as short as reads back
+ * (63.7, not 63.70000000000001). The tree holds the doubles exactly; printing it is the
+ * caller's (cJSON_Print() keeps only 15 digits when they are within DBL_EPSILON, so text can
+ * lose the last bit). Returns NULL when out of memory; the caller owns the tree (cJSON_Delete()).
+ */
+cJSON *prsm_io_errors_to_json(const prsm_errors *e, int starts);
+
+#endif
