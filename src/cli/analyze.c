@@ -8,10 +8,27 @@
 
 #include "cli/commands.h"
 #include "io/analysis_json.h"
+#include "io/assembly_json.h"
 #include "io/design_json.h"
+#include "io/errors_json.h"
 #include "io/json_util.h"
 #include "model/analysis.h"
+#include "model/assembly_report.h"
 #include "util/file.h"
+
+/* What a request asks for: a design document alone (the nominal analysis), or
+ * {"design", "errors", "assembly"} (the nominal analysis and the error analysis of MODEL.md §3,
+ * §4 for one concrete error set). */
+typedef struct {
+	prsm_design d;
+	prsm_analysis a;
+	int with_errors;               /* the request form with errors and/or assembly */
+	prsm_errors errors;
+	prsm_assembly_options options;
+	prsm_assembly as;
+} request;
+
+static const char *const request_keys[] = {"design", "errors", "assembly", NULL};
 
 typedef struct {
 	const char *path;
@@ -82,8 +99,8 @@ static int print_json(cJSON *doc, const char *out_path)
 	return bad ? PRSM_EXIT_FAILED : PRSM_EXIT_OK;
 }
 
-/* Read, parse and load the design; problems go to *problems. Returns 0 or an exit code. */
-static int load(prsm_design *d, prsm_geometry *g, prsm_problems *warnings, prsm_problems *problems,
+/* Read, parse and load the request; problems go to *problems. Returns 0 or an exit code. */
+static int load(request *rq, prsm_geometry *g, prsm_problems *warnings, prsm_problems *problems,
                 const char *path)
 {
 	char *text = NULL;
@@ -97,29 +114,85 @@ static int load(prsm_design *d, prsm_geometry *g, prsm_problems *warnings, prsm_
 	free(text);
 	if (doc == NULL)
 		return PRSM_EXIT_INVALID;
-	int rc = prsm_io_design_load(d, g, warnings, doc, "", problems);
+	int rc;
+	rq->with_errors = cJSON_IsObject(doc) && cJSON_GetObjectItemCaseSensitive(doc, "design") != NULL;
+	if (!rq->with_errors) {
+		rc = prsm_io_design_load(&rq->d, g, warnings, doc, "", problems);
+	} else {
+		prsm_json_check_keys(doc, "", request_keys, problems);
+		const cJSON *design = cJSON_GetObjectItemCaseSensitive(doc, "design");
+		rc = prsm_io_design_load(&rq->d, g, warnings, design, "/design", problems);
+		const cJSON *errors = NULL, *opts = NULL;
+		char ep[PRSM_JSON_POINTER_MAX], op[PRSM_JSON_POINTER_MAX];
+		prsm_json_get_object(&errors, doc, "", "errors", PRSM_JSON_OPTIONAL, problems);
+		prsm_json_get_object(&opts, doc, "", "assembly", PRSM_JSON_OPTIONAL, problems);
+		prsm_json_pointer_append(ep, sizeof ep, "", "errors");
+		prsm_json_pointer_append(op, sizeof op, "", "assembly");
+		/* the error set's shape (Z rollers, n starts) needs the design */
+		if (rc == 0) {
+			prsm_io_errors_from_json(&rq->errors, errors, ep, &rq->d, problems);
+			prsm_io_assembly_options_from_json(&rq->options, opts, op, &rq->d, problems);
+		}
+		if (problems->count || problems->dropped)
+			rc = PRSM_EINVAL;
+	}
 	cJSON_Delete(doc);
 	return rc ? PRSM_EXIT_INVALID : 0;
 }
 
-/* Parse, load and analyse the design: the checks shared by validate and analyze. Problems of
+/* Parse, load and analyse the request: the checks shared by validate and analyze. Problems of
  * the document and of the nominal contacts (edge contact, no contact point) go to *problems;
  * warnings are those of the analysis. Returns 0 or an exit code. */
-static int load_and_analyse(prsm_design *d, prsm_analysis *a, prsm_problems *warnings,
-                            prsm_problems *problems, const char *path)
+static int load_and_analyse(request *rq, prsm_problems *warnings, prsm_problems *problems,
+                            const char *path)
 {
 	prsm_geometry g;
-	int rc = load(d, &g, warnings, problems, path);
+	int rc = load(rq, &g, warnings, problems, path);
 	if (rc)
 		return rc;
 	prsm_error err = PRSM_ERROR_INIT;
-	int arc = prsm_analysis_nominal(a, d, warnings, &err);
+	int arc = prsm_analysis_nominal(&rq->a, &rq->d, warnings, &err);
+	if (arc == 0 && rq->with_errors)
+		arc = prsm_assembly_init(&rq->as, &rq->d, &rq->a, &err);
 	if (arc == 0)
 		return 0;
 	/* only the contact solver can tell that the contacts lie on their flanks */
-	prsm_problems_add(problems, err.pointer, arc == PRSM_EEDGE ? "edge_contact" : "no_contact",
+	char ptr[PRSM_JSON_POINTER_MAX + 8];
+	snprintf(ptr, sizeof ptr, "%s%s", rq->with_errors ? "/design" : "", err.pointer);
+	prsm_problems_add(problems, ptr,
+	                  arc == PRSM_EEDGE ? "edge_contact" : arc == PRSM_EINVAL ? "too_large" : "no_contact",
 	                  "%s", err.message);
 	return prsm_error_exit_code(arc);
+}
+
+/* The error analysis of the request's error set (MODEL.md §3, §4); ws buffers allocated here. */
+typedef struct {
+	prsm_assembly_report report;
+	prsm_assembly_workspace *ws;
+} error_analysis;
+
+static int run_error_analysis(error_analysis *ea, const request *rq)
+{
+	int n, m;
+	prsm_assembly_record_length(&n, &m, &rq->as, &rq->options);
+	ea->ws = calloc(1, sizeof *ea->ws);
+	if (ea->ws == NULL)
+		return PRSM_EXIT_FAILED;
+	ea->ws->te_mm = calloc((size_t)n, sizeof(double));
+	ea->ws->spectrum_mm = calloc((size_t)m, sizeof(double));
+	if (ea->ws->te_mm == NULL || ea->ws->spectrum_mm == NULL)
+		return PRSM_EXIT_FAILED;
+	prsm_assembly_analyse(&ea->report, &rq->as, &rq->errors, &rq->options, ea->ws);
+	return 0;
+}
+
+static void free_error_analysis(error_analysis *ea)
+{
+	if (ea->ws) {
+		free(ea->ws->te_mm);
+		free(ea->ws->spectrum_mm);
+		free(ea->ws);
+	}
 }
 
 int prsm_cli_validate(int argc, char **argv)
@@ -127,12 +200,14 @@ int prsm_cli_validate(int argc, char **argv)
 	options o;
 	if (parse_options(&o, argc, argv, 1))
 		return PRSM_EXIT_USAGE;
-	prsm_design d;
-	prsm_analysis a;
+	request *rq = calloc(1, sizeof *rq);
+	if (rq == NULL)
+		return PRSM_EXIT_FAILED;
 	prsm_problems warnings, problems;
 	prsm_problems_init(&warnings);
 	prsm_problems_init(&problems);
-	int rc = load_and_analyse(&d, &a, &warnings, &problems, o.path);
+	int rc = load_and_analyse(rq, &warnings, &problems, o.path);
+	free(rq);
 	if (rc == PRSM_EXIT_USAGE) {
 		print_problems(stderr, o.path, &problems);
 		return rc;
@@ -155,37 +230,58 @@ int prsm_cli_validate(int argc, char **argv)
 	return rc;
 }
 
+static int write_analysis(const options *o, const request *rq, const error_analysis *ea,
+                          const prsm_problems *warnings)
+{
+	if (o->text) {
+		FILE *f = o->out_path ? fopen(o->out_path, "w") : stdout;
+		if (f == NULL) {
+			perror(o->out_path);
+			return PRSM_EXIT_FAILED;
+		}
+		prsm_io_analysis_print_text(f, &rq->a, &rq->d, warnings);
+		if (rq->with_errors)
+			prsm_io_assembly_print_text(f, &ea->report, &rq->as);
+		int bad = ferror(f);
+		if (f != stdout)
+			bad |= fclose(f);
+		return bad ? PRSM_EXIT_FAILED : 0;
+	}
+	cJSON *res = prsm_io_analysis_to_json(&rq->a, &rq->d, warnings);
+	if (res == NULL)
+		return PRSM_EXIT_FAILED;
+	if (rq->with_errors) {
+		cJSON_AddItemToObject(res, "errors", prsm_io_errors_to_json(&rq->errors, rq->d.starts));
+		cJSON_AddItemToObject(res, "assembly", prsm_io_assembly_to_json(&ea->report, &rq->as, &rq->options, ea->ws));
+	}
+	int rc = print_json(res, o->out_path);
+	cJSON_Delete(res);
+	return rc;
+}
+
 int prsm_cli_analyze(int argc, char **argv)
 {
 	options o;
 	if (parse_options(&o, argc, argv, 0))
 		return PRSM_EXIT_USAGE;
-	prsm_design d;
-	prsm_analysis a;
+	request *rq = calloc(1, sizeof *rq);
+	if (rq == NULL)
+		return PRSM_EXIT_FAILED;
 	prsm_problems warnings, problems;
 	prsm_problems_init(&warnings);
 	prsm_problems_init(&problems);
-	int rc = load_and_analyse(&d, &a, &warnings, &problems, o.path);
+	error_analysis ea = {0};
+	int rc = load_and_analyse(rq, &warnings, &problems, o.path);
 	if (rc) {
 		print_problems(stderr, o.path, &problems);
-		return rc;
+	} else {
+		if (rq->with_errors)
+			rc = run_error_analysis(&ea, rq);
+		if (rc == 0)
+			rc = write_analysis(&o, rq, &ea, &warnings);
 	}
-	if (o.text) {
-		FILE *f = o.out_path ? fopen(o.out_path, "w") : stdout;
-		if (f == NULL) {
-			perror(o.out_path);
-			return PRSM_EXIT_FAILED;
-		}
-		prsm_io_analysis_print_text(f, &a, &d, &warnings);
-		if (f != stdout)
-			fclose(f);
-		return 0;
-	}
-	cJSON *res = prsm_io_analysis_to_json(&a, &d, &warnings);
-	if (res == NULL)
-		return PRSM_EXIT_FAILED;
-	rc = print_json(res, o.out_path);
-	cJSON_Delete(res);
+	free_error_analysis(&ea);
+	free(rq);
 	return rc;
 }
 
