@@ -16,7 +16,7 @@ typedef struct {
 	prsm_design d;
 	prsm_analysis a;
 	prsm_assembly as;
-	prsm_assembly_gaps plus, minus, ref;
+	prsm_assembly_gaps plus, minus, ref, ref2;
 } fixture;
 
 /* Case A (MODEL.md §2), 20 um of total axial play, 7000 N. */
@@ -161,6 +161,56 @@ static void test_linear_matches_exact(void **state)
 		free(f);
 	}
 	print_message("worst |linear - exact| / scale: %.4f\n", worst);
+}
+
+/* Every field of the error set: the gap sensitivity of linear mode (um of gap per unit of the
+ * error, a central difference of linear mode, which is exact for it) against a central finite
+ * difference of exact mode, at a random base set of 10 um, for every contact. */
+static void test_error_sensitivities_fd(void **state)
+{
+	(void)state;
+	fixture *f = make_case_a();
+	prsm_errors base;
+	random_errors(&base, f->as.rollers, f->as.starts, 10.0, 2024u);
+	/* the fields: every double of screw, nut, carrier and rollers 0 and 5 */
+	double *fields[80];
+	int nf = 0;
+	double *blocks[4] = {(double *)&base.screw, (double *)&base.nut, (double *)&base.roller[0],
+	                     (double *)&base.roller[5]};
+	const size_t sizes[4] = {sizeof base.screw, sizeof base.nut, sizeof base.roller[0], sizeof base.roller[5]};
+	for (int b = 0; b < 4; b++)
+		for (size_t i = 0; i < sizes[b] / sizeof(double) && nf < 78; i++)
+			fields[nf++] = blocks[b] + i;
+	fields[nf++] = &base.carrier.runout_mm;
+	fields[nf++] = &base.carrier.runout_phase_rad;
+	const double h = 1e-4; /* 0.1 um or 0.1 mrad */
+	const double th = 0.77;
+	int checked = 0;
+	for (int i = 0; i < nf; i++) {
+		const double keep = *fields[i];
+		for (int dir = 0; dir < 2; dir++) {
+			*fields[i] = keep + h;
+			prsm_assembly_gaps_at(&f->plus, &f->as, &base, dir, th, PRSM_MODE_LINEAR);
+			prsm_assembly_gaps_at(&f->ref, &f->as, &base, dir, th, PRSM_MODE_EXACT);
+			*fields[i] = keep - h;
+			prsm_assembly_gaps_at(&f->minus, &f->as, &base, dir, th, PRSM_MODE_LINEAR);
+			prsm_assembly_gaps_at(&f->ref2, &f->as, &base, dir, th, PRSM_MODE_EXACT);
+			*fields[i] = keep;
+			for (int side = 0; side < 2; side++)
+				for (int c = 0; c < f->as.rollers * f->as.threads; c++) {
+					const double lin = (f->plus.gap_mm[side][c] - f->minus.gap_mm[side][c]) / (2 * h);
+					const double ex = (f->ref.gap_mm[side][c] - f->ref2.gap_mm[side][c]) / (2 * h);
+					/* second order at a 10 um base: a few percent of the sensitivity, plus the
+					 * profile terms whose first order is nil at the nut (up to 0.035 um per um or per mrad at
+					 * 10 um): a wrong sign or factor in the mapping is O(1) */
+					assert_close(lin, ex, 0.03 * fabs(ex) + 0.05);
+					checked += fabs(ex) > 1e-3;
+				}
+		}
+	}
+	print_message("%d fields, %d non-zero sensitivities checked\n", nf, checked);
+	assert_true(checked > 1000);
+	free(f);
 }
 
 /* Profile errors alone (roller arc radius up to 50 um, flank angles up to 5 mrad, together):
@@ -578,6 +628,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_zero_errors_nominal),
 		cmocka_unit_test(test_linear_matches_exact),
+		cmocka_unit_test(test_error_sensitivities_fd),
 		cmocka_unit_test(test_profile_errors_second_order),
 		cmocka_unit_test(test_thickness_one_to_one),
 		cmocka_unit_test(test_roller_radial_shift),
