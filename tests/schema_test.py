@@ -3,7 +3,9 @@
 against design.schema.json, what `prsm analyze` and `prsm validate --format json` print against
 analysis.schema.json and validation.schema.json, and the design schema against the C validator:
 for every document below both must accept it or both must refuse it. Analyze requests (a design
-with `errors` and `assembly`) against analyze-request.schema.json, schema side only (section 7).
+with `errors` and `assembly`) against analyze-request.schema.json, schema side only (section 7), and
+what `prsm analyze` prints for them (`errors`, `assembly`) against analysis.schema.json, with the
+array lengths and figures checked against each other (section 8).
 
 Args: PRSM_BINARY SOURCE_DIR. Needs only Debian's python3-jsonschema (Draft202012Validator).
 Prints one line per failure and closes with "schemas: N passed, M failed"; exits 1 on a failure.
@@ -451,12 +453,16 @@ def close(a, b):
 
 studies = sorted(glob.glob(os.path.join(SRC, "studies", "*.json")))
 n_designs = 0
+request_studies = []
 for path in studies:
     name = "studies/" + os.path.basename(path)
     try:
         doc = load_json(path)
     except (OSError, ValueError) as e:
         check(f"{name} is JSON", False, str(e))
+        continue
+    if isinstance(doc, dict) and "design" in doc:
+        request_studies.append(path)  # an analyze request {design, errors, assembly}: section 8
         continue
     if not (isinstance(doc, dict) and "geometry" in doc):
         print(f"note: {name} is not a design document (no geometry), skipped")
@@ -667,7 +673,7 @@ for label, change in [("type other than about:blank", ("type", "https://prsm.exa
           "the schema accepts it")
 
 # ---- 7. the analyze request: a design, or a design with an error set and assembly options ------
-# Schema only: the CLI reads the request form later. The C reader of `errors` and `assembly`
+# Schema only here (section 8 runs the CLI on requests). The C reader of `errors` and `assembly`
 # (src/io/errors_json.c) is tested on the same kinds of documents in tests/test_io_errors.c.
 
 def rollers(n=10, **at):
@@ -814,6 +820,281 @@ check("errors_json.h PRSM_IO_ASSEMBLY_SAMPLES_MAX is the schema's",
 check("analyze-request.schema.json says the array lengths are checked by the engine",
       "cannot express" in schemas["analyze-request.schema.json"]["$defs"]["errors"]["properties"]
       ["rollers"]["description"])
+
+# ---- 8. the request form through the CLI: `errors` and `assembly` in analysis.schema.json ------
+# prsm analyze of {design, errors, assembly} adds the echoed error set and the error analysis
+# (src/io/assembly_json.c); the schema checks their shape, the checks below what a schema cannot:
+# array lengths against the design and the options, and the figures that follow from each other.
+
+MEASURED = os.path.join(SRC, "studies", "case-a-measured.json")
+check("studies/case-a-measured.json is among the example requests", MEASURED in request_studies)
+for path in request_studies:
+    name = "studies/" + os.path.basename(path)
+    doc = load_json(path)
+    e = schema_errors(V_REQUEST, doc)
+    check(f"{name} matches analyze-request.schema.json", not e, e)
+    rc, vdoc = validate_cli(name, path)
+    check(f"{name}: prsm validate accepts it", rc == 0 and vdoc is not None and vdoc.get("valid") is True,
+          f"exit {rc}")
+    analyze_cli(name, path)
+measured = load_json(MEASURED)
+
+
+def req_variant(assembly_changes=None, errors=DELETE, design_changes=()):
+    """The measured request with assembly options replaced (None value: removed), its errors
+    replaced (DELETE: kept), and design changes as in variant()."""
+    r = copy.deepcopy(measured)
+    for k, v in (assembly_changes or {}).items():
+        if v is None:
+            r["assembly"].pop(k, None)
+        else:
+            r["assembly"][k] = v
+    if errors is not DELETE:
+        r["errors"] = errors
+    r["design"] = variant(*design_changes, base=r["design"])
+    return r
+
+
+REQUESTS = [
+    ("measured (example)", measured),
+    ("measured, curve, exact", req_variant({"curve": True, "mode": "exact"})),
+    ("measured, curve, no stroke", req_variant({"curve": True, "stroke_mm": None})),
+    ("measured, curve, stroke 250.75 mm, 128 angles, 4 spectrum revolutions",
+     req_variant({"curve": True, "stroke_mm": 250.75, "angles_per_revolution": 128,
+                  "spectrum_revolutions": 4})),
+    ("measured, curve, left hand", req_variant({"curve": True}, design_changes=[("geometry/hand", "left")])),
+    ("measured, no axial load", req_variant(design_changes=[("operating_point", {"screw_speed_rpm": 955})])),
+    ("measured, no errors", req_variant({"curve": True}, errors={})),
+    ("design alone in the request form", {"design": measured["design"]}),
+]
+
+
+def fit_slope(x):
+    n = len(x)
+    mi = (n - 1) / 2.0
+    mx = sum(x) / n
+    return sum((i - mi) * (v - mx) for i, v in enumerate(x)) / sum((i - mi) ** 2 for i in range(n))
+
+
+def pp_rms(x):
+    m = sum(x) / len(x)
+    return max(x) - min(x), math.sqrt(sum((v - m) ** 2 for v in x) / len(x))
+
+
+def near(a, b, tol=1e-9):
+    return isinstance(a, (int, float)) and isinstance(b, (int, float)) and abs(a - b) <= tol * (1 + abs(b))
+
+
+req_results = {}
+for name, req in REQUESTS:
+    e = schema_errors(V_REQUEST, req)
+    check(f"request '{name}': analyze-request.schema.json accepts it", not e, e)
+    rc, res = analyze_cli(f"request '{name}'", write_doc(req))
+    if res is None:
+        continue
+    req_results[name] = res
+    tag = f"request '{name}'"
+    if not check(f"{tag}: result has errors and assembly", "errors" in res and "assembly" in res, str(list(res))):
+        continue
+    check(f"{tag}: errors echo the request's errors", res["errors"] == req.get("errors", {}),
+          f"{res['errors']} != {req.get('errors', {})}")
+    asm = res["assembly"]
+    opts = {"mode": "linear", "measuring_load_N": 50, "angles_per_revolution": 64, "stroke_mm": 0,
+            "spectrum_revolutions": 16, "curve": False, **req.get("assembly", {})}
+    g = res["design"]["geometry"]
+    Z, nt, M = g["rollers"], g["engaged_threads"], opts["angles_per_revolution"]
+    lead = g["starts"] * g["pitch_mm"]
+    F = res["design"]["operating_point"]["axial_load_N"]
+    check(f"{tag}: mode is the requested one", asm["mode"] == opts["mode"], asm["mode"])
+    te = asm["transmission_error"]
+    check(f"{tag}: measuring load and angles are the requested ones",
+          te["measuring_load_N"] == opts["measuring_load_N"] and te["angles_per_revolution"] == M)
+    # backlash: B = plus + minus, B(0) within its range over the revolution
+    b = asm["backlash"]
+    check(f"{tag}: backlash at_zero = plus + minus", near(b["at_zero_um"], b["plus_um"] + b["minus_um"]), str(b))
+    check(f"{tag}: backlash min <= at_zero, mean <= max",
+          b["min_over_revolution_um"] <= b["at_zero_um"] + 1e-9 <= b["max_over_revolution_um"] + 2e-9
+          and b["min_over_revolution_um"] <= b["mean_over_revolution_um"] + 1e-9
+          and b["mean_over_revolution_um"] <= b["max_over_revolution_um"] + 1e-9, str(b))
+    # load sharing: Z roller loads that add up to F
+    ls = asm["load_sharing"]
+    if F > 0:
+        loads = ls.get("roller_loads_N", [])
+        check(f"{tag}: roller_loads_N has Z = {Z} elements", len(loads) == Z, str(len(loads)))
+        check(f"{tag}: roller loads add up to the axial load", near(sum(loads), F, 1e-9), f"{sum(loads)} vs {F}")
+        check(f"{tag}: loaded_rollers counts the loaded rollers",
+              ls["loaded_rollers"] == sum(1 for x in loads if x > 0), str(ls["loaded_rollers"]))
+        check(f"{tag}: sharing_factor = max roller load / (F / Z)",
+              near(ls["sharing_factor"], max(loads) / (F / Z), 1e-12), str(ls["sharing_factor"]))
+        check(f"{tag}: sharing factor >= 1, worst over the revolution >= it",
+              ls["sharing_factor"] >= 1 - 1e-9
+              and ls["sharing_factor_max_over_revolution"] >= ls["sharing_factor"] - 1e-12, str(ls))
+        check(f"{tag}: stiffness_ratio = stiffness / nominal",
+              near(ls["stiffness_ratio"], ls["stiffness_N_per_um"] / ls["nominal_stiffness_N_per_um"], 1e-12))
+    else:
+        check(f"{tag}: no axial load: only axial_load_N and contact_law",
+              set(ls) == {"axial_load_N", "contact_law"}, str(sorted(ls)))
+    # the named lines are those of the ideal kinematics
+    kin = res["kinematics"]
+    kc, sr = kin["carrier_ratio_ideal"], abs(kin["roller_spin_ratio_ideal"])
+    hz = abs(res["design"]["operating_point"]["screw_speed_rpm"]) / 60
+    want = {"screw": 1 - kc, "carrier": kc, "roller_spin": sr, "roller_pass_screw": Z * (1 - kc),
+            "roller_pass_nut": Z * kc}
+    lines = te["spectrum"]["lines"]
+    check(f"{tag}: spectrum lines at 1 - k_c, k_c, |s_r|, Z (1 - k_c), Z k_c (ideal k_c)",
+          all(near(l["frequency_per_rev"], want[l["name"]], 1e-12) and near(l["frequency_Hz"], want[l["name"]] * hz, 1e-12)
+              for l in lines), str([(l["name"], l["frequency_per_rev"]) for l in lines]))
+    # the record: ceil(max(spectrum revolutions, stroke / lead) M) + 1 samples
+    stroke = opts["stroke_mm"]
+    revs = max(opts["spectrum_revolutions"], stroke / lead if stroke > 0 else 0)
+    n = max(math.ceil(revs * M - 1e-9) + 1, M)
+    sp = te["spectrum"]
+    check(f"{tag}: record_revolutions = (record length - 1) / angles_per_revolution",
+          near(sp["record_revolutions"], (n - 1) / M, 1e-12), f"{sp['record_revolutions']} vs {(n - 1) / M}")
+    check(f"{tag}: stroke is null exactly when no stroke was given",
+          (te["stroke"] is None) == (stroke == 0), str(te["stroke"]))
+    if te["stroke"] is not None:
+        check(f"{tag}: stroke echoes stroke_mm", te["stroke"]["stroke_mm"] == stroke)
+    curve = opts["curve"]
+    check(f"{tag}: curve members present exactly with \"curve\": true",
+          ("curve" in te) == curve and ("amplitude_um" in sp) == curve and ("step_per_rev" in sp) == curve
+          and all(("per_roller_and_thread_um" in v) == curve for v in asm["gaps_at_zero"].values()))
+    if not curve or "curve" not in te:
+        continue
+    # gaps of every roller and thread, and the backlash they give
+    tables = {k: v["per_roller_and_thread_um"] for k, v in asm["gaps_at_zero"].items()}
+    check(f"{tag}: gap tables are Z = {Z} rollers x n_t = {nt} threads",
+          all(len(t) == Z and all(len(row) == nt for row in t) for t in tables.values()),
+          str({k: (len(t), sorted({len(r) for r in t})) for k, t in tables.items()}))
+    check(f"{tag}: gap min_um / max_um are those of the tables",
+          all(near(asm["gaps_at_zero"][k]["min_um"], min(min(r) for r in t), 1e-12)
+              and near(asm["gaps_at_zero"][k]["max_um"], max(max(r) for r in t), 1e-12)
+              for k, t in tables.items()))
+
+    def chain(d):
+        return min(min(tables[f"screw_roller_{d}"][j]) + min(tables[f"nut_roller_{d}"][j]) for j in range(Z))
+    check(f"{tag}: backlash plus / minus = min over rollers of the gap chains",
+          near(b["plus_um"], chain("plus"), 1e-9) and near(b["minus_um"], chain("minus"), 1e-9),
+          f"{b['plus_um']}, {b['minus_um']} vs {chain('plus')}, {chain('minus')}")
+    # TE record and its statistics
+    c = te["curve"]
+    x = c["te_um"]
+    check(f"{tag}: te_um has the record length {n} (> 0)", len(x) == n and n > 0, f"{len(x)}")
+    check(f"{tag}: te_um[0] = 0", x[0] == 0, str(x[:1]))
+    check(f"{tag}: step_deg = 360 / angles_per_revolution", near(c["step_deg"], 360 / M, 1e-12))
+    hand = -1 if g["hand"] == "left" else 1
+    check(f"{tag}: travel_per_step_mm = -hand x lead / angles_per_revolution",
+          near(c["travel_per_step_mm"], -hand * lead / M, 1e-12), str(c["travel_per_step_mm"]))
+    pp, rms = pp_rms(x[:M])
+    check(f"{tag}: revolution p-p and rms are those of te_um over the first revolution",
+          near(te["revolution"]["peak_to_peak_um"], pp, 1e-9) and near(te["revolution"]["rms_um"], rms, 1e-7),
+          f"{te['revolution']} vs {pp}, {rms}")
+    if te["stroke"] is not None:
+        ns = min(math.ceil(stroke / lead * M - 1e-9) + 1, n)
+        pp, rms = pp_rms(x[:ns])
+        lead_dev = fit_slope(x[:ns]) / c["travel_per_step_mm"] * 300
+        check(f"{tag}: stroke p-p, rms and lead deviation are those of te_um over the stroke",
+              near(te["stroke"]["peak_to_peak_um"], pp, 1e-9) and near(te["stroke"]["rms_um"], rms, 1e-7)
+              and near(te["stroke"]["lead_deviation_um_per_300mm"], lead_dev, 1e-7),
+              f"{te['stroke']} vs {pp}, {rms}, {lead_dev}")
+    # spectrum: the record zero-padded to the next power of two
+    fft = 2
+    while fft < n:
+        fft *= 2
+    amp = sp["amplitude_um"]
+    check(f"{tag}: spectrum has FFT length / 2 + 1 = {fft // 2 + 1} bins", len(amp) == fft // 2 + 1, str(len(amp)))
+    check(f"{tag}: step_per_rev = angles_per_revolution / FFT length", near(sp["step_per_rev"], M / fft, 1e-12),
+          str(sp["step_per_rev"]))
+    lo = 2 / sp["record_revolutions"]
+    cand = [(a, i * sp["step_per_rev"]) for i, a in enumerate(amp) if i > 0 and i * sp["step_per_rev"] >= lo]
+    best = max(cand, key=lambda t: t[0]) if cand else (0, 0)
+    pk = sp["peak"]
+    check(f"{tag}: the peak is the strongest bin at or above 2 cycles per record",
+          near(pk["amplitude_um"], best[0], 1e-12) and (best[0] == 0 or near(pk["frequency_per_rev"], best[1], 1e-12)),
+          f"{pk} vs {best}")
+
+# what the figures must be (MODEL.md §4)
+r = req_results.get("measured (example)")
+if r:
+    s_ = r["assembly"]["transmission_error"]["stroke"]
+    check("measured: lead deviation within 1 um of the screw's 12 um/300 mm",
+          s_ is not None and abs(s_["lead_deviation_um_per_300mm"] - 12) < 1, str(s_))
+    check("measured: a roller's errors break equal sharing (factor > 1, stiffness ratio < 1)",
+          r["assembly"]["load_sharing"]["sharing_factor"] > 1 and r["assembly"]["load_sharing"]["stiffness_ratio"] < 1)
+r = req_results.get("measured, no errors")
+if r:
+    a_ = r["assembly"]
+    check("no errors: equal sharing, TE 0, backlash 20 um over the whole revolution",
+          abs(a_["load_sharing"]["sharing_factor"] - 1) < 1e-9 and abs(a_["load_sharing"]["stiffness_ratio"] - 1) < 1e-9
+          and a_["transmission_error"]["revolution"]["peak_to_peak_um"] < 1e-9
+          and max(abs(v) for v in a_["transmission_error"]["curve"]["te_um"]) < 1e-9
+          and all(abs(a_["backlash"][k] - 20) < 1e-9 for k in
+                  ("at_zero_um", "min_over_revolution_um", "max_over_revolution_um", "mean_over_revolution_um")),
+          json.dumps(a_["backlash"]))
+r = req_results.get("design alone in the request form")
+if r:
+    a_ = r["assembly"]
+    check("design alone: empty error set, default options, no stroke",
+          r["errors"] == {} and a_["mode"] == "linear" and a_["transmission_error"]["stroke"] is None
+          and a_["transmission_error"]["angles_per_revolution"] == 64
+          and a_["transmission_error"]["measuring_load_N"] == 50, json.dumps(a_["transmission_error"])[:300])
+
+# the schema is strict about the assembly too
+r = req_results.get("measured, curve, exact")
+if r:
+    def mutated_r(path, value):
+        d = copy.deepcopy(r)
+        o = d
+        keys = path.split("/")
+        for k in keys[:-1]:
+            o = o[int(k)] if isinstance(o, list) else o[k]
+        last = int(keys[-1]) if isinstance(o, list) else keys[-1]
+        if value is DELETE:
+            del o[last]
+        else:
+            o[last] = value
+        return d
+    for label, path, value in [
+        ("errors without assembly", "assembly", DELETE),
+        ("assembly without errors", "errors", DELETE),
+        ("an extra member in assembly", "assembly/extra", 1),
+        ("an unknown mode", "assembly/mode", "quadratic"),
+        ("no sensitivities", "assembly/sensitivities", DELETE),
+        ("a plus screw pair not mirrored", "assembly/sensitivities/screw_roller_plus/mirrored", False),
+        ("a sensitivity as a string", "assembly/sensitivities/nut_roller_plus/body_axis_x_um_per_um", "1"),
+        ("a gap table of strings", "assembly/gaps_at_zero/nut_roller_plus/per_roller_and_thread_um", [["1"]]),
+        ("a curve without gap tables", "assembly/gaps_at_zero/screw_roller_minus/per_roller_and_thread_um", DELETE),
+        ("a curve without the spectrum", "assembly/transmission_error/spectrum/amplitude_um", DELETE),
+        ("the spectrum without a curve", "assembly/transmission_error/curve", DELETE),
+        ("backlash null", "assembly/backlash/at_zero_um", None),
+        ("a negative roller load", "assembly/load_sharing/roller_loads_N/3", -1.0),
+        ("loads without a sharing factor", "assembly/load_sharing/sharing_factor", DELETE),
+        ("a stroke without lead deviation", "assembly/transmission_error/stroke/lead_deviation_um_per_300mm", DELETE),
+        ("a stroke of 0 mm", "assembly/transmission_error/stroke/stroke_mm", 0),
+        ("a negative peak-to-peak", "assembly/transmission_error/revolution/peak_to_peak_um", -0.1),
+        ("4 spectrum lines", "assembly/transmission_error/spectrum/lines/4", DELETE),
+        ("lines out of order", "assembly/transmission_error/spectrum/lines/0/name", "carrier"),
+        ("a TE sample null", "assembly/transmission_error/curve/te_um/5", None),
+        ("contacts as a number", "assembly/contacts/edge", 0.5),
+        ("a roller in errors with an unknown field", "errors/rollers/1/pin", 1),
+    ]:
+        check(f"analysis with {label} is refused", bool(schema_errors(V_ANALYSIS, mutated_r(path, value))),
+              "the schema accepts it")
+r = req_results.get("measured, no axial load")
+if r:
+    d = copy.deepcopy(r)
+    d["assembly"]["load_sharing"]["sharing_factor"] = 1.0
+    check("analysis with a sharing factor at no load is refused", bool(schema_errors(V_ANALYSIS, d)),
+          "the schema accepts it")
+
+# a request with problems in the errors: validate names each pointer
+bad = req_variant({"speed": 1}, errors={"screw": {"runout_um": -1, "colour": 1}, "rollers": [{}] * 9})
+bad["colour"] = "red"
+rc, vdoc = validate_cli("bad request", write_doc(bad))
+check("bad request: prsm validate exits 1", rc == 1, f"exit {rc}")
+pointers = {p.get("pointer") for p in (vdoc or {}).get("errors", [])}
+for ptr in ("/colour", "/errors/screw/runout_um", "/errors/screw/colour", "/errors/rollers", "/assembly/speed"):
+    check(f"bad request: prsm validate names {ptr}", ptr in pointers, str(sorted(pointers)))
 
 if known_seen:
     print(f"known disagreements: {len(known_seen)} still reproduce (see KNOWN in {os.path.basename(__file__)})")
