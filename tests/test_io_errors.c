@@ -429,6 +429,36 @@ static void all_problems_at_once(void **state)
 	assert_conv(e.screw.start_index_rad[1], 0.002);
 }
 
+/* An unknown design (its document was invalid: 0 rollers, 0 starts): the array lengths cannot
+ * be checked, everything else is, so a request's problems all show at once. */
+static void unknown_design_checks_all_but_lengths(void **state)
+{
+	(void)state;
+	prsm_design d;
+	prsm_design_init(&d);
+	d.rollers = d.starts = 0;
+	cJSON *doc = parse_ok("{\"screw\": {\"runout_um\": -1, \"start_index_mrad\": [1, 2, 300]},"
+	                      " \"rollers\": [{}, {\"bogus\": 1}]}");
+	prsm_errors e;
+	prsm_problems p;
+	prsm_problems_init(&p);
+	assert_int_equal(prsm_io_errors_from_json(&e, doc, "/errors", &d, &p), PRSM_EINVAL);
+	expect(&p, "/errors/screw/runout_um", "range");
+	expect(&p, "/errors/screw/start_index_mrad/2", "range");
+	expect(&p, "/errors/rollers/1/bogus", "unknown_field");
+	expect_count(&p, 3);
+	cJSON_Delete(doc);
+	/* and the options: every field, the sample rule needs the lead */
+	doc = parse_ok("{\"mode\": \"fast\", \"stroke_mm\": 1e6}");
+	prsm_assembly_options o;
+	prsm_problems_init(&p);
+	assert_int_equal(prsm_io_assembly_options_from_json(&o, doc, "/assembly", &d, &p), PRSM_EINVAL);
+	expect(&p, "/assembly/mode", "enum");
+	expect(&p, "/assembly/stroke_mm", "range");
+	expect_count(&p, 2);
+	cJSON_Delete(doc);
+}
+
 static void pointer_prefixes_every_problem(void **state)
 {
 	(void)state;
@@ -772,6 +802,7 @@ int main(void)
 		cmocka_unit_test(every_bad_input_at_its_pointer),
 		cmocka_unit_test(messages_name_the_limits),
 		cmocka_unit_test(all_problems_at_once),
+		cmocka_unit_test(unknown_design_checks_all_but_lengths),
 		cmocka_unit_test(pointer_prefixes_every_problem),
 		cmocka_unit_test(assembly_defaults),
 		cmocka_unit_test(assembly_every_field),

@@ -128,11 +128,14 @@ static int load(request *rq, prsm_geometry *g, prsm_problems *warnings, prsm_pro
 		prsm_json_get_object(&opts, doc, "", "assembly", PRSM_JSON_OPTIONAL, problems);
 		prsm_json_pointer_append(ep, sizeof ep, "", "errors");
 		prsm_json_pointer_append(op, sizeof op, "", "assembly");
-		/* the error set's shape (Z rollers, n starts) needs the design */
-		if (rc == 0) {
-			prsm_io_errors_from_json(&rq->errors, errors, ep, &rq->d, problems);
-			prsm_io_assembly_options_from_json(&rq->options, opts, op, &rq->d, problems);
-		}
+		/* the error set's shape (Z rollers, n starts) and the lead need the design; when it is
+		 * invalid the rest is still checked against an unknown one, all problems at once */
+		prsm_design unknown;
+		prsm_design_init(&unknown);
+		unknown.rollers = unknown.starts = 0;
+		const prsm_design *shape = rc == 0 ? &rq->d : &unknown;
+		prsm_io_errors_from_json(&rq->errors, errors, ep, shape, problems);
+		prsm_io_assembly_options_from_json(&rq->options, opts, op, shape, problems);
 		if (problems->count || problems->dropped)
 			rc = PRSM_EINVAL;
 	}

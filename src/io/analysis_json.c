@@ -14,7 +14,7 @@
 #ifndef PRSM_VERSION
 #define PRSM_VERSION "0.0.0"
 #endif
-#define PRSM_MODEL_VERSION "MODEL.md 2026-11 (§1, §2, §5, §6)"
+#define PRSM_MODEL_VERSION "MODEL.md 2026-11 (§1, §2, §3, §4, §5, §6)"
 
 static void num(cJSON *o, const char *name, double v)
 {

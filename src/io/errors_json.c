@@ -164,13 +164,13 @@ static void read_start_index(double *out, const cJSON *body, const char *body_po
 	prsm_json_pointer_append(ap, sizeof ap, body_pointer, "start_index_mrad");
 	if (!cJSON_IsArray(arr)) {
 		prsm_problems_add(problems, ap, "type",
-		                  "must be an array of %d numbers from -%g to %g, one per start (got %s)",
-		                  starts, PRSM_IO_ERRORS_INDEX_MAX_MRAD, PRSM_IO_ERRORS_INDEX_MAX_MRAD,
+		                  "must be an array of numbers from -%g to %g, one per start (got %s)",
+		                  PRSM_IO_ERRORS_INDEX_MAX_MRAD, PRSM_IO_ERRORS_INDEX_MAX_MRAD,
 		                  prsm_json_type_name(arr));
 		return;
 	}
 	const int n = cJSON_GetArraySize(arr);
-	if (n != starts)
+	if (starts > 0 && n != starts) /* starts 0: the design is unknown (it was invalid) */
 		prsm_problems_add(problems, ap, "array_length",
 		                  "must have exactly %d elements, one per start of the design (n = %d); "
 		                  "got %d", starts, starts, n);
@@ -210,12 +210,12 @@ static void read_rollers(prsm_errors *out, const cJSON *errs, const char *pointe
 	prsm_json_pointer_append(ap, sizeof ap, pointer, "rollers");
 	if (!cJSON_IsArray(arr)) {
 		prsm_problems_add(problems, ap, "type",
-		                  "must be an array of %d objects, one per roller (got %s)", z,
+		                  "must be an array of objects, one per roller (got %s)",
 		                  prsm_json_type_name(arr));
 		return;
 	}
 	const int n = cJSON_GetArraySize(arr);
-	if (n != z)
+	if (z > 0 && n != z) /* z 0: the design is unknown (it was invalid) */
 		prsm_problems_add(problems, ap, "array_length",
 		                  "must have exactly %d elements, one per roller of the design (Z = %d); "
 		                  "got %d", z, z, n);

@@ -50,7 +50,9 @@
  * n = d->starts). out is prsm_errors_zero(out, d->rollers) first, so absent fields are 0; obj
  * NULL (no `errors` in the request) leaves it so and returns 0. pointer is the errors object's
  * own pointer (e.g. "/errors"); every problem is added below it. Returns 0, or PRSM_EINVAL when
- * a problem was added (out then holds the fields that were valid).
+ * a problem was added (out then holds the fields that were valid). A design with 0 rollers or
+ * 0 starts stands for an unknown design (its document was invalid): the array lengths are then
+ * not checked, everything else is, so that every problem of a request shows at once.
  */
 int prsm_io_errors_from_json(prsm_errors *out, const cJSON *obj, const char *pointer,
                              const prsm_design *d, prsm_problems *problems);
