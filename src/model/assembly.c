@@ -222,19 +222,28 @@ static double start_shift(const prsm_assembly *as, const prsm_body_errors *b, in
 	return as->screw_p * b->start_index_rad[i];
 }
 
+/* The perturbation of thread k from the roller's parts: e0 + z_k e1 and the start error of
+ * the flank it meets (an axial displacement, signed like the others by the mirroring). */
+static void thread_perturbation(double *out, const double *e0, const double *e1,
+                                const prsm_assembly *as, const prsm_errors *e, int k, int side,
+                                int dir, int start_offset)
+{
+	const double z = thread_z(as, k);
+	for (int i = 0; i < PRSM_PERTURB_COUNT; i++)
+		out[i] = e0[i] + z * e1[i];
+	const prsm_body_errors *b = side == PRSM_SIDE_SCREW ? &e->screw : &e->nut;
+	const double ax = as->pairs[side][dir].mirrored ? -1.0 : 1.0;
+	out[PRSM_PERTURB_BODY_SHIFT] -= ax * start_shift(as, b, k, start_offset);
+}
+
 void prsm_assembly_perturbation(double *out, const prsm_assembly *as, const prsm_errors *e,
                                 int j, int k, int side, int dir, double theta)
 {
 	roller_terms t;
-	double e1[PRSM_PERTURB_COUNT];
+	double e0[PRSM_PERTURB_COUNT], e1[PRSM_PERTURB_COUNT];
 	compute_terms(&t, as, e, j, theta);
-	pair_terms(out, e1, as, e, &t, j, side, dir);
-	const double z = thread_z(as, k);
-	for (int i = 0; i < PRSM_PERTURB_COUNT; i++)
-		out[i] += z * e1[i];
-	const prsm_body_errors *b = side == PRSM_SIDE_SCREW ? &e->screw : &e->nut;
-	const double ax = as->pairs[side][dir].mirrored ? -1.0 : 1.0;
-	out[PRSM_PERTURB_BODY_SHIFT] -= ax * start_shift(as, b, k, t.start_offset);
+	pair_terms(e0, e1, as, e, &t, j, side, dir);
+	thread_perturbation(out, e0, e1, as, e, k, side, dir, t.start_offset);
 }
 
 /* Linear-mode gap change of e at the frozen nominal contact. The roller's pitch and arc radii
@@ -296,10 +305,7 @@ int prsm_assembly_gaps_at(prsm_assembly_gaps *out, const prsm_assembly *as, cons
 				continue;
 			for (int k = 0; k < nt; k++) {
 				double ek[PRSM_PERTURB_COUNT], gk;
-				const double z = thread_z(as, k);
-				for (int i = 0; i < PRSM_PERTURB_COUNT; i++)
-					ek[i] = e0[i] + z * e1[i];
-				ek[PRSM_PERTURB_BODY_SHIFT] -= ax * start_shift(as, b, k, t.start_offset);
+				thread_perturbation(ek, e0, e1, as, e, k, side, dir, t.start_offset);
 				int edge = 0;
 				if (prsm_perturb_gap_exact(&gk, &edge, &ap->pair, ap->x_mm, ap->y_mm, ek)) {
 					out->failed_contacts++;
@@ -349,6 +355,20 @@ double prsm_assembly_backlash(const prsm_assembly *as, const prsm_assembly_gaps 
 
 /* ---- elastic solve ---------------------------------------------------------------------- */
 
+/* Newton step for an increasing residual r(x) with slope dr, kept inside the bracket [lo, hi],
+ * which is first narrowed by the sign of r; bisection when the step leaves it. */
+static double safeguarded_step(double x, double r, double dr, double *lo, double *hi)
+{
+	if (r > 0.0)
+		*hi = x;
+	else
+		*lo = x;
+	double nx = dr > 0.0 ? x - r / dr : 0.5 * (*lo + *hi);
+	if (!(nx > *lo && nx < *hi))
+		nx = 0.5 * (*lo + *hi);
+	return nx;
+}
+
 /* Sum over contacts of K (x - g_k)_+^{3/2} and its derivative in x. */
 static double side_force(const double *g, int n, double K, double x, double *deriv)
 {
@@ -391,14 +411,7 @@ static double roller_balance(const double *gs, const double *gn, int n, double K
 		/* balanced to 1e-12 of the load, or the bracket has closed */
 		if (fabs(h) <= 1e-12 * (S + N) || hi - lo <= 1e-15 * (1.0 + fabs(x)))
 			break;
-		if (h > 0.0)
-			hi = x;
-		else
-			lo = x;
-		double nx = dh > 0.0 ? x - h / dh : 0.5 * (lo + hi);
-		if (!(nx > lo && nx < hi))
-			nx = 0.5 * (lo + hi);
-		x = nx;
+		x = safeguarded_step(x, h, dh, &lo, &hi);
 	}
 	*w = x;
 	*dF = dS + dN > 0.0 ? dS * dN / (dS + dN) : 0.0;
@@ -453,13 +466,7 @@ int prsm_assembly_solve(prsm_assembly_state *st, const prsm_assembly *as,
 		const double r = total - F;
 		if (fabs(r) <= 1e-11 * F)
 			break;
-		if (r > 0.0)
-			hi = u;
-		else
-			lo = u;
-		double nu = dtotal > 0.0 ? u - r / dtotal : 0.5 * (lo + hi);
-		if (!(nu > lo && nu < hi))
-			nu = 0.5 * (lo + hi);
+		const double nu = safeguarded_step(u, r, dtotal, &lo, &hi);
 		if (fabs(nu - u) <= 1e-15 * (1.0 + fabs(u)) || hi - lo <= 1e-15 * (1.0 + fabs(u))) {
 			u = nu;
 			break;

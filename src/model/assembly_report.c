@@ -156,6 +156,14 @@ int prsm_assembly_analyse(prsm_assembly_report *r, const prsm_assembly *as, cons
 	const double dtheta = 2.0 * M_PI / M;
 	const double F = as->design.axial_load_N;
 
+	/* transmission error at the measuring load (MODEL.md §4); ws->minus is its scratch */
+	int n, fft;
+	prsm_assembly_record_length(&n, &fft, as, o);
+	r->record_length = n;
+	r->measuring_load_N = o->measuring_load_N;
+	prsm_assembly_te_record(ws->te_mm, n, dtheta, as, e, o->mode, o->measuring_load_N, &ws->minus,
+	                        &r->edge_contacts, &r->failed_contacts);
+
 	/* gaps, backlash and load sharing over one revolution */
 	r->backlash_min_mm = INFINITY;
 	r->backlash_max_mm = -INFINITY;
@@ -195,14 +203,6 @@ int prsm_assembly_analyse(prsm_assembly_report *r, const prsm_assembly *as, cons
 	prsm_assembly_gaps_at(&ws->plus, as, e, PRSM_DIR_PLUS, 0.0, o->mode);
 	prsm_assembly_gaps_at(&ws->minus, as, e, PRSM_DIR_MINUS, 0.0, o->mode);
 
-	/* transmission error at the measuring load (MODEL.md §4) */
-	int n, fft;
-	prsm_assembly_record_length(&n, &fft, as, o);
-	r->record_length = n;
-	r->measuring_load_N = o->measuring_load_N;
-	prsm_assembly_te_record(ws->te_mm, n, dtheta, as, e, o->mode, o->measuring_load_N, &ws->plus,
-	                        &r->edge_contacts, &r->failed_contacts);
-	prsm_assembly_gaps_at(&ws->plus, as, e, PRSM_DIR_PLUS, 0.0, o->mode);
 	prsm_signal_pp_rms(&r->te_revolution_pp_mm, &r->te_revolution_rms_mm, ws->te_mm, M < n ? M : n);
 	const double lead = as->starts * as->pitch_mm;
 	if (o->stroke_mm > 0.0) {
