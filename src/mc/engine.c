@@ -1,0 +1,823 @@
+/*
+ * engine.c: blocks, streams, samplers, worker threads and stop rules of the Monte Carlo
+ * engine (DESIGN.md, "Monte Carlo engine"). See engine.h for the guarantees.
+ *
+ * Threading: the calling thread starts `threads` workers and then only merges. Workers take
+ * block indices from a shared counter and write their samples into the block's own slots; the
+ * calling thread merges the per-block moments in block order as the completed prefix grows,
+ * checks the stop rules on that prefix and lowers `stop_blocks` when the run should end.
+ * Blocks at or beyond stop_blocks are discarded, so the result is always the first blocks of
+ * the one deterministic sequence.
+ */
+#include "mc/engine.h"
+
+#include <float.h>
+#include <math.h>
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <gsl/gsl_cdf.h>
+#include <gsl/gsl_linalg.h>
+#include <gsl/gsl_qrng.h>
+#include <gsl/gsl_randist.h>
+#include <gsl/gsl_rng.h>
+
+#include "mc/stats.h"
+#include "util/clock.h"
+#include "util/rng.h"
+
+/* Stream key of the Sobol shift: far from any block index. */
+#define SOBOL_SHIFT_STREAM UINT64_C(0xfffffffffffff00d)
+#define U_MIN (0x1p-53)
+#define U_MAX (1.0 - 0x1p-53)
+
+void prsm_mc_options_default(prsm_mc_options *o)
+{
+	memset(o, 0, sizeof *o);
+	o->seed = 1;
+	o->samples = 10000;
+	o->min_samples = 0;
+	o->block_size = 1024;
+	o->threads = 1;
+	o->sampler = PRSM_SAMPLER_RANDOM;
+	o->failure = PRSM_FAILURE_SKIP;
+	o->max_failed_fraction = 0.01;
+	o->edge = PRSM_EDGE_EXCLUDE;
+}
+
+const char *prsm_sampler_name(prsm_sampler_kind k)
+{
+	switch (k) {
+	case PRSM_SAMPLER_RANDOM: return "random";
+	case PRSM_SAMPLER_LHS: return "lhs";
+	case PRSM_SAMPLER_SOBOL: return "sobol";
+	}
+	return "?";
+}
+
+const char *prsm_stop_reason_name(prsm_stop_reason s)
+{
+	switch (s) {
+	case PRSM_STOP_SAMPLE_CAP: return "sample_cap";
+	case PRSM_STOP_TARGET: return "target";
+	case PRSM_STOP_TIME_CAP: return "time_cap";
+	case PRSM_STOP_CANCELLED: return "cancelled";
+	case PRSM_STOP_FAILURES: return "failures";
+	}
+	return "?";
+}
+
+static double clamp_u(double u)
+{
+	return u < U_MIN ? U_MIN : (u > U_MAX ? U_MAX : u);
+}
+
+/* ---- samplers ----------------------------------------------------------------------------- */
+
+typedef struct {
+	prsm_sampler_kind kind;
+	size_t dim;
+	uint64_t seed;
+	gsl_rng *rng;
+	gsl_qrng *q;
+	size_t q_next;                    /* index of the point q returns next */
+	double shift[PRSM_MC_SOBOL_MAX_DIM];
+	double point[PRSM_MC_SOBOL_MAX_DIM];
+} sampler;
+
+static void sampler_free(sampler *s)
+{
+	if (s->rng)
+		gsl_rng_free(s->rng);
+	if (s->q)
+		gsl_qrng_free(s->q);
+	memset(s, 0, sizeof *s);
+}
+
+/* Returns 0 or PRSM_ENOMEM. */
+static int sampler_init(sampler *s, prsm_sampler_kind kind, size_t dim, uint64_t seed)
+{
+	memset(s, 0, sizeof *s);
+	s->kind = kind;
+	s->dim = dim;
+	s->seed = seed;
+	s->rng = prsm_rng_alloc(seed, 0);
+	if (!s->rng)
+		return PRSM_ENOMEM;
+	if (kind == PRSM_SAMPLER_SOBOL) {
+		if (dim == 0 || dim > PRSM_MC_SOBOL_MAX_DIM) {
+			sampler_free(s);
+			return PRSM_EINVAL;
+		}
+		s->q = gsl_qrng_alloc(gsl_qrng_sobol, (unsigned)dim);
+		if (!s->q) {
+			sampler_free(s);
+			return PRSM_ENOMEM;
+		}
+		/* Cranley-Patterson shift: one uniform per dimension from a stream of its own */
+		prsm_rng_set_stream(s->rng, seed, SOBOL_SHIFT_STREAM);
+		for (size_t j = 0; j < dim; j++)
+			s->shift[j] = prsm_rng_uniform_pos(s->rng);
+		s->q_next = 0;
+	}
+	return 0;
+}
+
+/* Uniforms of rows [first, first + n) of the run: block stream `stream`. */
+static void sampler_block(sampler *s, double *u, size_t n, uint64_t stream, size_t first,
+                          size_t *perm)
+{
+	size_t dim = s->dim;
+	switch (s->kind) {
+	case PRSM_SAMPLER_RANDOM:
+		prsm_rng_set_stream(s->rng, s->seed, stream);
+		for (size_t i = 0; i < n * dim; i++)
+			u[i] = prsm_rng_uniform_pos(s->rng);
+		break;
+	case PRSM_SAMPLER_LHS:
+		/* one stratified column per dimension: stratum perm[i] of n, uniform inside it */
+		prsm_rng_set_stream(s->rng, s->seed, stream);
+		for (size_t j = 0; j < dim; j++) {
+			for (size_t i = 0; i < n; i++)
+				perm[i] = i;
+			gsl_ran_shuffle(s->rng, perm, n, sizeof *perm);
+			for (size_t i = 0; i < n; i++)
+				u[i * dim + j] = clamp_u(((double)perm[i] + prsm_rng_uniform_pos(s->rng)) / (double)n);
+		}
+		break;
+	case PRSM_SAMPLER_SOBOL:
+		if (s->q_next > first) {
+			gsl_qrng_init(s->q);
+			s->q_next = 0;
+		}
+		while (s->q_next < first) {
+			gsl_qrng_get(s->q, s->point);
+			s->q_next++;
+		}
+		for (size_t i = 0; i < n; i++) {
+			gsl_qrng_get(s->q, s->point);
+			s->q_next++;
+			for (size_t j = 0; j < dim; j++) {
+				double v = s->point[j] + s->shift[j];
+				if (v >= 1.0)
+					v -= 1.0;
+				u[i * dim + j] = clamp_u(v);
+			}
+		}
+		break;
+	}
+}
+
+int prsm_mc_block_uniforms(double *u, size_t n, size_t dim, prsm_sampler_kind kind, uint64_t seed,
+                           uint64_t stream, size_t first_index, size_t *scratch)
+{
+	sampler s;
+	if (kind == PRSM_SAMPLER_SOBOL && (dim == 0 || dim > PRSM_MC_SOBOL_MAX_DIM))
+		return PRSM_EINVAL;
+	int rc = sampler_init(&s, kind, dim, seed);
+	if (rc)
+		return rc;
+	sampler_block(&s, u, n, stream, first_index, scratch);
+	sampler_free(&s);
+	return 0;
+}
+
+/* ---- copula ------------------------------------------------------------------------------- */
+
+typedef struct {
+	size_t k;                         /* variables involved */
+	size_t idx[2 * PRSM_MC_MAX_CORRELATIONS];
+	double L[2 * PRSM_MC_MAX_CORRELATIONS][2 * PRSM_MC_MAX_CORRELATIONS]; /* lower Cholesky factor */
+} copula;
+
+static int copula_init(copula *c, const prsm_mc_correlation *corr, size_t n_corr, size_t d,
+                       prsm_error *err)
+{
+	memset(c, 0, sizeof *c);
+	if (n_corr > PRSM_MC_MAX_CORRELATIONS)
+		return prsm_error_set(err, PRSM_EINVAL, NULL, "at most %d correlations", PRSM_MC_MAX_CORRELATIONS);
+	for (size_t i = 0; i < n_corr; i++) {
+		if (corr[i].a >= d || corr[i].b >= d || corr[i].a == corr[i].b)
+			return prsm_error_set(err, PRSM_EINVAL, NULL, "correlation %zu names a bad variable pair", i);
+		if (!(fabs(corr[i].rho) < 1.0))
+			return prsm_error_set(err, PRSM_EINVAL, NULL, "correlation %zu: |rho| must be < 1", i);
+		size_t ab[2] = {corr[i].a, corr[i].b};
+		for (int t = 0; t < 2; t++) {
+			size_t q = 0;
+			while (q < c->k && c->idx[q] != ab[t])
+				q++;
+			if (q == c->k)
+				c->idx[c->k++] = ab[t];
+		}
+	}
+	if (c->k == 0)
+		return 0;
+	gsl_matrix *m = gsl_matrix_alloc(c->k, c->k);
+	if (!m)
+		return prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
+	gsl_matrix_set_identity(m);
+	for (size_t i = 0; i < n_corr; i++) {
+		size_t qa = 0, qb = 0;
+		while (c->idx[qa] != corr[i].a)
+			qa++;
+		while (c->idx[qb] != corr[i].b)
+			qb++;
+		gsl_matrix_set(m, qa, qb, corr[i].rho);
+		gsl_matrix_set(m, qb, qa, corr[i].rho);
+	}
+	gsl_error_handler_t *old = gsl_set_error_handler_off();
+	int rc = gsl_linalg_cholesky_decomp1(m);
+	gsl_set_error_handler(old);
+	if (rc) {
+		gsl_matrix_free(m);
+		return prsm_error_set(err, PRSM_EINVAL, NULL,
+		                      "the correlation matrix is not positive definite");
+	}
+	for (size_t i = 0; i < c->k; i++)
+		for (size_t j = 0; j <= i; j++)
+			c->L[i][j] = gsl_matrix_get(m, i, j);
+	gsl_matrix_free(m);
+	return 0;
+}
+
+/* Correlate the normal scores of the involved variables of one row of d uniforms. */
+static void copula_apply(const copula *c, double *u)
+{
+	double z[2 * PRSM_MC_MAX_CORRELATIONS];
+	if (c->k == 0)
+		return;
+	for (size_t i = 0; i < c->k; i++)
+		z[i] = gsl_cdf_ugaussian_Pinv(u[c->idx[i]]);
+	for (size_t i = c->k; i-- > 0;) {
+		double s = 0.0;
+		for (size_t j = 0; j <= i; j++)
+			s += c->L[i][j] * z[j];
+		/* upper tail through Q keeps precision near 1 */
+		u[c->idx[i]] = clamp_u(s > 0 ? 1.0 - gsl_cdf_ugaussian_Q(s) : gsl_cdf_ugaussian_P(s));
+	}
+}
+
+/* ---- the run ------------------------------------------------------------------------------ */
+
+typedef struct {
+	const prsm_mc_model *model;
+	const prsm_mc_variable *vars;
+	size_t d, m, dim, n_groups;
+	int saltelli;
+	copula cop;
+	const prsm_mc_options *o;
+	size_t block_size, first_block, n_blocks; /* blocks of this run */
+	size_t first_row, n_rows;                 /* global index of row 0, rows of this run */
+	prsm_mc_result *res;
+	/* per block, filled by the worker that ran it */
+	unsigned char *block_done;
+	prsm_moments *block_mom;                  /* n_blocks x n_targets */
+	size_t *block_in;                         /* n_blocks x n_targets: in-spec counts */
+	pthread_mutex_t mu;
+	pthread_cond_t cv;
+	size_t next_block;                        /* next block a worker takes (run-relative) */
+	size_t stop_blocks;                       /* blocks at or beyond are not run/kept */
+} run_ctx;
+
+typedef struct {
+	run_ctx *rc;
+	void *ws;
+	sampler smp;
+	double *u;                                /* block_size x dim */
+	size_t *perm;                             /* block_size */
+	double *xrow;                             /* d (Saltelli mixed row) */
+	double *xa, *xb;                          /* d each (Saltelli) */
+	double *y;                                /* m */
+	pthread_t thread;
+	int started;
+} worker;
+
+static size_t block_rows(const run_ctx *rc, size_t b)
+{
+	size_t start = b * rc->block_size;
+	size_t end = start + rc->block_size;
+	if (end > rc->n_rows)
+		end = rc->n_rows;
+	return end - start;
+}
+
+static void to_inputs(const run_ctx *rc, double *x, double *u)
+{
+	copula_apply(&rc->cop, u);
+	for (size_t i = 0; i < rc->d; i++)
+		x[i] = prsm_dist_quantile(&rc->vars[i].dist, u[i]);
+}
+
+/* Evaluate one sample: returns PRSM_SAMPLE_* and the model's code. */
+static int eval_one(worker *w, const double *x, double *y, int *code)
+{
+	const prsm_mc_model *mdl = w->rc->model;
+	unsigned flags = 0;
+	int rc = mdl->eval(y, &flags, mdl->ctx, w->ws, x);
+	*code = rc;
+	if (rc)
+		return PRSM_SAMPLE_FAILED;
+	for (size_t o = 0; o < mdl->n_outputs; o++)
+		if (!isfinite(y[o])) {
+			*code = PRSM_ENOCONVERGE;
+			return PRSM_SAMPLE_FAILED;
+		}
+	return (flags & PRSM_MC_FLAG_EDGE) ? PRSM_SAMPLE_EDGE : PRSM_SAMPLE_OK;
+}
+
+static int counts_in(int status, const prsm_mc_options *o)
+{
+	return status == PRSM_SAMPLE_OK || (status == PRSM_SAMPLE_EDGE && o->edge == PRSM_EDGE_INCLUDE);
+}
+
+static void run_block(worker *w, size_t b)
+{
+	run_ctx *rc = w->rc;
+	prsm_mc_result *res = rc->res;
+	const prsm_mc_options *o = rc->o;
+	size_t nb = block_rows(rc, b);
+	size_t row0 = b * rc->block_size;            /* run-relative */
+	size_t gb = rc->first_block + b;             /* global block index */
+	size_t m = rc->m, d = rc->d;
+	sampler_block(&w->smp, w->u, nb, o->stream_offset + gb, rc->first_row + row0, w->perm);
+	for (int t = 0; t < o->n_targets; t++) {
+		prsm_moments_init(&rc->block_mom[b * (size_t)o->n_targets + (size_t)t]);
+		rc->block_in[b * (size_t)o->n_targets + (size_t)t] = 0;
+	}
+	for (size_t i = 0; i < nb; i++) {
+		size_t r = row0 + i;
+		double *u = w->u + i * rc->dim;
+		int code = 0, st;
+		if (!rc->saltelli) {
+			double *x = res->x + r * d;
+			double *y = res->y + r * m;
+			to_inputs(rc, x, u);
+			st = eval_one(w, x, y, &code);
+			if (st == PRSM_SAMPLE_FAILED)
+				for (size_t k = 0; k < m; k++)
+					y[k] = NAN;
+			if (counts_in(st, o))
+				for (int t = 0; t < o->n_targets; t++) {
+					const prsm_mc_target *tg = &o->targets[t];
+					double v = y[tg->output];
+					size_t q = b * (size_t)o->n_targets + (size_t)t;
+					prsm_moments_add(&rc->block_mom[q], v);
+					if ((!tg->has_lower || v >= tg->lower) && (!tg->has_upper || v <= tg->upper))
+						rc->block_in[q]++;
+				}
+		} else {
+			/* A = u[0..d), B = u[d..2d); rows A, B, then A with group g from B */
+			size_t G = rc->n_groups, n = rc->n_rows;
+			to_inputs(rc, w->xa, u);
+			to_inputs(rc, w->xb, u + d);
+			st = PRSM_SAMPLE_OK;
+			for (size_t k = 0; k < G + 2 && st != PRSM_SAMPLE_FAILED; k++) {
+				const double *x = k == 0 ? w->xa : (k == 1 ? w->xb : w->xrow);
+				if (k >= 2)
+					for (size_t v = 0; v < d; v++)
+						w->xrow[v] = (size_t)rc->vars[v].group == k - 2 ? w->xb[v] : w->xa[v];
+				int s1 = eval_one(w, x, w->y, &code);
+				if (s1 == PRSM_SAMPLE_FAILED)
+					st = s1;
+				else if (s1 == PRSM_SAMPLE_EDGE)
+					st = s1;
+				for (size_t oo = 0; oo < m; oo++)
+					res->ys[(oo * (G + 2) + k) * n + r] = s1 == PRSM_SAMPLE_FAILED ? NAN : w->y[oo];
+			}
+		}
+		res->status[r] = (unsigned char)st;
+		res->fail_code[r] = code;
+	}
+}
+
+static void *worker_main(void *arg)
+{
+	worker *w = arg;
+	run_ctx *rc = w->rc;
+	for (;;) {
+		pthread_mutex_lock(&rc->mu);
+		size_t b = rc->next_block;
+		if (b >= rc->stop_blocks) {
+			pthread_mutex_unlock(&rc->mu);
+			break;
+		}
+		rc->next_block++;
+		pthread_mutex_unlock(&rc->mu);
+		run_block(w, b);
+		pthread_mutex_lock(&rc->mu);
+		rc->block_done[b] = 1;
+		pthread_cond_broadcast(&rc->cv);
+		pthread_mutex_unlock(&rc->mu);
+	}
+	return NULL;
+}
+
+static void worker_free(worker *w)
+{
+	if (w->ws && w->rc->model->workspace_free)
+		w->rc->model->workspace_free(w->ws);
+	sampler_free(&w->smp);
+	free(w->u);
+	free(w->perm);
+	free(w->xrow);
+	free(w->xa);
+	free(w->xb);
+	free(w->y);
+}
+
+static int worker_init(worker *w, run_ctx *rc, prsm_sampler_kind kind)
+{
+	memset(w, 0, sizeof *w);
+	w->rc = rc;
+	const prsm_mc_model *mdl = rc->model;
+	if (mdl->workspace_alloc && mdl->workspace_alloc(&w->ws, mdl->ctx))
+		return PRSM_ENOMEM;
+	int r = sampler_init(&w->smp, kind, rc->dim, rc->o->seed);
+	if (r)
+		return r;
+	w->u = malloc(rc->block_size * rc->dim * sizeof *w->u);
+	w->perm = malloc(rc->block_size * sizeof *w->perm);
+	w->xrow = malloc(rc->d * sizeof *w->xrow);
+	w->xa = malloc(rc->d * sizeof *w->xa);
+	w->xb = malloc(rc->d * sizeof *w->xb);
+	w->y = malloc((rc->m ? rc->m : 1) * sizeof *w->y);
+	if (!w->u || !w->perm || !w->xrow || !w->xa || !w->xb || !w->y)
+		return PRSM_ENOMEM;
+	return 0;
+}
+
+void prsm_mc_result_free(prsm_mc_result *r)
+{
+	if (!r)
+		return;
+	free(r->x);
+	free(r->y);
+	free(r->ys);
+	free(r->status);
+	free(r->fail_code);
+	memset(r, 0, sizeof *r);
+}
+
+static int check_options(const prsm_mc_options *o, size_t d, size_t m, prsm_error *err)
+{
+	if (d == 0 || d > PRSM_MC_MAX_VARIABLES)
+		return prsm_error_set(err, PRSM_EINVAL, NULL, "variables must be 1..%d, got %zu",
+		                      PRSM_MC_MAX_VARIABLES, d);
+	if (m == 0 || m > PRSM_MC_MAX_OUTPUTS)
+		return prsm_error_set(err, PRSM_EINVAL, NULL, "outputs must be 1..%d", PRSM_MC_MAX_OUTPUTS);
+	if (o->samples < 2 || o->samples > PRSM_MC_MAX_SAMPLES)
+		return prsm_error_set(err, PRSM_EINVAL, NULL, "samples must be 2..%d, got %zu",
+		                      PRSM_MC_MAX_SAMPLES, o->samples);
+	if (o->block_size < PRSM_MC_MIN_BLOCK || o->block_size > PRSM_MC_MAX_BLOCK)
+		return prsm_error_set(err, PRSM_EINVAL, NULL, "block size must be %d..%d",
+		                      PRSM_MC_MIN_BLOCK, PRSM_MC_MAX_BLOCK);
+	if (o->threads < 1 || o->threads > PRSM_MC_MAX_THREADS)
+		return prsm_error_set(err, PRSM_EINVAL, NULL, "threads must be 1..%d", PRSM_MC_MAX_THREADS);
+	if (!(o->max_failed_fraction >= 0.0 && o->max_failed_fraction <= 1.0))
+		return prsm_error_set(err, PRSM_EINVAL, NULL, "max failed fraction must be in [0, 1]");
+	if (!(o->time_cap_s >= 0.0) || !isfinite(o->time_cap_s))
+		return prsm_error_set(err, PRSM_EINVAL, NULL, "time cap must be finite and >= 0");
+	if (o->n_targets < 0 || o->n_targets > PRSM_MC_MAX_TARGETS)
+		return prsm_error_set(err, PRSM_EINVAL, NULL, "at most %d targets", PRSM_MC_MAX_TARGETS);
+	for (int t = 0; t < o->n_targets; t++)
+		if (o->targets[t].output >= m || !(o->targets[t].value > 0.0) || !isfinite(o->targets[t].value))
+			return prsm_error_set(err, PRSM_EINVAL, NULL, "target %d is invalid", t);
+	return 0;
+}
+
+static int target_met(const prsm_mc_target *tg, const prsm_moments *mom, size_t in)
+{
+	if (mom->n < 2)
+		return 0;
+	double se = prsm_moments_sd(mom) / sqrt((double)mom->n);
+	switch (tg->kind) {
+	case PRSM_TARGET_SE:
+		return se <= tg->value;
+	case PRSM_TARGET_CV:
+		return mom->mean != 0.0 && se / fabs(mom->mean) <= tg->value;
+	case PRSM_TARGET_YIELD_WIDTH: {
+		double lo, hi;
+		prsm_stats_wilson(in, mom->n, 1.959963984540054, &lo, &hi);
+		return hi - lo <= tg->value;
+	}
+	}
+	return 0;
+}
+
+/* Shared body of the two runs. */
+static int run(prsm_mc_result *out, const prsm_mc_model *model, const prsm_mc_variable *vars,
+               size_t d, size_t n_groups, int saltelli, const prsm_mc_correlation *corr,
+               size_t n_corr, const prsm_mc_options *o, prsm_error *err)
+{
+	double t0 = prsm_clock_seconds();
+	size_t m = model->n_outputs;
+	memset(out, 0, sizeof *out);
+	int rc = check_options(o, d, m, err);
+	if (rc)
+		return rc;
+	for (size_t i = 0; i < d; i++) {
+		char msg[160];
+		if (prsm_dist_check(&vars[i].dist, msg, sizeof msg))
+			return prsm_error_set(err, PRSM_EINVAL, NULL, "variable %zu: %s", i, msg);
+		if (saltelli && (vars[i].group < 0 || (size_t)vars[i].group >= n_groups))
+			return prsm_error_set(err, PRSM_EINVAL, NULL, "variable %zu has no group", i);
+	}
+	if (saltelli && (n_groups == 0 || n_groups > PRSM_MC_MAX_GROUPS))
+		return prsm_error_set(err, PRSM_EINVAL, NULL, "groups must be 1..%d", PRSM_MC_MAX_GROUPS);
+
+	run_ctx *c = calloc(1, sizeof *c);
+	worker *ws = NULL;
+	int nthreads = 0;
+	if (!c)
+		return prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
+	c->model = model;
+	c->vars = vars;
+	c->d = d;
+	c->m = m;
+	c->saltelli = saltelli;
+	c->n_groups = n_groups;
+	c->dim = saltelli ? 2 * d : d;
+	c->o = o;
+	c->block_size = o->block_size;
+	rc = copula_init(&c->cop, corr, n_corr, d, err);
+	if (rc)
+		goto cleanup;
+
+	/* blocks of this run */
+	size_t total_blocks = (o->samples + o->block_size - 1) / o->block_size;
+	if (o->first_block >= total_blocks) {
+		rc = prsm_error_set(err, PRSM_EINVAL, NULL, "first block %zu is past the last block %zu",
+		                    o->first_block, total_blocks - 1);
+		goto cleanup;
+	}
+	c->first_block = o->first_block;
+	c->n_blocks = total_blocks - o->first_block;
+	if (o->block_count && o->block_count < c->n_blocks)
+		c->n_blocks = o->block_count;
+	c->first_row = c->first_block * o->block_size;
+	c->n_rows = c->n_blocks * o->block_size;
+	if (c->first_row + c->n_rows > o->samples)
+		c->n_rows = o->samples - c->first_row;
+	int split = o->first_block != 0 || c->n_blocks != total_blocks;
+
+	/* sampler, with the Sobol guard */
+	out->sampler = o->sampler;
+	if (o->sampler == PRSM_SAMPLER_SOBOL && c->dim > PRSM_MC_SOBOL_MAX_DIM) {
+		out->sampler = PRSM_SAMPLER_LHS;
+		snprintf(out->warning, sizeof out->warning,
+		         "Sobol sampling needs at most %d dimensions, this run has %zu: "
+		         "fell back to %s", PRSM_MC_SOBOL_MAX_DIM, c->dim, saltelli ? "random" : "lhs");
+		if (saltelli)
+			out->sampler = PRSM_SAMPLER_RANDOM;
+	}
+	if (saltelli && out->sampler == PRSM_SAMPLER_LHS)
+		out->sampler = PRSM_SAMPLER_RANDOM; /* A and B from one LHS row would not be independent */
+
+	/* storage */
+	double stored = saltelli ? (double)m * (double)(n_groups + 2) * (double)c->n_rows
+	                         : (double)(d + m) * (double)c->n_rows;
+	if (stored > PRSM_MC_MAX_STORED) {
+		rc = prsm_error_set(err, PRSM_EINVAL, NULL,
+		                    "the run would store %.0f values, more than the limit %d: "
+		                    "fewer samples, tolerances or outputs", stored, PRSM_MC_MAX_STORED);
+		goto cleanup;
+	}
+	out->n = c->n_rows;
+	out->d = d;
+	out->m = m;
+	out->n_groups = saltelli ? n_groups : 0;
+	out->first_sample = c->first_row;
+	out->status = malloc(c->n_rows);
+	out->fail_code = calloc(c->n_rows, sizeof *out->fail_code);
+	if (saltelli) {
+		out->ys = malloc((size_t)stored * sizeof *out->ys);
+	} else {
+		out->x = malloc(c->n_rows * d * sizeof *out->x);
+		out->y = malloc(c->n_rows * m * sizeof *out->y);
+	}
+	size_t nt = (size_t)o->n_targets;
+	c->block_done = calloc(c->n_blocks, 1);
+	c->block_mom = calloc(c->n_blocks * (nt ? nt : 1), sizeof *c->block_mom);
+	c->block_in = calloc(c->n_blocks * (nt ? nt : 1), sizeof *c->block_in);
+	if (!out->status || !out->fail_code || (saltelli ? !out->ys : (!out->x || !out->y)) ||
+	    !c->block_done || !c->block_mom || !c->block_in) {
+		rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory for %zu samples", c->n_rows);
+		goto cleanup;
+	}
+	memset(out->status, PRSM_SAMPLE_UNRUN, c->n_rows);
+	c->res = out;
+	c->stop_blocks = c->n_blocks;
+	pthread_mutex_init(&c->mu, NULL);
+	pthread_cond_init(&c->cv, NULL);
+
+	/* workers */
+	int want = o->threads;
+	if ((size_t)want > c->n_blocks)
+		want = (int)c->n_blocks;
+	ws = calloc((size_t)want, sizeof *ws);
+	if (!ws) {
+		rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
+		goto destroy;
+	}
+	for (int t = 0; t < want; t++) {
+		int r = worker_init(&ws[t], c, out->sampler);
+		nthreads = t + 1;
+		if (r) {
+			rc = prsm_error_set(err, r, NULL, "cannot set up a worker (%s)", prsm_error_name(r));
+			goto destroy;
+		}
+	}
+	pthread_mutex_lock(&c->mu);
+	for (int t = 0; t < want; t++)
+		if (pthread_create(&ws[t].thread, NULL, worker_main, &ws[t]) == 0)
+			ws[t].started = 1;
+	int started = 0;
+	for (int t = 0; t < want; t++)
+		started += ws[t].started;
+	if (!started) {
+		c->stop_blocks = 0;
+		pthread_mutex_unlock(&c->mu);
+		rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "cannot start a worker thread");
+		goto destroy;
+	}
+
+	/* merge the completed prefix in block order; check the stop rules on it */
+	prsm_moments mom[PRSM_MC_MAX_TARGETS];
+	size_t in[PRSM_MC_MAX_TARGETS] = {0};
+	for (size_t t = 0; t < nt; t++)
+		prsm_moments_init(&mom[t]);
+	size_t prefix = 0, prefix_rows = 0, failed = 0, edge = 0;
+	out->stop = PRSM_STOP_SAMPLE_CAP;
+	double last_progress = -1.0;
+	while (prefix < c->stop_blocks) {
+		if (c->block_done[prefix]) {
+			size_t nb = block_rows(c, prefix);
+			size_t r0 = prefix * c->block_size;
+			for (size_t t = 0; t < nt; t++) {
+				prsm_moments_merge(&mom[t], &c->block_mom[prefix * nt + t]);
+				in[t] += c->block_in[prefix * nt + t];
+			}
+			size_t first_bad = SIZE_MAX;
+			for (size_t i = 0; i < nb; i++) {
+				int st = out->status[r0 + i];
+				if (st == PRSM_SAMPLE_FAILED) {
+					failed++;
+					if (first_bad == SIZE_MAX)
+						first_bad = r0 + i;
+				} else if (st == PRSM_SAMPLE_EDGE) {
+					edge++;
+					if (o->edge == PRSM_EDGE_EXCLUDE && first_bad == SIZE_MAX)
+						first_bad = r0 + i;
+				}
+			}
+			prefix++;
+			prefix_rows += nb;
+			if (o->failure == PRSM_FAILURE_ABORT && first_bad != SIZE_MAX) {
+				int st = out->status[first_bad];
+				int code = out->fail_code[first_bad];
+				rc = prsm_error_set(err, st == PRSM_SAMPLE_EDGE ? PRSM_EEDGE : (code ? code : PRSM_ENOCONVERGE), NULL,
+				                    "sample %zu %s (failure policy: abort)", c->first_row + first_bad,
+				                    st == PRSM_SAMPLE_EDGE ? "has an edge contact"
+				                                           : "failed: the model did not converge");
+				c->stop_blocks = prefix;
+				out->stop = PRSM_STOP_FAILURES;
+				break;
+			}
+			size_t bad = failed + (o->edge == PRSM_EDGE_EXCLUDE ? edge : 0);
+			if (o->failure == PRSM_FAILURE_SKIP &&
+			    (double)bad > o->max_failed_fraction * (double)prefix_rows) {
+				c->stop_blocks = prefix;
+				out->stop = PRSM_STOP_FAILURES;
+				break;
+			}
+			if (nt && !split && prefix_rows >= o->min_samples && prefix < c->stop_blocks) {
+				int all = 1;
+				for (size_t t = 0; t < nt; t++)
+					all = all && target_met(&o->targets[t], &mom[t], in[t]);
+				if (all) {
+					c->stop_blocks = prefix;
+					out->stop = PRSM_STOP_TARGET;
+					break;
+				}
+			}
+			continue;
+		}
+		/* wait for the next block, waking now and then for the caps and the progress */
+		struct timespec ts;
+		clock_gettime(CLOCK_REALTIME, &ts);
+		ts.tv_nsec += 100000000L;
+		if (ts.tv_nsec >= 1000000000L) {
+			ts.tv_sec++;
+			ts.tv_nsec -= 1000000000L;
+		}
+		pthread_cond_timedwait(&c->cv, &c->mu, &ts);
+		double now = prsm_clock_seconds();
+		if (o->cancel && *o->cancel) {
+			c->stop_blocks = prefix;
+			out->stop = PRSM_STOP_CANCELLED;
+			break;
+		}
+		if (o->time_cap_s > 0.0 && now - t0 > o->time_cap_s) {
+			c->stop_blocks = prefix;
+			out->stop = PRSM_STOP_TIME_CAP;
+			break;
+		}
+		if (o->progress && now - last_progress >= 0.2) {
+			last_progress = now;
+			pthread_mutex_unlock(&c->mu);
+			o->progress(o->progress_ctx, prefix_rows, c->n_rows);
+			pthread_mutex_lock(&c->mu);
+		}
+	}
+	pthread_mutex_unlock(&c->mu);
+	for (int t = 0; t < want; t++)
+		if (ws[t].started)
+			pthread_join(ws[t].thread, NULL);
+	if (o->progress)
+		o->progress(o->progress_ctx, prefix_rows, c->n_rows);
+
+	/* keep the prefix */
+	out->n = prefix_rows;
+	out->n_failed = failed;
+	out->n_edge = edge;
+	out->n_ok = prefix_rows - failed - (o->edge == PRSM_EDGE_EXCLUDE ? edge : 0);
+	out->converged = out->stop == PRSM_STOP_TARGET;
+	if (saltelli && prefix_rows < c->n_rows) {
+		/* compact [o][k][j] to the kept rows */
+		size_t K = n_groups + 2;
+		for (size_t q = 1; q < m * K; q++)
+			memmove(out->ys + q * prefix_rows, out->ys + q * c->n_rows, prefix_rows * sizeof *out->ys);
+	}
+
+destroy:
+	for (int t = 0; t < nthreads; t++)
+		worker_free(&ws[t]);
+	free(ws);
+	pthread_cond_destroy(&c->cv);
+	pthread_mutex_destroy(&c->mu);
+cleanup:
+	if (c) {
+		free(c->block_done);
+		free(c->block_mom);
+		free(c->block_in);
+	}
+	free(c);
+	out->elapsed_s = prsm_clock_seconds() - t0;
+	if (rc)
+		prsm_mc_result_free(out);
+	return rc;
+}
+
+int prsm_mc_run(prsm_mc_result *out, const prsm_mc_model *model, const prsm_mc_variable *vars,
+                size_t d, const prsm_mc_correlation *corr, size_t n_corr, const prsm_mc_options *o,
+                prsm_error *err)
+{
+	return run(out, model, vars, d, 0, 0, corr, n_corr, o, err);
+}
+
+int prsm_mc_run_saltelli(prsm_mc_result *out, const prsm_mc_model *model,
+                         const prsm_mc_variable *vars, size_t d, size_t n_groups,
+                         const prsm_mc_correlation *corr, size_t n_corr,
+                         const prsm_mc_options *o, prsm_error *err)
+{
+	return run(out, model, vars, d, n_groups, 1, corr, n_corr, o, err);
+}
+
+int prsm_mc_result_concat(prsm_mc_result *out, const prsm_mc_result *a, const prsm_mc_result *b,
+                          prsm_error *err)
+{
+	memset(out, 0, sizeof *out);
+	if (a->d != b->d || a->m != b->m || a->ys || b->ys || a->first_sample + a->n != b->first_sample)
+		return prsm_error_set(err, PRSM_EINVAL, NULL,
+		                      "runs do not follow each other (first %zu + %zu rows, then %zu)",
+		                      a->first_sample, a->n, b->first_sample);
+	size_t n = a->n + b->n, d = a->d, m = a->m;
+	*out = *a;
+	out->x = malloc(n * d * sizeof *out->x);
+	out->y = malloc(n * m * sizeof *out->y);
+	out->status = malloc(n ? n : 1);
+	out->fail_code = malloc((n ? n : 1) * sizeof *out->fail_code);
+	out->ys = NULL;
+	if (!out->x || !out->y || !out->status || !out->fail_code) {
+		prsm_mc_result_free(out);
+		return prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
+	}
+	memcpy(out->x, a->x, a->n * d * sizeof *out->x);
+	memcpy(out->x + a->n * d, b->x, b->n * d * sizeof *out->x);
+	memcpy(out->y, a->y, a->n * m * sizeof *out->y);
+	memcpy(out->y + a->n * m, b->y, b->n * m * sizeof *out->y);
+	memcpy(out->status, a->status, a->n);
+	memcpy(out->status + a->n, b->status, b->n);
+	memcpy(out->fail_code, a->fail_code, a->n * sizeof *out->fail_code);
+	memcpy(out->fail_code + a->n, b->fail_code, b->n * sizeof *out->fail_code);
+	out->n = n;
+	out->n_ok = a->n_ok + b->n_ok;
+	out->n_failed = a->n_failed + b->n_failed;
+	out->n_edge = a->n_edge + b->n_edge;
+	out->stop = b->stop;
+	out->elapsed_s = a->elapsed_s + b->elapsed_s;
+	return 0;
+}

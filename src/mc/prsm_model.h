@@ -1,0 +1,65 @@
+/*
+ * prsm_model.h: the roller screw as a Monte Carlo model (MODEL.md §3, §4, §5).
+ *
+ * Each sampled variable is bound to one error of model/errors.h (or a friction coefficient):
+ * the sample's value times `scale` is added to the base error set, then the assembly is
+ * evaluated for the outputs the study asks for, in linear or exact mode. Per-roller
+ * tolerances bind one variable per roller; a radial error's phase is a variable of its own.
+ */
+#ifndef PRSM_MC_PRSM_MODEL_H
+#define PRSM_MC_PRSM_MODEL_H
+
+#include "mc/engine.h"
+#include "model/assembly.h"
+
+typedef enum {
+	PRSM_PART_SCREW = 0,
+	PRSM_PART_NUT = 1,
+	PRSM_PART_CARRIER = 2,
+	PRSM_PART_ROLLER = 3,
+	PRSM_PART_FRICTION = 4          /* offset 0: screw-roller mu, 1: nut-roller mu */
+} prsm_part;
+
+typedef struct {
+	prsm_part part;
+	int roller;                     /* PRSM_PART_ROLLER: which roller */
+	size_t offset;                  /* byte offset of the double in prsm_body_errors,
+	                                   prsm_roller_errors or prsm_carrier_errors */
+	double scale;                   /* engine units (mm, rad, mm/mm) per input unit */
+} prsm_mc_binding;
+
+/* Outputs a study of a design may ask for. */
+typedef enum {
+	PRSM_OUT_BACKLASH = 0,          /* backlash_um: B at screw angle 0 */
+	PRSM_OUT_BACKLASH_MIN,          /* backlash_min_um: min of B over one screw revolution */
+	PRSM_OUT_BACKLASH_MAX,          /* backlash_max_um */
+	PRSM_OUT_SHARING,               /* load_sharing_factor: max roller load / (F/Z) at the operating load */
+	PRSM_OUT_STIFFNESS,             /* stiffness_N_per_um: dF/du at the operating load (contacts only) */
+	PRSM_OUT_STIFFNESS_RATIO,       /* stiffness_ratio: over the nominal-gap stiffness */
+	PRSM_OUT_TE_PP,                 /* te_pp_um: transmission error p-p over one revolution */
+	PRSM_OUT_TE_RMS,                /* te_rms_um */
+	PRSM_OUT_EFFICIENCY,            /* efficiency: direct, sliding (MODEL.md §5) */
+	PRSM_OUT_EFFICIENCY_BACK,       /* efficiency_back */
+	PRSM_OUT_COUNT
+} prsm_output_kind;
+
+const char *prsm_output_name(prsm_output_kind k);
+int prsm_output_parse(const char *name, prsm_output_kind *out); /* 0 or PRSM_ENOTFOUND */
+
+typedef struct {
+	const prsm_assembly *as;        /* prepared design (prsm_assembly_init) */
+	const prsm_analysis *an;        /* its nominal analysis (kinematics, contacts) */
+	prsm_errors base;               /* errors every sample starts from (zero, or measured) */
+	int mode;                       /* PRSM_MODE_LINEAR or _EXACT */
+	int angles_per_revolution;      /* for the outputs over a revolution */
+	double measuring_load_N;        /* TE measuring load, N */
+	size_t n_bindings;
+	const prsm_mc_binding *bindings;/* one per variable */
+	size_t n_outputs;
+	prsm_output_kind outputs[PRSM_MC_MAX_OUTPUTS];
+} prsm_mc_prsm;
+
+/* The engine's view of p (p must outlive it). Its workspace is allocated once per thread. */
+void prsm_prsm_mc_model(prsm_mc_model *out, const prsm_mc_prsm *p);
+
+#endif

@@ -1,0 +1,326 @@
+/*
+ * study.c: run a tolerance study and summarise it (DESIGN.md, "Documents": result).
+ *
+ * Order of work: the plain run (mc/engine); per output the summary over the samples kept
+ * (mc/stats), SRC and SRRC over the same rows (mc/sens), the worst-case and RSS stack from
+ * one-at-a-time changes at the distributions' centres; then, when asked, a Saltelli run on
+ * streams of its own for the Sobol indices with bootstrap intervals.
+ */
+#include "mc/study.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "util/clock.h"
+#include "util/rng.h"
+
+/* The Saltelli run's streams start here, so its blocks never reuse the plain run's. */
+#define SALTELLI_STREAM_OFFSET (UINT64_C(1) << 40)
+/* Phases tried for a radial error's worst direction in the stack figures. */
+#define STACK_PHASES 8
+
+void prsm_sens_options_default(prsm_sens_options *s)
+{
+	memset(s, 0, sizeof *s);
+	s->src = 1;
+	s->sobol = 0;
+	s->sobol_samples = 4096;
+	s->bootstrap = 200;
+	s->sobol_sampler = PRSM_SAMPLER_SOBOL;
+	s->stack = 1;
+}
+
+void prsm_study_result_free(prsm_study_result *r)
+{
+	if (r)
+		prsm_mc_result_free(&r->run);
+}
+
+static void warn(prsm_study_result *r, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void warn(prsm_study_result *r, const char *fmt, ...)
+{
+	if (r->n_warnings >= PRSM_STUDY_WARNINGS)
+		return;
+	va_list ap;
+	va_start(ap, fmt);
+	vsnprintf(r->warnings[r->n_warnings++], sizeof r->warnings[0], fmt, ap);
+	va_end(ap);
+}
+
+static int kept(const prsm_mc_options *o, int status)
+{
+	return status == PRSM_SAMPLE_OK || (status == PRSM_SAMPLE_EDGE && o->edge == PRSM_EDGE_INCLUDE);
+}
+
+/* One-at-a-time stack: centre x0, each variable moved by its half-width (radial magnitudes
+ * with their worst phase), Delta_i = change of each output. */
+static int stack(prsm_study_result *r, const prsm_study *s, prsm_error *err)
+{
+	const prsm_mc_model *mdl = &s->model;
+	const size_t d = s->d, m = s->m;
+	void *ws = NULL;
+	double *x = malloc(d * sizeof *x), y0[PRSM_MC_MAX_OUTPUTS], yp[PRSM_MC_MAX_OUTPUTS],
+	       ym[PRSM_MC_MAX_OUTPUTS], sum_abs[PRSM_MC_MAX_OUTPUTS] = {0}, sum_sq[PRSM_MC_MAX_OUTPUTS] = {0};
+	int rc = 0;
+	unsigned flags;
+	if (!x || (mdl->workspace_alloc && mdl->workspace_alloc(&ws, mdl->ctx))) {
+		rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
+		goto cleanup;
+	}
+	for (size_t i = 0; i < d; i++)
+		x[i] = prsm_dist_center(&s->vars[i].dist);
+	if (mdl->eval(y0, &flags, mdl->ctx, ws, x)) {
+		warn(r, "no worst-case/RSS figures: the model failed at the distributions' centres");
+		goto cleanup;
+	}
+	for (size_t o = 0; o < m; o++)
+		for (size_t g = 0; g < s->n_groups; g++)
+			r->out[o].by_group[g].stack_um = 0.0;
+	for (size_t i = 0; i < d; i++) {
+		if (s->info[i].phase_of >= 0)
+			continue;
+		const double c = x[i], t = prsm_dist_halfwidth(&s->vars[i].dist);
+		double delta[PRSM_MC_MAX_OUTPUTS] = {0};
+		if (s->info[i].phase >= 0) {
+			/* radial error: the largest change over its direction */
+			const size_t ph = (size_t)s->info[i].phase;
+			const double ph0 = x[ph];
+			x[i] = c + t;
+			for (int k = 0; k < STACK_PHASES; k++) {
+				x[ph] = 2.0 * M_PI * k / STACK_PHASES;
+				if (mdl->eval(yp, &flags, mdl->ctx, ws, x))
+					goto failed;
+				for (size_t o = 0; o < m; o++)
+					delta[o] = fmax(delta[o], fabs(yp[o] - y0[o]));
+			}
+			x[ph] = ph0;
+		} else {
+			x[i] = c + t;
+			if (mdl->eval(yp, &flags, mdl->ctx, ws, x))
+				goto failed;
+			x[i] = c - t;
+			if (mdl->eval(ym, &flags, mdl->ctx, ws, x))
+				goto failed;
+			for (size_t o = 0; o < m; o++)
+				delta[o] = 0.5 * fabs(yp[o] - ym[o]);
+		}
+		x[i] = c;
+		for (size_t o = 0; o < m; o++) {
+			sum_abs[o] += delta[o];
+			sum_sq[o] += delta[o] * delta[o];
+			r->out[o].by_group[s->vars[i].group].stack_um += delta[o];
+		}
+		continue;
+	failed:
+		warn(r, "no worst-case/RSS figures: the model failed with %s at its half-width", s->info[i].name);
+		goto cleanup;
+	}
+	for (size_t o = 0; o < m; o++) {
+		prsm_study_output_result *q = &r->out[o];
+		q->has_stack = 1;
+		q->nominal = y0[o];
+		q->worst_low = y0[o] - sum_abs[o];
+		q->worst_high = y0[o] + sum_abs[o];
+		q->rss = sqrt(sum_sq[o]);
+	}
+cleanup:
+	if (ws && mdl->workspace_free)
+		mdl->workspace_free(ws);
+	free(x);
+	return rc;
+}
+
+int prsm_study_summarise(prsm_study_result *r, const prsm_study *s, prsm_error *err)
+{
+	const prsm_mc_result *run = &r->run;
+	const size_t d = s->d, m = s->m, n = run->n;
+	int rc = 0;
+	size_t nk = 0;
+	for (size_t j = 0; j < n; j++)
+		nk += kept(&s->mc, run->status[j]) ? 1 : 0;
+	if (nk < 2)
+		return prsm_error_set(err, PRSM_ENOCONVERGE, NULL,
+		                      "only %zu of %zu samples were usable: nothing to summarise", nk, n);
+	double *y = malloc(nk * sizeof *y), *scratch = malloc(nk * sizeof *scratch);
+	double *xk = NULL, *coef = malloc(d * sizeof *coef);
+	if (!y || !scratch || !coef) {
+		rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
+		goto cleanup;
+	}
+	int do_src = s->sens.src && nk >= d + 2;
+	if (s->sens.src && !do_src)
+		warn(r, "no SRC/SRRC: %zu usable samples for %zu variables (need at least %zu)", nk, d, d + 2);
+	if (do_src) {
+		xk = malloc(nk * d * sizeof *xk);
+		if (!xk) {
+			rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
+			goto cleanup;
+		}
+		size_t q = 0;
+		for (size_t j = 0; j < n; j++)
+			if (kept(&s->mc, run->status[j]))
+				memcpy(xk + (q++) * d, run->x + j * d, d * sizeof *xk);
+	}
+	for (size_t o = 0; o < m; o++) {
+		prsm_study_output_result *res = &r->out[o];
+		size_t q = 0;
+		for (size_t j = 0; j < n; j++)
+			if (kept(&s->mc, run->status[j]))
+				y[q++] = run->y[j * m + o];
+		rc = prsm_stats_summarise(&res->summary, y, nk, s->outputs[o].has_spec ? &s->outputs[o].spec : NULL,
+		                          scratch, err);
+		if (rc)
+			goto cleanup;
+		for (size_t g = 0; g < s->n_groups; g++) {
+			res->by_group[g].src = res->by_group[g].srrc = NAN;
+			res->by_group[g].src_percent = res->by_group[g].srrc_percent = NAN;
+		}
+		res->src_r2 = res->srrc_r2 = NAN;
+		if (!do_src || !(res->summary.sd > 0.0))
+			continue;
+		for (int ranks = 0; ranks < 2; ranks++) {
+			double r2;
+			rc = prsm_sens_src(coef, &r2, NULL, xk, nk, d, y, ranks, err);
+			if (rc)
+				goto cleanup;
+			if (ranks)
+				res->srrc_r2 = r2;
+			else
+				res->src_r2 = r2;
+			for (size_t g = 0; g < s->n_groups; g++) {
+				const prsm_study_group *gr = &s->groups[g];
+				double sq = 0.0;
+				for (size_t v = gr->first_var; v < gr->first_var + gr->n_vars; v++)
+					sq += coef[v] * coef[v];
+				double one = gr->n_vars == 1 ? coef[gr->first_var] : NAN;
+				if (ranks) {
+					res->by_group[g].srrc = one;
+					res->by_group[g].srrc_percent = 100.0 * sq;
+				} else {
+					res->by_group[g].src = one;
+					res->by_group[g].src_percent = 100.0 * sq;
+				}
+			}
+		}
+		res->has_src = 1;
+		if (res->src_r2 < 0.7)
+			warn(r, "%s: the linear fit explains only %.0f %% of the variance (R^2 = %.3f): SRC "
+			        "shares are not a variance decomposition here; use the Sobol indices",
+			     s->outputs[o].name, 100.0 * res->src_r2, res->src_r2);
+	}
+	if (s->sens.stack)
+		rc = stack(r, s, err);
+cleanup:
+	free(y);
+	free(scratch);
+	free(xk);
+	free(coef);
+	return rc;
+}
+
+static int sobol(prsm_study_result *r, const prsm_study *s, prsm_error *err)
+{
+	prsm_mc_options mo = s->mc;
+	prsm_mc_result sr;
+	mo.samples = s->sens.sobol_samples;
+	mo.sampler = s->sens.sobol_sampler;
+	mo.n_targets = 0;
+	mo.first_block = mo.block_count = 0;
+	mo.stream_offset = SALTELLI_STREAM_OFFSET;
+	mo.failure = PRSM_FAILURE_SKIP;
+	mo.max_failed_fraction = 1.0;
+	int rc = prsm_mc_run_saltelli(&sr, &s->model, s->vars, s->d, s->n_groups, s->corr, s->n_corr,
+	                              &mo, err);
+	if (rc)
+		return rc;
+	const size_t n = sr.n, G = s->n_groups, K = G + 2, m = s->m;
+	size_t nk = 0;
+	for (size_t j = 0; j < n; j++)
+		nk += kept(&s->mc, sr.status[j]) ? 1 : 0;
+	r->has_sobol = 1;
+	r->sobol_rows = n;
+	r->sobol_rows_ok = nk;
+	r->sobol_evaluations = n * K;
+	r->sobol_sampler = sr.sampler;
+	if (sr.warning[0])
+		warn(r, "Sobol indices: %s", sr.warning);
+	if (s->n_corr)
+		warn(r, "Sobol indices assume independent inputs; the study's correlations are kept inside A "
+		        "and B but broken in the mixed rows");
+	double *buf = malloc(K * (nk ? nk : 1) * sizeof *buf);
+	prsm_sobol_index *idx = malloc(G * sizeof *idx);
+	gsl_rng *rng = prsm_rng_alloc(s->mc.seed, SALTELLI_STREAM_OFFSET - 1);
+	if (!buf || !idx || !rng) {
+		rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
+		goto cleanup;
+	}
+	if (nk < 2) {
+		warn(r, "no Sobol indices: %zu usable rows", nk);
+		goto cleanup;
+	}
+	for (size_t o = 0; o < m; o++) {
+		for (size_t k = 0; k < K; k++) {
+			size_t q = 0;
+			for (size_t j = 0; j < n; j++)
+				if (kept(&s->mc, sr.status[j]))
+					buf[k * nk + q++] = sr.ys[(o * K + k) * n + j];
+		}
+		/* every output's bootstrap draws the same resamples */
+		prsm_rng_set_stream(rng, s->mc.seed, SALTELLI_STREAM_OFFSET - 1);
+		double V;
+		rc = prsm_sens_sobol(idx, &V, buf, buf + nk, buf + 2 * nk, nk, G, s->sens.bootstrap, rng, err);
+		if (rc)
+			goto cleanup;
+		r->out[o].has_sobol = 1;
+		r->out[o].sobol_variance = V;
+		for (size_t g = 0; g < G; g++)
+			r->out[o].by_group[g].sobol = idx[g];
+	}
+cleanup:
+	free(buf);
+	free(idx);
+	if (rng)
+		gsl_rng_free(rng);
+	prsm_mc_result_free(&sr);
+	return rc;
+}
+
+int prsm_study_run(prsm_study_result *r, const prsm_study *s, prsm_error *err)
+{
+	memset(r, 0, sizeof *r);
+	double t0 = prsm_clock_seconds();
+	int rc = prsm_mc_run(&r->run, &s->model, s->vars, s->d, s->corr, s->n_corr, &s->mc, err);
+	if (rc)
+		return rc;
+	r->elapsed_run_s = prsm_clock_seconds() - t0;
+	if (r->run.warning[0])
+		warn(r, "%s", r->run.warning);
+	if (r->run.stop == PRSM_STOP_FAILURES) {
+		rc = prsm_error_set(err, PRSM_ENOCONVERGE, NULL,
+		                    "%zu failed and %zu edge-contact samples in the first %zu: more than the "
+		                    "allowed fraction %g (failure policy: skip)",
+		                    r->run.n_failed, r->run.n_edge, r->run.n, s->mc.max_failed_fraction);
+		goto fail;
+	}
+	if (r->run.stop == PRSM_STOP_CANCELLED) {
+		rc = prsm_error_set(err, PRSM_ECANCELLED, NULL, "the study was cancelled");
+		goto fail;
+	}
+	double t1 = prsm_clock_seconds();
+	rc = prsm_study_summarise(r, s, err);
+	if (rc)
+		goto fail;
+	if (s->sens.sobol) {
+		rc = sobol(r, s, err);
+		if (rc)
+			goto fail;
+	}
+	r->elapsed_sensitivity_s = prsm_clock_seconds() - t1;
+	return 0;
+fail:
+	prsm_study_result_free(r);
+	return rc;
+}
