@@ -1,0 +1,104 @@
+/*
+ * rng.c: Philox4x64-10 (Random123's philox.h) as a gsl_rng_type; see rng.h for the stream
+ * layout. The state holds the key, the counter of the next block and the current block's eight
+ * 32-bit words; a block is computed only when its first word is asked for.
+ */
+#include "util/rng.h"
+
+#include <assert.h>
+
+#include <Random123/philox.h>
+
+#define PRSM_RNG_WORDS_PER_BLOCK 8u /* 32-bit words in one 4 x 64-bit Philox block */
+
+typedef struct {
+	uint64_t key[2];        /* {seed, stream} */
+	uint64_t next_block;    /* counter of the block computed next */
+	uint64_t block[4];      /* output of the current block */
+	unsigned int next_word; /* index of the next 32-bit word of block, 0..8; 8 = used up */
+} prsm_rng_state;
+
+static void rng_state_reset(prsm_rng_state *st, uint64_t seed, uint64_t stream)
+{
+	st->key[0] = seed;
+	st->key[1] = stream;
+	st->next_block = 0;
+	st->block[0] = st->block[1] = st->block[2] = st->block[3] = 0;
+	st->next_word = PRSM_RNG_WORDS_PER_BLOCK;
+}
+
+static uint32_t rng_next_word(prsm_rng_state *st)
+{
+	if (st->next_word == PRSM_RNG_WORDS_PER_BLOCK) {
+		philox4x64_ctr_t ctr = {{st->next_block, 0, 0, 0}};
+		philox4x64_key_t key = {{st->key[0], st->key[1]}};
+		philox4x64_ctr_t out = philox4x64_R(10, ctr, key);
+		for (int i = 0; i < 4; i++)
+			st->block[i] = out.v[i];
+		st->next_block++;
+		st->next_word = 0;
+	}
+	unsigned int w = st->next_word++;
+	uint64_t v = st->block[w / 2];
+	return (uint32_t)((w % 2 == 0) ? v : (v >> 32));
+}
+
+/* Two consecutive words, the first in the high half. */
+static uint64_t rng_next_u64(prsm_rng_state *st)
+{
+	uint64_t hi = rng_next_word(st);
+	uint64_t lo = rng_next_word(st);
+	return (hi << 32) | lo;
+}
+
+static void rng_set(void *state, unsigned long int seed)
+{
+	rng_state_reset(state, (uint64_t)seed, 0);
+}
+
+static unsigned long int rng_get(void *state)
+{
+	return rng_next_word(state);
+}
+
+static double rng_get_double(void *state)
+{
+	return (double)(rng_next_u64(state) >> 11) * 0x1p-53; /* [0, 1 - 2^-53] */
+}
+
+static const gsl_rng_type prsm_rng_philox_type = {
+	"prsm-philox4x64-10",   /* name */
+	0xffffffffUL,           /* max of get() */
+	0,                      /* min of get() */
+	sizeof(prsm_rng_state), /* size of the state */
+	&rng_set,
+	&rng_get,
+	&rng_get_double,
+};
+
+const gsl_rng_type *const prsm_rng_philox = &prsm_rng_philox_type;
+
+gsl_rng *prsm_rng_alloc(uint64_t seed, uint64_t stream)
+{
+	gsl_rng *r = gsl_rng_alloc(prsm_rng_philox);
+	if (r != NULL)
+		prsm_rng_set_stream(r, seed, stream);
+	return r;
+}
+
+void prsm_rng_set_stream(gsl_rng *r, uint64_t seed, uint64_t stream)
+{
+	assert(r != NULL && r->type == prsm_rng_philox);
+	rng_state_reset(r->state, seed, stream);
+}
+
+double prsm_rng_uniform_pos(gsl_rng *r)
+{
+	assert(r != NULL && r->type == prsm_rng_philox);
+	prsm_rng_state *st = r->state;
+	uint64_t k;
+	do {
+		k = rng_next_u64(st) >> 11; /* 53 bits */
+	} while (k == 0);
+	return (double)k * 0x1p-53; /* [2^-53, 1 - 2^-53] */
+}

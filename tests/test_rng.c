@@ -1,0 +1,275 @@
+/*
+ * test_rng.c: the Philox stream of util/rng.h — Random123's published known answers for
+ * philox4x64-10, the word order of the gsl_rng wrapper, determinism and independence of
+ * (seed, stream), moments of gsl_rng_uniform and gsl_ran_gaussian, the open interval of
+ * prsm_rng_uniform_pos.
+ */
+#include "test_support.h"
+
+#include "util/rng.h"
+
+#include <string.h>
+
+#include <Random123/philox.h>
+#include <gsl/gsl_randist.h>
+
+/* Random123 kat_vectors, lines "philox4x64 10 ctr[4] key[2] expected[4]". */
+static const struct {
+	uint64_t ctr[4], key[2], expected[4];
+} philox_kat[] = {
+	{{0, 0, 0, 0},
+	 {0, 0},
+	 {0x16554d9eca36314cULL, 0xdb20fe9d672d0fdcULL, 0xd7e772cee186176bULL, 0x7e68b68aec7ba23bULL}},
+	{{~0ULL, ~0ULL, ~0ULL, ~0ULL},
+	 {~0ULL, ~0ULL},
+	 {0x87b092c3013fe90bULL, 0x438c3c67be8d0224ULL, 0x9cc7d7c69cd777b6ULL, 0xa09caebf594f0ba0ULL}},
+	{{0x243f6a8885a308d3ULL, 0x13198a2e03707344ULL, 0xa4093822299f31d0ULL, 0x082efa98ec4e6c89ULL},
+	 {0x452821e638d01377ULL, 0xbe5466cf34e90c6cULL},
+	 {0xa528f45403e61d95ULL, 0x38c72dbd566e9788ULL, 0xa5a1610e72fd18b5ULL, 0x57bd43b5e52b7fe6ULL}},
+};
+
+static philox4x64_ctr_t philox_block(uint64_t counter, uint64_t seed, uint64_t stream)
+{
+	philox4x64_ctr_t c = {{counter, 0, 0, 0}};
+	philox4x64_key_t k = {{seed, stream}};
+	return philox4x64_R(10, c, k);
+}
+
+static void test_philox_known_answers(void **state)
+{
+	(void)state;
+	for (size_t i = 0; i < sizeof philox_kat / sizeof philox_kat[0]; i++) {
+		philox4x64_ctr_t c, out;
+		philox4x64_key_t k;
+		memcpy(c.v, philox_kat[i].ctr, sizeof c.v);
+		memcpy(k.v, philox_kat[i].key, sizeof k.v);
+		out = philox4x64_R(10, c, k);
+		for (int j = 0; j < 4; j++)
+			assert_true(out.v[j] == philox_kat[i].expected[j]);
+	}
+}
+
+static void test_type_properties(void **state)
+{
+	(void)state;
+	gsl_rng *r = prsm_rng_alloc(2385, 713);
+	assert_non_null(r);
+	assert_ptr_equal(r->type, prsm_rng_philox);
+	assert_string_equal(gsl_rng_name(r), "prsm-philox4x64-10");
+	assert_true(gsl_rng_max(r) == 0xffffffffUL);
+	assert_true(gsl_rng_min(r) == 0);
+	gsl_rng_free(r);
+}
+
+/* Stream (0, 0) starts with the first KAT block, low word of v[0] first. Later blocks and a
+ * high-entropy key follow the documented layout. */
+static void test_wrapper_word_order(void **state)
+{
+	(void)state;
+	gsl_rng *r = prsm_rng_alloc(0, 0);
+	assert_non_null(r);
+	for (int j = 0; j < 4; j++) {
+		assert_true(gsl_rng_get(r) == (philox_kat[0].expected[j] & 0xffffffffULL));
+		assert_true(gsl_rng_get(r) == (philox_kat[0].expected[j] >> 32));
+	}
+	const uint64_t seed = 0x9e3779b97f4a7c15ULL, stream = 4711;
+	prsm_rng_set_stream(r, seed, stream);
+	for (uint64_t b = 0; b < 5; b++) {
+		philox4x64_ctr_t out = philox_block(b, seed, stream);
+		for (int j = 0; j < 4; j++) {
+			assert_true(gsl_rng_get(r) == (out.v[j] & 0xffffffffULL));
+			assert_true(gsl_rng_get(r) == (out.v[j] >> 32));
+		}
+	}
+	gsl_rng_free(r);
+}
+
+/* gsl_rng_uniform is the top 53 bits of two consecutive words, first word high. */
+static void test_get_double_layout(void **state)
+{
+	(void)state;
+	gsl_rng *a = prsm_rng_alloc(31337, 12), *b = prsm_rng_alloc(31337, 12);
+	assert_non_null(a);
+	assert_non_null(b);
+	for (int i = 0; i < 1000; i++) {
+		uint64_t hi = gsl_rng_get(b), lo = gsl_rng_get(b);
+		double expected = (double)(((hi << 32) | lo) >> 11) * 0x1p-53;
+		double u = gsl_rng_uniform(a);
+		assert_true(u == expected);
+		assert_true(u >= 0.0 && u < 1.0);
+	}
+	gsl_rng_free(a);
+	gsl_rng_free(b);
+}
+
+static void test_set_means_stream_zero(void **state)
+{
+	(void)state;
+	gsl_rng *a = gsl_rng_alloc(prsm_rng_philox), *b = prsm_rng_alloc(8675309, 0);
+	assert_non_null(a);
+	assert_non_null(b);
+	gsl_rng_set(a, 8675309);
+	for (int i = 0; i < 100; i++)
+		assert_true(gsl_rng_get(a) == gsl_rng_get(b));
+	gsl_rng_free(a);
+	gsl_rng_free(b);
+}
+
+static void test_determinism(void **state)
+{
+	(void)state;
+	enum { N = 1001 }; /* odd, to end in the middle of a block */
+	static double first[N];
+	gsl_rng *r = prsm_rng_alloc(20240611, 17);
+	assert_non_null(r);
+	for (int i = 0; i < N; i++)
+		first[i] = gsl_rng_uniform(r);
+	/* wander off to other streams, then come back */
+	prsm_rng_set_stream(r, 1, 2);
+	(void)gsl_rng_get(r);
+	prsm_rng_set_stream(r, 20240611, 17);
+	for (int i = 0; i < N; i++)
+		assert_true(gsl_rng_uniform(r) == first[i]);
+
+	/* a clone continues the same sequence; two generators interleaved do not disturb each
+	 * other (no shared state) */
+	prsm_rng_set_stream(r, 20240611, 17);
+	for (int i = 0; i < 400; i++)
+		(void)gsl_rng_uniform(r);
+	gsl_rng *c = gsl_rng_clone(r);
+	gsl_rng *other = prsm_rng_alloc(5, 5);
+	assert_non_null(c);
+	assert_non_null(other);
+	for (int i = 400; i < N; i++) {
+		(void)gsl_rng_uniform(other);
+		assert_true(gsl_rng_uniform(c) == first[i]);
+		assert_true(gsl_rng_uniform(r) == first[i]);
+	}
+	gsl_rng_free(other);
+	gsl_rng_free(c);
+	gsl_rng_free(r);
+}
+
+/* Counts equal words at equal positions; for independent streams about n / 2^32. */
+static int count_equal_words(uint64_t seed_a, uint64_t stream_a, uint64_t seed_b, uint64_t stream_b, int n)
+{
+	gsl_rng *a = prsm_rng_alloc(seed_a, stream_a), *b = prsm_rng_alloc(seed_b, stream_b);
+	assert_non_null(a);
+	assert_non_null(b);
+	int equal = 0;
+	for (int i = 0; i < n; i++)
+		equal += gsl_rng_get(a) == gsl_rng_get(b);
+	gsl_rng_free(a);
+	gsl_rng_free(b);
+	return equal;
+}
+
+static void test_streams_differ(void **state)
+{
+	(void)state;
+	assert_true(count_equal_words(42, 0, 42, 1, 4096) <= 1);
+	assert_true(count_equal_words(42, 0, 43, 0, 4096) <= 1);
+	assert_true(count_equal_words(42, 7, 7, 42, 4096) <= 1); /* seed and stream are not symmetric */
+	assert_true(count_equal_words(0, 0, 0, 1ULL << 63, 4096) <= 1);
+}
+
+/* |mean - expected| and |variance - expected| within 5 standard errors of the estimators. */
+static void check_moments(const double *x, size_t n, double mean, double var)
+{
+	double m = 0.0;
+	for (size_t i = 0; i < n; i++)
+		m += x[i];
+	m /= (double)n;
+	double m2 = 0.0, m4 = 0.0;
+	for (size_t i = 0; i < n; i++) {
+		double d = x[i] - m, d2 = d * d;
+		m2 += d2;
+		m4 += d2 * d2;
+	}
+	m2 /= (double)(n - 1);
+	m4 /= (double)n;
+	assert_close(m, mean, 5.0 * sqrt(var / (double)n));
+	assert_close(m2, var, 5.0 * sqrt((m4 - m2 * m2) / (double)n));
+}
+
+enum { MOMENT_N = 1000000 };
+static double sample[MOMENT_N];
+
+static void test_uniform_moments(void **state)
+{
+	(void)state;
+	gsl_rng *r = prsm_rng_alloc(2718281828ULL, 3);
+	assert_non_null(r);
+	double lo = 1.0, hi = 0.0;
+	for (size_t i = 0; i < MOMENT_N; i++) {
+		sample[i] = gsl_rng_uniform(r);
+		lo = fmin(lo, sample[i]);
+		hi = fmax(hi, sample[i]);
+	}
+	assert_true(lo >= 0.0 && lo < 1e-5);
+	assert_true(hi < 1.0 && hi > 1.0 - 1e-5);
+	check_moments(sample, MOMENT_N, 0.5, 1.0 / 12.0);
+	gsl_rng_free(r);
+}
+
+static void test_uniform_pos_open_interval(void **state)
+{
+	(void)state;
+	gsl_rng *r = prsm_rng_alloc(1414213562ULL, 99);
+	assert_non_null(r);
+	double lo = 1.0, hi = 0.0;
+	for (size_t i = 0; i < MOMENT_N; i++) {
+		double u = prsm_rng_uniform_pos(r);
+		assert_true(u > 0.0 && u < 1.0);
+		/* a multiple of 2^-53 */
+		double k = u * 0x1p53;
+		assert_true(k == floor(k));
+		sample[i] = u;
+		lo = fmin(lo, u);
+		hi = fmax(hi, u);
+	}
+	assert_true(lo < 1e-5 && hi > 1.0 - 1e-5);
+	check_moments(sample, MOMENT_N, 0.5, 1.0 / 12.0);
+
+	/* the same words as gsl_rng_uniform (no zero was drawn in this short run) */
+	gsl_rng *a = prsm_rng_alloc(1414213562ULL, 98), *b = prsm_rng_alloc(1414213562ULL, 98);
+	assert_non_null(a);
+	assert_non_null(b);
+	for (int i = 0; i < 1000; i++)
+		assert_true(prsm_rng_uniform_pos(a) == gsl_rng_uniform(b));
+	gsl_rng_free(a);
+	gsl_rng_free(b);
+	gsl_rng_free(r);
+}
+
+static void test_gaussian_moments(void **state)
+{
+	(void)state;
+	gsl_rng *r = prsm_rng_alloc(1618033988ULL, 5);
+	assert_non_null(r);
+	const double sigma = 2.385;
+	for (size_t i = 0; i < MOMENT_N; i++)
+		sample[i] = gsl_ran_gaussian(r, sigma);
+	check_moments(sample, MOMENT_N, 0.0, sigma * sigma);
+	for (size_t i = 0; i < MOMENT_N; i++)
+		sample[i] = gsl_ran_gaussian_ziggurat(r, sigma);
+	check_moments(sample, MOMENT_N, 0.0, sigma * sigma);
+	gsl_rng_free(r);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_philox_known_answers),
+		cmocka_unit_test(test_type_properties),
+		cmocka_unit_test(test_wrapper_word_order),
+		cmocka_unit_test(test_get_double_layout),
+		cmocka_unit_test(test_set_means_stream_zero),
+		cmocka_unit_test(test_determinism),
+		cmocka_unit_test(test_streams_differ),
+		cmocka_unit_test(test_uniform_moments),
+		cmocka_unit_test(test_uniform_pos_open_interval),
+		cmocka_unit_test(test_gaussian_moments),
+	};
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}
