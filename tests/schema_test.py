@@ -454,12 +454,16 @@ def close(a, b):
 studies = sorted(glob.glob(os.path.join(SRC, "studies", "*.json")))
 n_designs = 0
 request_studies = []
+study_documents = []
 for path in studies:
     name = "studies/" + os.path.basename(path)
     try:
         doc = load_json(path)
     except (OSError, ValueError) as e:
         check(f"{name} is JSON", False, str(e))
+        continue
+    if isinstance(doc, dict) and "tolerances" in doc:
+        study_documents.append(path)  # a tolerance study: section 9
         continue
     if isinstance(doc, dict) and "design" in doc:
         request_studies.append(path)  # an analyze request {design, errors, assembly}: section 8

@@ -99,21 +99,26 @@ static int print_json(cJSON *doc, const char *out_path)
 	return bad ? PRSM_EXIT_FAILED : PRSM_EXIT_OK;
 }
 
-/* Read, parse and load the request; problems go to *problems. Returns 0 or an exit code. */
-static int load(request *rq, prsm_geometry *g, prsm_problems *warnings, prsm_problems *problems,
-                const char *path)
+int prsm_cli_read_document(cJSON **doc, const char *path, prsm_problems *problems)
 {
 	char *text = NULL;
 	size_t len = 0;
 	prsm_error err = PRSM_ERROR_INIT;
+	*doc = NULL;
 	if (prsm_file_read(&text, &len, path, PRSM_CLI_MAX_REQUEST_BYTES, &err)) {
 		prsm_problems_add(problems, "", err.code == PRSM_EIO ? "unreadable" : "too_large", "%s", err.message);
 		return err.code == PRSM_EIO ? PRSM_EXIT_USAGE : PRSM_EXIT_INVALID;
 	}
-	cJSON *doc = prsm_json_parse(text, len, problems);
+	*doc = prsm_json_parse(text, len, problems);
 	free(text);
-	if (doc == NULL)
-		return PRSM_EXIT_INVALID;
+	return *doc ? 0 : PRSM_EXIT_INVALID;
+}
+
+/* Load the request document doc (taken over and freed here); problems go to *problems.
+ * Returns 0 or an exit code. */
+static int load(request *rq, prsm_geometry *g, prsm_problems *warnings, prsm_problems *problems,
+                cJSON *doc)
+{
 	int rc;
 	rq->with_errors = cJSON_IsObject(doc) && cJSON_GetObjectItemCaseSensitive(doc, "design") != NULL;
 	if (!rq->with_errors) {
@@ -147,10 +152,10 @@ static int load(request *rq, prsm_geometry *g, prsm_problems *warnings, prsm_pro
  * the document and of the nominal contacts (edge contact, no contact point) go to *problems;
  * warnings are those of the analysis. Returns 0 or an exit code. */
 static int load_and_analyse(request *rq, prsm_problems *warnings, prsm_problems *problems,
-                            const char *path)
+                            cJSON *doc)
 {
 	prsm_geometry g;
-	int rc = load(rq, &g, warnings, problems, path);
+	int rc = load(rq, &g, warnings, problems, doc);
 	if (rc)
 		return rc;
 	prsm_error err = PRSM_ERROR_INIT;
@@ -209,7 +214,14 @@ int prsm_cli_validate(int argc, char **argv)
 	prsm_problems warnings, problems;
 	prsm_problems_init(&warnings);
 	prsm_problems_init(&problems);
-	int rc = load_and_analyse(rq, &warnings, &problems, o.path);
+	cJSON *doc;
+	int rc = prsm_cli_read_document(&doc, o.path, &problems);
+	if (rc == 0 && cJSON_IsObject(doc) && cJSON_GetObjectItemCaseSensitive(doc, "tolerances")) {
+		rc = prsm_cli_study_check(doc, &warnings, &problems);
+		cJSON_Delete(doc);
+	} else if (rc == 0) {
+		rc = load_and_analyse(rq, &warnings, &problems, doc);
+	}
 	free(rq);
 	if (rc == PRSM_EXIT_USAGE) {
 		print_problems(stderr, o.path, &problems);
@@ -223,12 +235,12 @@ int prsm_cli_validate(int argc, char **argv)
 			printf("%s: valid\n", o.path);
 		}
 	} else {
-		cJSON *doc = cJSON_CreateObject();
-		cJSON_AddBoolToObject(doc, "valid", rc == 0);
-		cJSON_AddItemToObject(doc, "errors", prsm_io_problems_to_json(&problems));
-		cJSON_AddItemToObject(doc, "warnings", prsm_io_problems_to_json(&warnings));
-		print_json(doc, NULL);
-		cJSON_Delete(doc);
+		cJSON *res = cJSON_CreateObject();
+		cJSON_AddBoolToObject(res, "valid", rc == 0);
+		cJSON_AddItemToObject(res, "errors", prsm_io_problems_to_json(&problems));
+		cJSON_AddItemToObject(res, "warnings", prsm_io_problems_to_json(&warnings));
+		print_json(res, NULL);
+		cJSON_Delete(res);
 	}
 	return rc;
 }
@@ -274,7 +286,10 @@ int prsm_cli_analyze(int argc, char **argv)
 	prsm_problems_init(&warnings);
 	prsm_problems_init(&problems);
 	error_analysis ea = {0};
-	int rc = load_and_analyse(rq, &warnings, &problems, o.path);
+	cJSON *doc;
+	int rc = prsm_cli_read_document(&doc, o.path, &problems);
+	if (rc == 0)
+		rc = load_and_analyse(rq, &warnings, &problems, doc);
 	if (rc) {
 		print_problems(stderr, o.path, &problems);
 	} else {

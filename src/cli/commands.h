@@ -5,6 +5,10 @@
 #ifndef PRSM_CLI_COMMANDS_H
 #define PRSM_CLI_COMMANDS_H
 
+#include <cJSON.h>
+
+#include "util/problems.h"
+
 enum { PRSM_EXIT_OK = 0, PRSM_EXIT_INVALID = 1, PRSM_EXIT_FAILED = 2, PRSM_EXIT_USAGE = 64 };
 
 /* Largest request file the CLI reads, bytes. */
@@ -14,5 +18,12 @@ int prsm_cli_analyze(int argc, char **argv);
 int prsm_cli_validate(int argc, char **argv);
 int prsm_cli_bench(int argc, char **argv);
 int prsm_cli_version(int argc, char **argv);
+int prsm_cli_study(int argc, char **argv);
+
+/* Read and parse a request file ("-": stdin) into *doc (the caller frees it); problems of the
+ * file or its JSON go to problems. Returns 0 or an exit code. */
+int prsm_cli_read_document(cJSON **doc, const char *path, prsm_problems *problems);
+/* Validate a study document (a parsed tree the caller keeps); returns 0 or an exit code. */
+int prsm_cli_study_check(const cJSON *doc, prsm_problems *warnings, prsm_problems *problems);
 
 #endif

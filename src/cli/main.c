@@ -7,6 +7,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include <gsl/gsl_errno.h>
+
 #include "cli/commands.h"
 
 static void usage(FILE *out)
@@ -17,7 +19,9 @@ static void usage(FILE *out)
 	        "commands:\n"
 	        "  analyze FILE|-   nominal analysis of one design (JSON result on stdout)\n"
 	        "                   --format json|text, --out FILE\n"
-	        "  validate FILE|-  check a design document, print every problem\n"
+	        "  study FILE|-     Monte Carlo tolerance study (JSON result on stdout)\n"
+	        "                   --out FILE, --csv FILE (every sample), --threads N, --quiet\n"
+	        "  validate FILE|-  check a design, analyze request or study document, print every problem\n"
 	        "                   --format text|json\n"
 	        "  bench            throughput of the engine's kernels, as JSON\n"
 	        "                   --seconds S (per kernel, default 0.5)\n"
@@ -32,11 +36,15 @@ int main(int argc, char **argv)
 		usage(stderr);
 		return PRSM_EXIT_USAGE;
 	}
+	/* GSL reports errors by return code; its default handler would abort the process */
+	gsl_set_error_handler_off();
 	const char *cmd = argv[1];
 	if (strcmp(cmd, "analyze") == 0)
 		return prsm_cli_analyze(argc - 1, argv + 1);
 	if (strcmp(cmd, "validate") == 0)
 		return prsm_cli_validate(argc - 1, argv + 1);
+	if (strcmp(cmd, "study") == 0)
+		return prsm_cli_study(argc - 1, argv + 1);
 	if (strcmp(cmd, "bench") == 0)
 		return prsm_cli_bench(argc - 1, argv + 1);
 	if (strcmp(cmd, "version") == 0 || strcmp(cmd, "--version") == 0)

@@ -13,6 +13,7 @@
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "io/json_util.h"
 
@@ -96,6 +97,41 @@ static const char *const assembly_keys[] = {
 	"mode", "measuring_load_N", "angles_per_revolution", "stroke_mm", "spectrum_revolutions",
 	"curve", NULL};
 static const char *const mode_names[] = {"linear", "exact", NULL}; /* index = PRSM_MODE_* */
+
+int prsm_io_error_field_find(prsm_io_error_field *out, const char *part, const char *key)
+{
+	const field_spec *t;
+	size_t n;
+	if (strcmp(part, "screw") == 0 || strcmp(part, "nut") == 0) {
+		t = body_fields;
+		n = COUNT(body_fields);
+	} else if (strcmp(part, "roller") == 0) {
+		t = roller_fields;
+		n = COUNT(roller_fields);
+	} else if (strcmp(part, "carrier") == 0) {
+		t = carrier_fields;
+		n = COUNT(carrier_fields);
+	} else {
+		return PRSM_ENOTFOUND;
+	}
+	for (size_t i = 0; i < n; i++) {
+		if (strcmp(t[i].key, key) != 0)
+			continue;
+		memset(out, 0, sizeof *out);
+		out->offset = t[i].offset;
+		out->scale = t[i].scale;
+		out->limit = t[i].limit;
+		out->phase = t[i].scale == SCALE_DEG;
+		if (t[i].phase) {
+			out->magnitude = 1;
+			for (size_t j = 0; j < n; j++)
+				if (strcmp(t[j].key, t[i].phase) == 0)
+					out->phase_offset = t[j].offset;
+		}
+		return 0;
+	}
+	return PRSM_ENOTFOUND;
+}
 
 static double *field_at(void *part, const field_spec *f)
 {

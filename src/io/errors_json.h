@@ -81,4 +81,19 @@ int prsm_io_assembly_options_from_json(prsm_assembly_options *out, const cJSON *
  */
 cJSON *prsm_io_errors_to_json(const prsm_errors *e, int starts);
 
+/* One scalar error field as the API names it (for tolerance paths such as "screw.runout_um"). */
+typedef struct {
+	size_t offset;        /* offset of the double in prsm_body_errors, prsm_roller_errors or
+	                         prsm_carrier_errors (engine units) */
+	double scale;         /* API units per engine unit */
+	double limit;         /* the field's limit in API units */
+	int magnitude;        /* 1: a radial magnitude with a phase */
+	size_t phase_offset;  /* its phase's offset (magnitude only), rad in the engine */
+	int phase;            /* 1: this field is itself a phase */
+} prsm_io_error_field;
+
+/* Look up key in part "screw", "nut", "carrier" or "roller" (start_index_mrad, an array, is
+ * not a scalar field). Returns 0 or PRSM_ENOTFOUND. */
+int prsm_io_error_field_find(prsm_io_error_field *out, const char *part, const char *key);
+
 #endif

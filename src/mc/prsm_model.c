@@ -78,7 +78,7 @@ static void bind(workspace *w, const prsm_mc_prsm *p, const double *x)
 		case PRSM_PART_SCREW: base = (char *)&w->e.screw; break;
 		case PRSM_PART_NUT: base = (char *)&w->e.nut; break;
 		case PRSM_PART_CARRIER: base = (char *)&w->e.carrier; break;
-		case PRSM_PART_ROLLER: base = (char *)&w->e.roller[b->roller]; break;
+		case PRSM_PART_ROLLER: base = (char *)&w->e.roller[b->roller < 0 ? 0 : b->roller]; break;
 		case PRSM_PART_FRICTION:
 			if (b->offset == 0)
 				w->design.mu_screw_roller += v;
@@ -86,10 +86,24 @@ static void bind(workspace *w, const prsm_mc_prsm *p, const double *x)
 				w->design.mu_nut_roller += v;
 			continue;
 		}
-		double cur;
-		memcpy(&cur, base + b->offset, sizeof cur);
-		cur += v;
-		memcpy(base + b->offset, &cur, sizeof cur);
+		/* a shared tolerance: every roller (roller = -1) or every start (body part, roller = -1) */
+		int copies = 1;
+		size_t stride = 0;
+		if (b->roller < 0 && b->part == PRSM_PART_ROLLER) {
+			base = (char *)&w->e.roller[0];
+			copies = p->as->rollers;
+			stride = sizeof w->e.roller[0];
+		} else if (b->roller < 0) {
+			copies = p->as->starts;
+			stride = sizeof(double);
+		}
+		for (int k = 0; k < copies; k++) {
+			double cur;
+			char *at = base + (size_t)k * stride + b->offset;
+			memcpy(&cur, at, sizeof cur);
+			cur += v;
+			memcpy(at, &cur, sizeof cur);
+		}
 	}
 }
 

@@ -22,7 +22,9 @@ typedef enum {
 
 typedef struct {
 	prsm_part part;
-	int roller;                     /* PRSM_PART_ROLLER: which roller */
+	int roller;                     /* PRSM_PART_ROLLER: which roller, -1 every roller (shared);
+	                                   screw/nut: -1 adds to every start's index (shared
+	                                   start_index), else 0 */
 	size_t offset;                  /* byte offset of the double in prsm_body_errors,
 	                                   prsm_roller_errors or prsm_carrier_errors */
 	double scale;                   /* engine units (mm, rad, mm/mm) per input unit */

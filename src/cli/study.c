@@ -1,0 +1,169 @@
+/*
+ * study.c: `prsm study FILE`: a Monte Carlo tolerance study (DESIGN.md, "Monte Carlo engine").
+ * Reads the study document, reports every problem with its pointer (exit 1), runs the engine
+ * with a progress bar on stderr when stderr is a terminal, and prints the result as JSON on
+ * stdout or --out; --csv writes every sample.
+ */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "cli/commands.h"
+#include "io/analysis_json.h"
+#include "io/study_json.h"
+
+typedef struct {
+	const char *path, *out_path, *csv_path;
+	int threads;     /* 0: the document's */
+	int quiet;
+} study_options;
+
+static int parse(study_options *o, int argc, char **argv)
+{
+	memset(o, 0, sizeof *o);
+	for (int i = 1; i < argc; i++) {
+		if (strcmp(argv[i], "--out") == 0 && i + 1 < argc) {
+			o->out_path = argv[++i];
+		} else if (strcmp(argv[i], "--csv") == 0 && i + 1 < argc) {
+			o->csv_path = argv[++i];
+		} else if (strcmp(argv[i], "--threads") == 0 && i + 1 < argc) {
+			char *end;
+			long v = strtol(argv[++i], &end, 10);
+			if (*end || v < 1 || v > PRSM_MC_MAX_THREADS) {
+				fprintf(stderr, "prsm study: --threads takes 1..%d\n", PRSM_MC_MAX_THREADS);
+				return -1;
+			}
+			o->threads = (int)v;
+		} else if (strcmp(argv[i], "--quiet") == 0) {
+			o->quiet = 1;
+		} else if (argv[i][0] == '-' && argv[i][1] != '\0') {
+			fprintf(stderr, "prsm study: unknown option '%s'\n", argv[i]);
+			return -1;
+		} else if (!o->path) {
+			o->path = argv[i];
+		} else {
+			fprintf(stderr, "prsm study: more than one file given\n");
+			return -1;
+		}
+	}
+	if (!o->path) {
+		fprintf(stderr, "usage: prsm study FILE|- [--out FILE] [--csv FILE] [--threads N] [--quiet]\n");
+		return -1;
+	}
+	return 0;
+}
+
+static void progress(void *ctx, size_t done, size_t cap)
+{
+	(void)ctx;
+	int width = 40, filled = cap ? (int)((double)done / (double)cap * width) : width;
+	fprintf(stderr, "\r[");
+	for (int i = 0; i < width; i++)
+		fputc(i < filled ? '#' : '.', stderr);
+	fprintf(stderr, "] %zu / %zu samples", done, cap);
+	fflush(stderr);
+}
+
+static void print_problems(const char *path, const prsm_problems *p)
+{
+	for (int i = 0; i < p->count; i++)
+		fprintf(stderr, "%s: %s: %s\n", path, p->items[i].pointer[0] ? p->items[i].pointer : "/",
+		        p->items[i].message);
+	if (p->dropped)
+		fprintf(stderr, "%s: and %d more problems\n", path, p->dropped);
+}
+
+int prsm_cli_study_check(const cJSON *doc, prsm_problems *warnings, prsm_problems *problems)
+{
+	prsm_io_study *s = calloc(1, sizeof *s);
+	if (!s)
+		return PRSM_EXIT_FAILED;
+	int rc = prsm_io_study_load(s, doc, warnings, problems);
+	free(s);
+	return rc ? prsm_error_exit_code(rc) : 0;
+}
+
+static int write_text(const char *path, const char *text)
+{
+	FILE *f = path ? fopen(path, "w") : stdout;
+	if (!f) {
+		perror(path);
+		return PRSM_EXIT_FAILED;
+	}
+	fprintf(f, "%s\n", text);
+	int bad = ferror(f);
+	if (f != stdout)
+		bad |= fclose(f);
+	return bad ? PRSM_EXIT_FAILED : 0;
+}
+
+int prsm_cli_study(int argc, char **argv)
+{
+	study_options o;
+	if (parse(&o, argc, argv))
+		return PRSM_EXIT_USAGE;
+	prsm_problems warnings, problems;
+	prsm_problems_init(&warnings);
+	prsm_problems_init(&problems);
+	cJSON *doc;
+	int rc = prsm_cli_read_document(&doc, o.path, &problems);
+	if (rc) {
+		print_problems(o.path, &problems);
+		return rc;
+	}
+	prsm_io_study *s = calloc(1, sizeof *s);
+	prsm_study_result *r = calloc(1, sizeof *r);
+	if (!s || !r) {
+		free(s);
+		free(r);
+		cJSON_Delete(doc);
+		return PRSM_EXIT_FAILED;
+	}
+	int lrc = prsm_io_study_load(s, doc, &warnings, &problems);
+	cJSON_Delete(doc);
+	if (lrc) {
+		print_problems(o.path, &problems);
+		rc = prsm_error_exit_code(lrc);
+		goto done;
+	}
+	if (o.threads)
+		s->study.mc.threads = o.threads;
+	if (!o.quiet && isatty(STDERR_FILENO)) {
+		s->study.mc.progress = progress;
+		s->study.mc.progress_ctx = NULL;
+	}
+	prsm_error err = PRSM_ERROR_INIT;
+	int src = prsm_study_run(r, &s->study, &err);
+	if (s->study.mc.progress)
+		fputc('\n', stderr);
+	if (src) {
+		fprintf(stderr, "%s: %s\n", o.path, err.message);
+		rc = prsm_error_exit_code(src);
+		goto done;
+	}
+	cJSON *res = prsm_io_study_result_to_json(s, r);
+	if (res && warnings.count)
+		cJSON_AddItemToObject(res, "design_warnings", prsm_io_problems_to_json(&warnings));
+	char *text = res ? cJSON_Print(res) : NULL;
+	cJSON_Delete(res);
+	rc = text ? write_text(o.out_path, text) : PRSM_EXIT_FAILED;
+	free(text);
+	if (rc == 0 && o.csv_path) {
+		FILE *f = fopen(o.csv_path, "w");
+		if (!f) {
+			perror(o.csv_path);
+			rc = PRSM_EXIT_FAILED;
+		} else {
+			if (prsm_io_study_write_csv(f, s, r))
+				rc = PRSM_EXIT_FAILED;
+			if (fclose(f))
+				rc = PRSM_EXIT_FAILED;
+		}
+	}
+	prsm_study_result_free(r);
+done:
+	free(s);
+	free(r);
+	return rc;
+}

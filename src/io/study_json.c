@@ -1,0 +1,1174 @@
+/*
+ * study_json.c: reading a study document and writing its result (see study_json.h).
+ *
+ * Reading goes section by section and never stops at the first problem; the variables are built
+ * only when every section is valid. A tolerance on a per-roller parameter ("roller.*") becomes
+ * one variable per roller, drawn independently, unless "shared": true; a start-index tolerance
+ * one per start; a radial magnitude (run-out, periodic lead, tilt) gets a second variable, its
+ * direction, uniform on [0, 2 pi).
+ */
+#include "io/study_json.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_cdf.h>
+
+#include "io/design_json.h"
+#include "io/errors_json.h"
+#include "io/json_util.h"
+#include "model/analysis.h"
+
+#ifndef PRSM_VERSION
+#define PRSM_VERSION "0.0.0"
+#endif
+#define PRSM_ENGINE_NAME "prsm-mc 1 (Philox4x64 blocks, GSL Sobol, Saltelli/Jansen)"
+#define PRSM_STUDY_MODEL_VERSION "MODEL.md 2026-11 (§3, §4, §5)"
+
+static const char *const study_keys[] = {"name", "design", "model", "errors", "assembly",
+                                         "tolerances", "correlations", "outputs", "specs",
+                                         "monte_carlo", "sensitivity", NULL};
+static const char *const model_keys[] = {"benchmark", "a", "b", "coefficients", "constant", NULL};
+static const char *const bench_names[] = {"ishigami", "gfunction", "linear", NULL};
+static const char *const tolerance_keys[] = {
+	"parameter", "distribution", "mean", "sd", "lower", "upper", "mode", "mu", "sigma",
+	"tol", "tol_um", "tol_mrad", "tol_um_per_300mm", "cpk", "nominal", "shared", NULL};
+static const char *const dist_names[] = {"normal", "truncnormal", "uniform", "triangular",
+                                         "lognormal", "rayleigh", NULL}; /* = prsm_dist_kind */
+static const char *const mc_keys[] = {"samples", "seed", "sampler", "block_size", "threads",
+                                      "min_samples", "time_cap_s", "targets", "failure",
+                                      "edge_contact", NULL};
+static const char *const sampler_names[] = {"random", "lhs", "sobol", NULL};
+static const char *const failure_keys[] = {"policy", "max_failed_fraction", NULL};
+static const char *const policy_names[] = {"skip", "abort", NULL};
+static const char *const edge_names[] = {"exclude", "include", NULL};
+static const char *const target_keys[] = {"output", "standard_error", "cv", "yield_interval_width", NULL};
+static const char *const spec_keys[] = {"lower", "upper", NULL};
+static const char *const sens_keys[] = {"src", "stack", "sobol", NULL};
+static const char *const sobol_keys[] = {"samples", "bootstrap", "sampler", NULL};
+static const char *const corr_keys[] = {"between", "rho", NULL};
+
+static const prsm_json_range ANY = {-HUGE_VAL, HUGE_VAL, 0, 0};
+static const prsm_json_range POSITIVE = {0.0, HUGE_VAL, 1, 0};
+
+/* Parameters of each distribution, in prsm_dist.p order. */
+static const char *const dist_params[6][4] = {
+	{"mean", "sd", NULL, NULL},
+	{"mean", "sd", "lower", "upper"},
+	{"lower", "upper", NULL, NULL},
+	{"lower", "mode", "upper", NULL},
+	{"mu", "sigma", NULL, NULL},
+	{"sigma", NULL, NULL, NULL},
+};
+
+/* ---- parameters -------------------------------------------------------------------------- */
+
+/* What a tolerance path names. */
+typedef struct {
+	prsm_part part;
+	size_t offset;            /* engine field (errors structs) or friction index */
+	double scale;             /* engine units per API unit */
+	int per_roller, per_start, radial;
+	size_t phase_offset;
+	const char *unit;         /* the unit suffix its shorthand must use: "um", "mrad", ... or "" */
+	int bench_index;          /* benchmark input index, else -1 */
+} param_info;
+
+static const char *unit_of(const char *key)
+{
+	static const char *const units[] = {"um_per_300mm", "um", "mrad", "deg", NULL};
+	for (int i = 0; units[i]; i++) {
+		size_t lk = strlen(key), lu = strlen(units[i]);
+		if (lk > lu + 1 && strcmp(key + lk - lu, units[i]) == 0 && key[lk - lu - 1] == '_')
+			return units[i];
+	}
+	return "";
+}
+
+/* Returns 0, or PRSM_ENOTFOUND with a message in msg. */
+static int param_find(param_info *pi, const char *path, const prsm_io_study *s, char *msg, size_t cap)
+{
+	memset(pi, 0, sizeof *pi);
+	pi->bench_index = -1;
+	if (s->is_benchmark) {
+		unsigned idx = 0;
+		char tail = 0;
+		if (sscanf(path, "x%u%c", &idx, &tail) == 1 && idx >= 1 && idx <= s->bench.inputs) {
+			pi->bench_index = (int)idx - 1;
+			pi->unit = "";
+			pi->scale = 1.0;
+			return 0;
+		}
+		snprintf(msg, cap, "the %s benchmark has inputs x1 .. x%zu", prsm_bench_name(s->bench.kind),
+		         s->bench.inputs);
+		return PRSM_ENOTFOUND;
+	}
+	const char *dot = strchr(path, '.');
+	char part[16];
+	if (!dot || (size_t)(dot - path) >= sizeof part) {
+		snprintf(msg, cap, "a parameter is part.field, e.g. screw.runout_um or roller.pitch_radius_um");
+		return PRSM_ENOTFOUND;
+	}
+	memcpy(part, path, (size_t)(dot - path));
+	part[dot - path] = 0;
+	const char *key = dot + 1;
+	if (strcmp(part, "friction") == 0) {
+		pi->part = PRSM_PART_FRICTION;
+		pi->scale = 1.0;
+		pi->unit = "";
+		if (strcmp(key, "screw_roller_mu") == 0)
+			pi->offset = 0;
+		else if (strcmp(key, "nut_roller_mu") == 0)
+			pi->offset = 1;
+		else {
+			snprintf(msg, cap, "friction parameters are screw_roller_mu and nut_roller_mu "
+			                   "(deviations added to the design's coefficients)");
+			return PRSM_ENOTFOUND;
+		}
+		return 0;
+	}
+	if (strcmp(part, "screw") == 0)
+		pi->part = PRSM_PART_SCREW;
+	else if (strcmp(part, "nut") == 0)
+		pi->part = PRSM_PART_NUT;
+	else if (strcmp(part, "carrier") == 0)
+		pi->part = PRSM_PART_CARRIER;
+	else if (strcmp(part, "roller") == 0)
+		pi->part = PRSM_PART_ROLLER;
+	else {
+		snprintf(msg, cap, "unknown part '%s': screw, nut, carrier, roller or friction", part);
+		return PRSM_ENOTFOUND;
+	}
+	pi->per_roller = pi->part == PRSM_PART_ROLLER;
+	pi->unit = unit_of(key);
+	if ((pi->part == PRSM_PART_SCREW || pi->part == PRSM_PART_NUT) &&
+	    strcmp(key, "start_index_mrad") == 0) {
+		pi->per_start = 1;
+		pi->offset = offsetof(prsm_body_errors, start_index_rad);
+		pi->scale = 1e-3;
+		return 0;
+	}
+	prsm_io_error_field f;
+	if (prsm_io_error_field_find(&f, part, key)) {
+		snprintf(msg, cap, "'%s' is not an error of the %s (see the errors object of the analyze request)",
+		         key, part);
+		return PRSM_ENOTFOUND;
+	}
+	if (f.phase) {
+		snprintf(msg, cap, "directions are not toleranced: every radial error's direction is drawn "
+		                   "uniformly on [0, 360) deg with its magnitude");
+		return PRSM_ENOTFOUND;
+	}
+	pi->offset = f.offset;
+	pi->scale = 1.0 / f.scale;
+	pi->radial = f.magnitude;
+	pi->phase_offset = f.phase_offset;
+	return 0;
+}
+
+/* ---- sections ---------------------------------------------------------------------------- */
+
+static void read_benchmark(prsm_io_study *s, const cJSON *m, const char *ptr, prsm_problems *pr)
+{
+	int kind = 0;
+	prsm_json_check_keys(m, ptr, model_keys, pr);
+	if (prsm_json_get_enum(&kind, m, ptr, "benchmark", PRSM_JSON_REQUIRED, bench_names, pr) != PRSM_JSON_PRESENT)
+		return;
+	prsm_bench_model *b = &s->bench;
+	b->kind = (prsm_bench_kind)kind;
+	char ap[PRSM_JSON_POINTER_MAX];
+	const char *arr_key = kind == PRSM_BENCH_GFUNCTION ? "a" : "coefficients";
+	if (kind == PRSM_BENCH_ISHIGAMI) {
+		b->inputs = 3;
+		b->a = 7.0;
+		b->b = 0.1;
+		prsm_json_get_number(&b->a, m, ptr, "a", PRSM_JSON_OPTIONAL, ANY, pr);
+		prsm_json_get_number(&b->b, m, ptr, "b", PRSM_JSON_OPTIONAL, ANY, pr);
+		for (const char *k = "coefficients"; k; k = NULL)
+			if (cJSON_GetObjectItemCaseSensitive(m, k)) {
+				prsm_json_pointer_append(ap, sizeof ap, ptr, k);
+				prsm_problems_add(pr, ap, "not_allowed", "the Ishigami benchmark takes a and b only");
+			}
+		return;
+	}
+	const cJSON *arr = cJSON_GetObjectItemCaseSensitive(m, arr_key);
+	prsm_json_pointer_append(ap, sizeof ap, ptr, arr_key);
+	int n = cJSON_GetArraySize(arr);
+	if (!cJSON_IsArray(arr) || n < 1 || n > PRSM_BENCH_MAX_INPUTS) {
+		prsm_problems_add(pr, ap, arr ? "bad_array" : "required",
+		                  "%s: an array of 1 to %d numbers is required", arr_key, PRSM_BENCH_MAX_INPUTS);
+		return;
+	}
+	b->inputs = (size_t)n;
+	int i = 0;
+	for (const cJSON *it = arr->child; it; it = it->next, i++) {
+		char ip[PRSM_JSON_POINTER_MAX];
+		prsm_json_pointer_append_index(ip, sizeof ip, ap, i);
+		prsm_json_range r = kind == PRSM_BENCH_GFUNCTION ? (prsm_json_range){0.0, HUGE_VAL, 0, 0} : ANY;
+		prsm_json_number_value(&b->coef[i], it, ip, r, pr);
+	}
+	if (kind == PRSM_BENCH_LINEAR)
+		prsm_json_get_number(&b->constant, m, ptr, "constant", PRSM_JSON_OPTIONAL, ANY, pr);
+	const char *other = kind == PRSM_BENCH_GFUNCTION ? "coefficients" : "a";
+	if (cJSON_GetObjectItemCaseSensitive(m, other) || cJSON_GetObjectItemCaseSensitive(m, "b") ||
+	    (kind == PRSM_BENCH_GFUNCTION && cJSON_GetObjectItemCaseSensitive(m, "constant"))) {
+		prsm_problems_add(pr, ptr, "not_allowed", "the %s benchmark takes %s only",
+		                  bench_names[kind], kind == PRSM_BENCH_GFUNCTION ? "a" : "coefficients and constant");
+	}
+}
+
+/* The design and what the engine needs of it. Returns 0 when it is usable. */
+static int read_design(prsm_io_study *s, const cJSON *doc, prsm_problems *warnings, prsm_problems *pr)
+{
+	prsm_geometry g;
+	const cJSON *design = cJSON_GetObjectItemCaseSensitive(doc, "design");
+	int rc = prsm_io_design_load(&s->design, &g, warnings, design, "/design", pr);
+	prsm_design unknown;
+	prsm_design_init(&unknown);
+	unknown.rollers = unknown.starts = 0;
+	const prsm_design *shape = rc == 0 ? &s->design : &unknown;
+	const cJSON *errors = NULL, *opts = NULL;
+	prsm_json_get_object(&errors, doc, "", "errors", PRSM_JSON_OPTIONAL, pr);
+	prsm_json_get_object(&opts, doc, "", "assembly", PRSM_JSON_OPTIONAL, pr);
+	prsm_io_errors_from_json(&s->prsm.base, errors, "/errors", shape, pr);
+	prsm_io_assembly_options_from_json(&s->assembly_options, opts, "/assembly", shape, pr);
+	if (rc)
+		return rc;
+	prsm_error err = PRSM_ERROR_INIT;
+	int arc = prsm_analysis_nominal(&s->analysis, &s->design, warnings, &err);
+	if (arc == 0)
+		arc = prsm_assembly_init(&s->assembly, &s->design, &s->analysis, &err);
+	if (arc) {
+		char ptr[PRSM_JSON_POINTER_MAX + 8];
+		snprintf(ptr, sizeof ptr, "/design%s", err.pointer);
+		prsm_problems_add(pr, ptr, arc == PRSM_EEDGE ? "edge_contact" : arc == PRSM_EINVAL ? "too_large" : "no_contact",
+		                  "%s", err.message);
+		return arc;
+	}
+	return 0;
+}
+
+/* Read one tolerance into t (and its parameter into pi). Returns 0 when valid. */
+static int read_tolerance(prsm_io_tolerance *t, param_info *pi, const prsm_io_study *s,
+                          const cJSON *o, const char *ptr, int params_known, prsm_problems *pr)
+{
+	int bad = prsm_problems_total(pr);
+	memset(t, 0, sizeof *t);
+	if (prsm_json_object_value(o, ptr, pr))
+		return PRSM_EINVAL;
+	prsm_json_check_keys(o, ptr, tolerance_keys, pr);
+	const char *path = NULL;
+	char pp[PRSM_JSON_POINTER_MAX];
+	prsm_json_pointer_append(pp, sizeof pp, ptr, "parameter");
+	int have_path = prsm_json_get_string(&path, o, ptr, "parameter", PRSM_JSON_REQUIRED,
+	                                     PRSM_STUDY_NAME_MAX - 24, pr) == PRSM_JSON_PRESENT;
+	if (have_path) {
+		snprintf(t->parameter, sizeof t->parameter, "%s", path);
+		char msg[200];
+		if (params_known && param_find(pi, path, s, msg, sizeof msg))
+			prsm_problems_add(pr, pp, "unknown_parameter", "%s: %s", path, msg);
+	}
+	int shared = 0;
+	prsm_json_get_bool(&shared, o, ptr, "shared", PRSM_JSON_OPTIONAL, pr);
+	t->shared = shared;
+
+	/* the shorthand {"tol_<unit>": t, "cpk": c[, "nominal": x]} or a named distribution */
+	const char *tol_key = NULL;
+	static const char *const tol_keys[] = {"tol", "tol_um", "tol_mrad", "tol_um_per_300mm", NULL};
+	for (int i = 0; tol_keys[i]; i++)
+		if (cJSON_GetObjectItemCaseSensitive(o, tol_keys[i])) {
+			if (tol_key) {
+				prsm_problems_add(pr, ptr, "conflict", "give one of tol, tol_um, tol_mrad, tol_um_per_300mm");
+				break;
+			}
+			tol_key = tol_keys[i];
+		}
+	const cJSON *dist = cJSON_GetObjectItemCaseSensitive(o, "distribution");
+	if (tol_key && dist) {
+		prsm_problems_add(pr, ptr, "conflict", "give either a distribution or the %s/cpk shorthand", tol_key);
+		return PRSM_EINVAL;
+	}
+	if (tol_key) {
+		char tp[PRSM_JSON_POINTER_MAX];
+		prsm_json_pointer_append(tp, sizeof tp, ptr, tol_key);
+		if (have_path && params_known && prsm_problems_total(pr) == bad) {
+			const char *want = pi->unit;
+			const char *got = tol_key[3] == '_' ? tol_key + 4 : "";
+			if (strcmp(want, got) != 0)
+				prsm_problems_add(pr, tp, "unit", "%s is in %s: use %s%s%s", t->parameter,
+				                  want[0] ? want : "its own unit", "tol", want[0] ? "_" : "", want);
+		}
+		double tol = NAN, cpk = 1.0, nominal = 0.0;
+		prsm_json_get_number(&tol, o, ptr, tol_key, PRSM_JSON_REQUIRED, POSITIVE, pr);
+		prsm_json_get_number(&cpk, o, ptr, "cpk", PRSM_JSON_OPTIONAL, (prsm_json_range){0.1, 10.0, 0, 0}, pr);
+		prsm_json_get_number(&nominal, o, ptr, "nominal", PRSM_JSON_OPTIONAL, ANY, pr);
+		for (int k = 0; k < 6; k++)
+			for (int q = 0; q < 4 && dist_params[k][q]; q++)
+				if (strcmp(dist_params[k][q], "mean") != 0 && cJSON_GetObjectItemCaseSensitive(o, dist_params[k][q])) {
+					char xp[PRSM_JSON_POINTER_MAX];
+					prsm_json_pointer_append(xp, sizeof xp, ptr, dist_params[k][q]);
+					prsm_problems_add(pr, xp, "not_allowed", "%s is a distribution parameter: not with %s",
+					                  dist_params[k][q], tol_key);
+				}
+		if (cJSON_GetObjectItemCaseSensitive(o, "mean"))
+			prsm_problems_add(pr, ptr, "not_allowed", "the shorthand takes nominal, not mean");
+		t->shorthand = 1;
+		t->tol = tol;
+		t->cpk = cpk;
+		if (isfinite(tol)) {
+			if (have_path && params_known && pi->radial) {
+				/* a radial magnitude: Rayleigh, with the out-of-tolerance fraction of a centred
+				 * normal of that Cpk, P(R > t) = 2 Q(3 Cpk) */
+				double tail = 2.0 * gsl_cdf_ugaussian_Q(3.0 * cpk);
+				t->dist.kind = PRSM_DIST_RAYLEIGH;
+				t->dist.p[0] = tol / sqrt(-2.0 * log(tail));
+				if (nominal != 0.0)
+					prsm_problems_add(pr, ptr, "not_allowed", "a radial magnitude has no nominal");
+			} else {
+				prsm_dist_from_tolerance(&t->dist, nominal, tol, cpk);
+			}
+		}
+	} else {
+		int kind = 0;
+		if (prsm_json_get_enum(&kind, o, ptr, "distribution", PRSM_JSON_REQUIRED, dist_names, pr) ==
+		    PRSM_JSON_PRESENT) {
+			t->dist.kind = (prsm_dist_kind)kind;
+			for (int q = 0; q < 4; q++) {
+				const char *pn = dist_params[kind][q];
+				if (!pn)
+					break;
+				/* normal's mean defaults to 0 (a deviation from nominal) */
+				int optional = (kind == PRSM_DIST_NORMAL || kind == PRSM_DIST_TRUNCNORMAL) && q == 0;
+				double v = optional ? 0.0 : NAN;
+				prsm_json_range r = ANY;
+				if (kind == PRSM_DIST_TRUNCNORMAL && q >= 2)
+					r = (prsm_json_range){-HUGE_VAL, HUGE_VAL, 0, 0};
+				int got = prsm_json_get_number(&v, o, ptr, pn,
+				                               optional || (kind == PRSM_DIST_TRUNCNORMAL && q >= 2)
+				                                   ? PRSM_JSON_OPTIONAL : PRSM_JSON_REQUIRED, r, pr);
+				if (kind == PRSM_DIST_TRUNCNORMAL && q >= 2 && got == PRSM_JSON_ABSENT)
+					v = q == 2 ? -INFINITY : INFINITY;
+				t->dist.p[q] = v;
+			}
+			if (kind == PRSM_DIST_TRUNCNORMAL && !cJSON_GetObjectItemCaseSensitive(o, "lower") &&
+			    !cJSON_GetObjectItemCaseSensitive(o, "upper"))
+				prsm_problems_add(pr, ptr, "required", "truncnormal needs lower, upper or both");
+			/* parameters of other distributions */
+			for (const cJSON *it = o->child; it; it = it->next) {
+				if (!it->string)
+					continue;
+				int mine = 0, foreign = 0;
+				for (int k = 0; k < 6; k++)
+					for (int q = 0; q < 4 && dist_params[k][q]; q++)
+						if (strcmp(dist_params[k][q], it->string) == 0) {
+							foreign = 1;
+							mine |= k == kind;
+						}
+				if (foreign && !mine) {
+					char xp[PRSM_JSON_POINTER_MAX];
+					prsm_json_pointer_append(xp, sizeof xp, ptr, it->string);
+					prsm_problems_add(pr, xp, "not_allowed", "%s is not a parameter of %s (it takes %s%s%s%s%s%s%s)",
+					                  it->string, dist_names[kind], dist_params[kind][0],
+					                  dist_params[kind][1] ? ", " : "", dist_params[kind][1] ? dist_params[kind][1] : "",
+					                  dist_params[kind][2] ? ", " : "", dist_params[kind][2] ? dist_params[kind][2] : "",
+					                  dist_params[kind][3] ? ", " : "", dist_params[kind][3] ? dist_params[kind][3] : "");
+				}
+			}
+			for (const char *k = "cpk"; k; k = NULL)
+				if (cJSON_GetObjectItemCaseSensitive(o, k) || cJSON_GetObjectItemCaseSensitive(o, "nominal"))
+					prsm_problems_add(pr, ptr, "not_allowed", "cpk and nominal belong to the tol shorthand");
+		}
+	}
+	if (prsm_problems_total(pr) == bad) {
+		char msg[200];
+		if (prsm_dist_check(&t->dist, msg, sizeof msg))
+			prsm_problems_add(pr, ptr, "bad_distribution", "%s", msg);
+	}
+	if (have_path && params_known && prsm_problems_total(pr) == bad) {
+		t->per_roller = pi->per_roller;
+		t->per_start = pi->per_start;
+		t->radial = pi->radial;
+		if (shared && !pi->per_roller && !pi->per_start) {
+			char sp[PRSM_JSON_POINTER_MAX];
+			prsm_json_pointer_append(sp, sizeof sp, ptr, "shared");
+			prsm_problems_add(pr, sp, "not_allowed", "shared applies to per-roller and per-start parameters only");
+		}
+	}
+	return prsm_problems_total(pr) == bad ? 0 : PRSM_EINVAL;
+}
+
+/* Append one variable bound as b. Returns its index. */
+static size_t add_var(prsm_io_study *s, const prsm_dist *dist, int group, const prsm_mc_binding *b,
+                      const char *fmt, ...) __attribute__((format(printf, 5, 6)));
+static size_t add_var(prsm_io_study *s, const prsm_dist *dist, int group, const prsm_mc_binding *b,
+                      const char *fmt, ...)
+{
+	prsm_study *st = &s->study;
+	size_t i = st->d++;
+	st->vars[i].dist = *dist;
+	st->vars[i].group = group;
+	st->info[i].phase = st->info[i].phase_of = -1;
+	va_list ap;
+	va_start(ap, fmt);
+	vsnprintf(st->info[i].name, sizeof st->info[i].name, fmt, ap);
+	va_end(ap);
+	s->bindings[i] = *b;
+	return i;
+}
+
+static size_t count_vars(const prsm_io_tolerance *t, const prsm_io_study *s)
+{
+	if (s->is_benchmark)
+		return 1;
+	size_t copies = 1;
+	if (t->per_roller && !t->shared)
+		copies = (size_t)s->design.rollers;
+	if (t->per_start && !t->shared)
+		copies = (size_t)s->design.starts;
+	return copies * (t->radial ? 2 : 1);
+}
+
+/* Variables of tolerance g. */
+static void build_vars(prsm_io_study *s, size_t g, const param_info *pi)
+{
+	const prsm_io_tolerance *t = &s->tolerances[g];
+	prsm_study *st = &s->study;
+	prsm_study_group *gr = &st->groups[g];
+	snprintf(gr->name, sizeof gr->name, "%s", t->parameter);
+	gr->first_var = st->d;
+	prsm_mc_binding b = {pi->part, 0, pi->offset, pi->scale};
+	prsm_dist phase = {PRSM_DIST_UNIFORM, {0.0, 2.0 * M_PI, 0.0, 0.0}};
+	const char *dot = strchr(t->parameter, '.');
+	const char *key = dot ? dot + 1 : t->parameter;
+	char stem[PRSM_STUDY_NAME_MAX];
+	snprintf(stem, sizeof stem, "%.*s", (int)(strlen(key) > 3 && pi->radial ? strlen(key) - 3 : strlen(key)), key);
+	if (s->is_benchmark) {
+		/* benchmark inputs keep their own order: x_i is variable i-1 */
+		size_t i = (size_t)pi->bench_index;
+		st->vars[i].dist = t->dist;
+		st->vars[i].group = (int)g;
+		st->info[i].phase = st->info[i].phase_of = -1;
+		snprintf(st->info[i].name, sizeof st->info[i].name, "%s", t->parameter);
+		gr->first_var = i;
+		gr->n_vars = 1;
+		return;
+	} else if (t->per_roller) {
+		int Z = t->shared ? 1 : s->design.rollers;
+		for (int j = 0; j < Z; j++) {
+			b.roller = t->shared ? -1 : j;
+			b.offset = pi->offset;
+			b.scale = pi->scale;
+			char who[32];
+			if (t->shared)
+				snprintf(who, sizeof who, "roller[*]");
+			else
+				snprintf(who, sizeof who, "roller[%d]", j);
+			size_t m = add_var(s, &t->dist, (int)g, &b, "%s.%s", who, key);
+			if (pi->radial) {
+				prsm_mc_binding bp = b;
+				bp.offset = pi->phase_offset;
+				bp.scale = 1.0;
+				size_t q = add_var(s, &phase, (int)g, &bp, "%s.%s_phase_rad", who, stem);
+				st->info[m].phase = (int)q;
+				st->info[q].phase_of = (int)m;
+			}
+		}
+	} else if (t->per_start) {
+		int n = t->shared ? 1 : s->design.starts;
+		for (int k = 0; k < n; k++) {
+			b.roller = t->shared ? -1 : k; /* for starts: which start, -1 all */
+			b.offset = pi->offset + (t->shared ? 0 : (size_t)k * sizeof(double));
+			if (t->shared)
+				add_var(s, &t->dist, (int)g, &b, "%s[*]", t->parameter);
+			else
+				add_var(s, &t->dist, (int)g, &b, "%s[%d]", t->parameter, k);
+		}
+	} else {
+		b.roller = 0;
+		size_t m = add_var(s, &t->dist, (int)g, &b, "%s", t->parameter);
+		if (pi->radial) {
+			prsm_mc_binding bp = b;
+			bp.offset = pi->phase_offset;
+			bp.scale = 1.0;
+			char part[16];
+			snprintf(part, sizeof part, "%.*s", (int)(dot - t->parameter), t->parameter);
+			size_t q = add_var(s, &phase, (int)g, &bp, "%s.%s_phase_rad", part, stem);
+			st->info[m].phase = (int)q;
+			st->info[q].phase_of = (int)m;
+		}
+	}
+	gr->n_vars = st->d - gr->first_var;
+}
+
+static int output_index(const prsm_io_study *s, const char *name)
+{
+	for (size_t o = 0; o < s->study.m; o++)
+		if (strcmp(s->study.outputs[o].name, name) == 0)
+			return (int)o;
+	return -1;
+}
+
+static void read_outputs(prsm_io_study *s, const cJSON *doc, prsm_problems *pr)
+{
+	const cJSON *arr = cJSON_GetObjectItemCaseSensitive(doc, "outputs");
+	int n = cJSON_GetArraySize(arr);
+	if (!arr) {
+		/* default: the benchmark's y, or backlash and load sharing */
+		if (s->is_benchmark) {
+			snprintf(s->study.outputs[0].name, sizeof s->study.outputs[0].name, "y");
+			s->study.m = 1;
+		} else {
+			snprintf(s->study.outputs[0].name, sizeof s->study.outputs[0].name, "backlash_um");
+			snprintf(s->study.outputs[1].name, sizeof s->study.outputs[1].name, "load_sharing_factor");
+			s->study.m = 2;
+		}
+		return;
+	}
+	if (!cJSON_IsArray(arr) || n < 1 || n > PRSM_MC_MAX_OUTPUTS) {
+		prsm_problems_add(pr, "/outputs", "bad_array", "outputs: an array of 1 to %d output names",
+		                  PRSM_MC_MAX_OUTPUTS);
+		return;
+	}
+	int i = 0;
+	for (const cJSON *it = arr->child; it; it = it->next, i++) {
+		char ip[PRSM_JSON_POINTER_MAX];
+		const char *name = NULL;
+		prsm_json_pointer_append_index(ip, sizeof ip, "/outputs", i);
+		if (prsm_json_string_value(&name, it, ip, 47, pr))
+			continue;
+		prsm_output_kind k;
+		if (s->is_benchmark ? strcmp(name, "y") != 0 : prsm_output_parse(name, &k) != 0) {
+			if (s->is_benchmark)
+				prsm_problems_add(pr, ip, "unknown_output", "a benchmark has one output, y");
+			else
+				prsm_problems_add(pr, ip, "unknown_output",
+				                  "unknown output '%s': backlash_um, backlash_min_um, backlash_max_um, "
+				                  "load_sharing_factor, stiffness_N_per_um, stiffness_ratio, te_pp_um, "
+				                  "te_rms_um, efficiency, efficiency_back", name);
+			continue;
+		}
+		if (output_index(s, name) >= 0) {
+			prsm_problems_add(pr, ip, "duplicate", "output '%s' is listed twice", name);
+			continue;
+		}
+		snprintf(s->study.outputs[s->study.m].name, sizeof s->study.outputs[0].name, "%s", name);
+		if (!s->is_benchmark)
+			s->prsm.outputs[s->study.m] = k;
+		s->study.m++;
+	}
+}
+
+static void read_specs(prsm_io_study *s, const cJSON *doc, prsm_problems *pr)
+{
+	const cJSON *specs = NULL;
+	if (prsm_json_get_object(&specs, doc, "", "specs", PRSM_JSON_OPTIONAL, pr) != PRSM_JSON_PRESENT)
+		return;
+	prsm_json_check_duplicates(specs, "/specs", pr);
+	for (const cJSON *it = specs->child; it; it = it->next) {
+		char sp[PRSM_JSON_POINTER_MAX];
+		prsm_json_pointer_append(sp, sizeof sp, "/specs", it->string);
+		int o = output_index(s, it->string);
+		if (o < 0) {
+			prsm_problems_add(pr, sp, "unknown_output", "'%s' is not one of the study's outputs", it->string);
+			continue;
+		}
+		if (prsm_json_object_value(it, sp, pr))
+			continue;
+		prsm_json_check_keys(it, sp, spec_keys, pr);
+		prsm_spec *spec = &s->study.outputs[o].spec;
+		int lo = prsm_json_get_number(&spec->lower, it, sp, "lower", PRSM_JSON_OPTIONAL, ANY, pr);
+		int hi = prsm_json_get_number(&spec->upper, it, sp, "upper", PRSM_JSON_OPTIONAL, ANY, pr);
+		spec->has_lower = lo == PRSM_JSON_PRESENT;
+		spec->has_upper = hi == PRSM_JSON_PRESENT;
+		if (lo == PRSM_JSON_ABSENT && hi == PRSM_JSON_ABSENT)
+			prsm_problems_add(pr, sp, "required", "a spec needs lower, upper or both");
+		if (spec->has_lower && spec->has_upper && !(spec->lower < spec->upper)) {
+			char up[PRSM_JSON_POINTER_MAX];
+			prsm_json_pointer_append(up, sizeof up, sp, "upper");
+			prsm_problems_add(pr, up, "range", "upper must be greater than lower");
+		}
+		s->study.outputs[o].has_spec = spec->has_lower || spec->has_upper;
+	}
+}
+
+static void read_mc(prsm_io_study *s, const cJSON *doc, prsm_problems *pr)
+{
+	prsm_mc_options *o = &s->study.mc;
+	prsm_mc_options_default(o);
+	const cJSON *mc = NULL;
+	char p[PRSM_JSON_POINTER_MAX] = "/monte_carlo";
+	if (prsm_json_get_section(&mc, p, sizeof p, doc, "", "monte_carlo", PRSM_JSON_OPTIONAL, mc_keys, pr) !=
+	    PRSM_JSON_PRESENT)
+		return;
+	int v;
+	if (prsm_json_get_int(&v, mc, p, "samples", PRSM_JSON_OPTIONAL, 2, PRSM_MC_MAX_SAMPLES, pr) == PRSM_JSON_PRESENT)
+		o->samples = (size_t)v;
+	double seed;
+	if (prsm_json_get_number(&seed, mc, p, "seed", PRSM_JSON_OPTIONAL,
+	                         (prsm_json_range){0.0, 9007199254740992.0, 0, 0}, pr) == PRSM_JSON_PRESENT) {
+		if (seed != floor(seed))
+			prsm_problems_add(pr, "/monte_carlo/seed", "integer", "seed must be an integer");
+		else
+			o->seed = (uint64_t)seed;
+	}
+	if (prsm_json_get_enum(&v, mc, p, "sampler", PRSM_JSON_OPTIONAL, sampler_names, pr) == PRSM_JSON_PRESENT)
+		o->sampler = (prsm_sampler_kind)v;
+	if (prsm_json_get_int(&v, mc, p, "block_size", PRSM_JSON_OPTIONAL, PRSM_MC_MIN_BLOCK, PRSM_MC_MAX_BLOCK, pr) ==
+	    PRSM_JSON_PRESENT)
+		o->block_size = (size_t)v;
+	if (prsm_json_get_int(&v, mc, p, "threads", PRSM_JSON_OPTIONAL, 1, PRSM_MC_MAX_THREADS, pr) == PRSM_JSON_PRESENT)
+		o->threads = v;
+	if (prsm_json_get_int(&v, mc, p, "min_samples", PRSM_JSON_OPTIONAL, 0, PRSM_MC_MAX_SAMPLES, pr) ==
+	    PRSM_JSON_PRESENT)
+		o->min_samples = (size_t)v;
+	prsm_json_get_number(&o->time_cap_s, mc, p, "time_cap_s", PRSM_JSON_OPTIONAL,
+	                     (prsm_json_range){0.0, 86400.0 * 7, 1, 0}, pr);
+	if (prsm_json_get_enum(&v, mc, p, "edge_contact", PRSM_JSON_OPTIONAL, edge_names, pr) == PRSM_JSON_PRESENT)
+		o->edge = (prsm_edge_policy)v;
+	const cJSON *fail = NULL;
+	char fp[PRSM_JSON_POINTER_MAX];
+	if (prsm_json_get_section(&fail, fp, sizeof fp, mc, p, "failure", PRSM_JSON_OPTIONAL, failure_keys, pr) ==
+	    PRSM_JSON_PRESENT) {
+		if (prsm_json_get_enum(&v, fail, fp, "policy", PRSM_JSON_OPTIONAL, policy_names, pr) == PRSM_JSON_PRESENT)
+			o->failure = (prsm_failure_policy)v;
+		prsm_json_get_number(&o->max_failed_fraction, fail, fp, "max_failed_fraction", PRSM_JSON_OPTIONAL,
+		                     (prsm_json_range){0.0, 1.0, 0, 0}, pr);
+	}
+	const cJSON *targets = cJSON_GetObjectItemCaseSensitive(mc, "targets");
+	if (targets) {
+		int n = cJSON_GetArraySize(targets);
+		if (!cJSON_IsArray(targets) || n > PRSM_MC_MAX_TARGETS) {
+			prsm_problems_add(pr, "/monte_carlo/targets", "bad_array", "targets: an array of at most %d objects",
+			                  PRSM_MC_MAX_TARGETS);
+			return;
+		}
+		int i = 0;
+		for (const cJSON *it = targets->child; it; it = it->next, i++) {
+			char tp[PRSM_JSON_POINTER_MAX];
+			prsm_json_pointer_append_index(tp, sizeof tp, "/monte_carlo/targets", i);
+			if (prsm_json_object_value(it, tp, pr))
+				continue;
+			prsm_json_check_keys(it, tp, target_keys, pr);
+			const char *name = NULL;
+			prsm_mc_target *tg = &o->targets[o->n_targets];
+			memset(tg, 0, sizeof *tg);
+			if (prsm_json_get_string(&name, it, tp, "output", PRSM_JSON_REQUIRED, 47, pr) != PRSM_JSON_PRESENT)
+				continue;
+			int oi = output_index(s, name);
+			if (oi < 0) {
+				char op[PRSM_JSON_POINTER_MAX];
+				prsm_json_pointer_append(op, sizeof op, tp, "output");
+				prsm_problems_add(pr, op, "unknown_output", "'%s' is not one of the study's outputs", name);
+				continue;
+			}
+			tg->output = (size_t)oi;
+			int kinds = 0;
+			static const char *const tk[] = {"standard_error", "cv", "yield_interval_width"};
+			for (int k = 0; k < 3; k++)
+				if (prsm_json_get_number(&tg->value, it, tp, tk[k], PRSM_JSON_OPTIONAL, POSITIVE, pr) ==
+				    PRSM_JSON_PRESENT) {
+					tg->kind = (prsm_target_kind)k;
+					kinds++;
+				}
+			if (kinds != 1) {
+				prsm_problems_add(pr, tp, "required", "a target has exactly one of standard_error, cv, yield_interval_width");
+				continue;
+			}
+			if (tg->kind == PRSM_TARGET_YIELD_WIDTH) {
+				const prsm_study_output *so = &s->study.outputs[oi];
+				if (!so->has_spec) {
+					prsm_problems_add(pr, tp, "no_spec", "a yield target needs a spec for %s in specs", name);
+					continue;
+				}
+				tg->has_lower = so->spec.has_lower;
+				tg->has_upper = so->spec.has_upper;
+				tg->lower = so->spec.lower;
+				tg->upper = so->spec.upper;
+			}
+			o->n_targets++;
+		}
+	}
+}
+
+static void read_sensitivity(prsm_io_study *s, const cJSON *doc, prsm_problems *pr)
+{
+	prsm_sens_options *o = &s->study.sens;
+	prsm_sens_options_default(o);
+	const cJSON *sec = NULL;
+	char p[PRSM_JSON_POINTER_MAX];
+	if (prsm_json_get_section(&sec, p, sizeof p, doc, "", "sensitivity", PRSM_JSON_OPTIONAL, sens_keys, pr) !=
+	    PRSM_JSON_PRESENT)
+		return;
+	prsm_json_get_bool(&o->src, sec, p, "src", PRSM_JSON_OPTIONAL, pr);
+	prsm_json_get_bool(&o->stack, sec, p, "stack", PRSM_JSON_OPTIONAL, pr);
+	const cJSON *sob = cJSON_GetObjectItemCaseSensitive(sec, "sobol");
+	if (!sob)
+		return;
+	if (cJSON_IsBool(sob)) {
+		o->sobol = cJSON_IsTrue(sob);
+		return;
+	}
+	char sp[PRSM_JSON_POINTER_MAX];
+	prsm_json_pointer_append(sp, sizeof sp, p, "sobol");
+	if (!cJSON_IsObject(sob)) {
+		prsm_problems_add(pr, sp, "type", "sobol: true, false or an object {samples, bootstrap, sampler}");
+		return;
+	}
+	prsm_json_check_keys(sob, sp, sobol_keys, pr);
+	o->sobol = 1;
+	int v;
+	if (prsm_json_get_int(&v, sob, sp, "samples", PRSM_JSON_OPTIONAL, 16, PRSM_IO_STUDY_SOBOL_MAX_SAMPLES, pr) ==
+	    PRSM_JSON_PRESENT)
+		o->sobol_samples = (size_t)v;
+	if (prsm_json_get_int(&v, sob, sp, "bootstrap", PRSM_JSON_OPTIONAL, 0, PRSM_IO_STUDY_MAX_BOOTSTRAP, pr) ==
+	    PRSM_JSON_PRESENT) {
+		if (v == 1) {
+			char bp[PRSM_JSON_POINTER_MAX];
+			prsm_json_pointer_append(bp, sizeof bp, sp, "bootstrap");
+			prsm_problems_add(pr, bp, "range", "bootstrap: 0 (none) or at least 2 resamples");
+		}
+		o->bootstrap = (size_t)v;
+	}
+	if (prsm_json_get_enum(&v, sob, sp, "sampler", PRSM_JSON_OPTIONAL, sampler_names, pr) == PRSM_JSON_PRESENT) {
+		if (v == PRSM_SAMPLER_LHS) {
+			char bp[PRSM_JSON_POINTER_MAX];
+			prsm_json_pointer_append(bp, sizeof bp, sp, "sampler");
+			prsm_problems_add(pr, bp, "enum", "the Saltelli design takes random or sobol");
+		}
+		o->sobol_sampler = (prsm_sampler_kind)v;
+	}
+}
+
+static void read_correlations(prsm_io_study *s, const cJSON *doc, prsm_problems *pr)
+{
+	const cJSON *arr = cJSON_GetObjectItemCaseSensitive(doc, "correlations");
+	if (!arr)
+		return;
+	if (!cJSON_IsArray(arr)) {
+		prsm_problems_add(pr, "/correlations", "type", "correlations: an array of {between: [a, b], rho}");
+		return;
+	}
+	prsm_study *st = &s->study;
+	int i = 0;
+	for (const cJSON *it = arr->child; it; it = it->next, i++) {
+		char cp[PRSM_JSON_POINTER_MAX], bp[PRSM_JSON_POINTER_MAX];
+		prsm_json_pointer_append_index(cp, sizeof cp, "/correlations", i);
+		prsm_json_pointer_append(bp, sizeof bp, cp, "between");
+		if (prsm_json_object_value(it, cp, pr))
+			continue;
+		prsm_json_check_keys(it, cp, corr_keys, pr);
+		double rho = NAN;
+		prsm_json_get_number(&rho, it, cp, "rho", PRSM_JSON_REQUIRED,
+		                     (prsm_json_range){-1.0, 1.0, 1, 1}, pr);
+		const cJSON *between = cJSON_GetObjectItemCaseSensitive(it, "between");
+		if (!cJSON_IsArray(between) || cJSON_GetArraySize(between) != 2 ||
+		    !cJSON_IsString(between->child) || !cJSON_IsString(between->child->next)) {
+			prsm_problems_add(pr, bp, "bad_array", "between: the parameters of two tolerances");
+			continue;
+		}
+		int g[2] = {-1, -1};
+		for (int k = 0; k < 2; k++) {
+			const char *name = (k ? between->child->next : between->child)->valuestring;
+			for (size_t t = 0; t < s->n_tolerances; t++)
+				if (strcmp(s->tolerances[t].parameter, name) == 0)
+					g[k] = (int)t;
+			if (g[k] < 0) {
+				char ep[PRSM_JSON_POINTER_MAX];
+				prsm_json_pointer_append_index(ep, sizeof ep, bp, k);
+				prsm_problems_add(pr, ep, "unknown_tolerance", "'%s' is not one of the study's tolerances", name);
+			}
+		}
+		if (g[0] < 0 || g[1] < 0 || !isfinite(rho) || st->d == 0)
+			continue;
+		if (g[0] == g[1]) {
+			prsm_problems_add(pr, bp, "same", "a tolerance cannot be correlated with itself");
+			continue;
+		}
+		const prsm_study_group *ga = &st->groups[g[0]], *gb = &st->groups[g[1]];
+		size_t step_a = s->tolerances[g[0]].radial ? 2 : 1, step_b = s->tolerances[g[1]].radial ? 2 : 1;
+		size_t na = ga->n_vars / step_a, nb = gb->n_vars / step_b;
+		if (na != nb && na != 1 && nb != 1) {
+			prsm_problems_add(pr, bp, "shape", "these tolerances have %zu and %zu variables: correlate per-roller "
+			                  "with per-roller, or with a single tolerance", na, nb);
+			continue;
+		}
+		if (na != nb) {
+			prsm_problems_add(pr, bp, "shape", "a single tolerance cannot be correlated with each of %zu "
+			                  "independent ones: make the per-roller one shared, or correlate like with like",
+			                  na > nb ? na : nb);
+			continue;
+		}
+		for (size_t k = 0; k < na; k++) {
+			if (st->n_corr >= PRSM_MC_MAX_CORRELATIONS) {
+				prsm_problems_add(pr, cp, "too_many", "at most %d correlated variable pairs", PRSM_MC_MAX_CORRELATIONS);
+				break;
+			}
+			prsm_mc_correlation *c = &st->corr[st->n_corr++];
+			c->a = ga->first_var + k * step_a;
+			c->b = gb->first_var + k * step_b;
+			c->rho = rho;
+		}
+	}
+}
+
+int prsm_io_study_load(prsm_io_study *out, const cJSON *doc, prsm_problems *warnings,
+                       prsm_problems *pr)
+{
+	memset(out, 0, sizeof *out);
+	int start = prsm_problems_total(pr);
+	if (prsm_json_object_value(doc, "", pr))
+		return PRSM_EINVAL;
+	prsm_json_check_keys(doc, "", study_keys, pr);
+	const char *name = NULL;
+	if (prsm_json_get_string(&name, doc, "", "name", PRSM_JSON_OPTIONAL, 100, pr) == PRSM_JSON_PRESENT)
+		snprintf(out->name, sizeof out->name, "%s", name);
+
+	const cJSON *design = cJSON_GetObjectItemCaseSensitive(doc, "design");
+	const cJSON *model = cJSON_GetObjectItemCaseSensitive(doc, "model");
+	int design_rc = PRSM_EINVAL;
+	if (design && model) {
+		prsm_problems_add(pr, "/model", "conflict", "a study has a design or a benchmark model, not both");
+	} else if (model) {
+		out->is_benchmark = 1;
+		if (prsm_json_object_value(model, "/model", pr) == 0)
+			read_benchmark(out, model, "/model", pr);
+		for (const char *k = "errors"; k; k = k[0] == 'e' ? "assembly" : NULL)
+			if (cJSON_GetObjectItemCaseSensitive(doc, k)) {
+				char kp[PRSM_JSON_POINTER_MAX];
+				prsm_json_pointer_append(kp, sizeof kp, "", k);
+				prsm_problems_add(pr, kp, "not_allowed", "%s belongs to a design study, not a benchmark", k);
+			}
+		design_rc = prsm_problems_total(pr) == start ? 0 : PRSM_EINVAL;
+	} else if (design) {
+		design_rc = read_design(out, doc, warnings, pr);
+	} else {
+		prsm_problems_add(pr, "/design", "required", "a study needs a design (or a benchmark model)");
+	}
+	int params_known = design_rc == 0;
+
+	/* tolerances */
+	const cJSON *tols = cJSON_GetObjectItemCaseSensitive(doc, "tolerances");
+	int nt = cJSON_GetArraySize(tols);
+	param_info pis[PRSM_IO_STUDY_MAX_TOLERANCES];
+	if (!cJSON_IsArray(tols) || nt < 1 || nt > PRSM_IO_STUDY_MAX_TOLERANCES) {
+		prsm_problems_add(pr, "/tolerances", tols ? "bad_array" : "required",
+		                  "tolerances: an array of 1 to %d tolerances", PRSM_IO_STUDY_MAX_TOLERANCES);
+		nt = 0;
+	} else {
+		int i = 0;
+		for (const cJSON *it = tols->child; it; it = it->next, i++) {
+			char tp[PRSM_JSON_POINTER_MAX];
+			prsm_json_pointer_append_index(tp, sizeof tp, "/tolerances", i);
+			read_tolerance(&out->tolerances[i], &pis[i], out, it, tp, params_known, pr);
+			for (int k = 0; k < i; k++)
+				if (out->tolerances[i].parameter[0] &&
+				    strcmp(out->tolerances[k].parameter, out->tolerances[i].parameter) == 0) {
+					char pp[PRSM_JSON_POINTER_MAX];
+					prsm_json_pointer_append(pp, sizeof pp, tp, "parameter");
+					prsm_problems_add(pr, pp, "duplicate", "%s has a tolerance already (at /tolerances/%d)",
+					                  out->tolerances[i].parameter, k);
+				}
+		}
+	}
+	out->n_tolerances = (size_t)nt;
+	read_outputs(out, doc, pr);
+	read_specs(out, doc, pr);
+	read_mc(out, doc, pr);
+	read_sensitivity(out, doc, pr);
+
+	/* variables, once everything they depend on is valid */
+	prsm_study *st = &out->study;
+	if (prsm_problems_total(pr) == start && nt > 0) {
+		size_t d = 0;
+		for (size_t g = 0; g < (size_t)nt; g++)
+			d += count_vars(&out->tolerances[g], out);
+		if (d > PRSM_MC_MAX_VARIABLES) {
+			prsm_problems_add(pr, "/tolerances", "too_many", "the tolerances make %zu variables (per roller, "
+			                  "per start, with phases): at most %d", d, PRSM_MC_MAX_VARIABLES);
+		} else {
+			if (out->is_benchmark && d != out->bench.inputs)
+				prsm_problems_add(pr, "/tolerances", "incomplete", "the %s benchmark has %zu inputs: give "
+				                  "each of x1 .. x%zu one tolerance", prsm_bench_name(out->bench.kind),
+				                  out->bench.inputs, out->bench.inputs);
+			for (size_t g = 0; g < (size_t)nt; g++)
+				build_vars(out, g, &pis[g]);
+			if (out->is_benchmark)
+				st->d = out->bench.inputs;
+			st->n_groups = (size_t)nt;
+		}
+	}
+	read_correlations(out, doc, pr);
+	if (prsm_problems_total(pr) != start)
+		return design_rc && design_rc != PRSM_EINVAL ? design_rc : PRSM_EINVAL;
+
+	/* storage */
+	double stored = (double)(st->d + st->m) * (double)st->mc.samples;
+	if (stored > PRSM_MC_MAX_STORED)
+		prsm_problems_add(pr, "/monte_carlo/samples", "too_large",
+		                  "%zu samples of %zu variables and %zu outputs would store %.0f values (limit %d): "
+		                  "take fewer samples", st->mc.samples, st->d, st->m, stored, PRSM_MC_MAX_STORED);
+	if (st->sens.sobol) {
+		double ss = (double)st->m * (double)(st->n_groups + 2) * (double)st->sens.sobol_samples;
+		if (ss > PRSM_MC_MAX_STORED)
+			prsm_problems_add(pr, "/sensitivity/sobol/samples", "too_large",
+			                  "the Saltelli design would store %.0f values (limit %d)", ss, PRSM_MC_MAX_STORED);
+	}
+	if (prsm_problems_total(pr) != start)
+		return PRSM_EINVAL;
+
+	/* the model */
+	if (out->is_benchmark) {
+		prsm_bench_mc_model(&st->model, &out->bench);
+		/* benchmark variables are the inputs in order: bind by reordering through the binding */
+	} else {
+		prsm_mc_prsm *p = &out->prsm;
+		p->as = &out->assembly;
+		p->an = &out->analysis;
+		p->mode = out->assembly_options.mode;
+		p->angles_per_revolution = out->assembly_options.angles_per_revolution;
+		p->measuring_load_N = out->assembly_options.measuring_load_N;
+		p->n_bindings = st->d;
+		p->bindings = out->bindings;
+		p->n_outputs = st->m;
+		prsm_prsm_mc_model(&st->model, p);
+	}
+	return 0;
+}
+
+/* ---- result ------------------------------------------------------------------------------ */
+
+static void num(cJSON *o, const char *name, double v)
+{
+	if (isfinite(v))
+		cJSON_AddNumberToObject(o, name, v);
+	else
+		cJSON_AddNullToObject(o, name);
+}
+
+static cJSON *pair(double a, double b)
+{
+	cJSON *arr = cJSON_CreateArray();
+	cJSON_AddItemToArray(arr, isfinite(a) ? cJSON_CreateNumber(a) : cJSON_CreateNull());
+	cJSON_AddItemToArray(arr, isfinite(b) ? cJSON_CreateNumber(b) : cJSON_CreateNull());
+	return arr;
+}
+
+static cJSON *dist_json(const prsm_io_tolerance *t)
+{
+	cJSON *o = cJSON_CreateObject();
+	cJSON_AddStringToObject(o, "distribution", prsm_dist_name(t->dist.kind));
+	for (int q = 0; q < 4 && dist_params[t->dist.kind][q]; q++)
+		num(o, dist_params[t->dist.kind][q], t->dist.p[q]);
+	num(o, "mean", prsm_dist_mean(&t->dist));
+	num(o, "sd", prsm_dist_sd(&t->dist));
+	num(o, "halfwidth", prsm_dist_halfwidth(&t->dist));
+	if (t->shorthand) {
+		num(o, "tol", t->tol);
+		num(o, "cpk", t->cpk);
+	}
+	return o;
+}
+
+static const char *const quantile_names[PRSM_STATS_QUANTILES] = {
+	"p0_135", "p1", "p5", "p50", "p95", "p99", "p99_865"};
+
+static cJSON *output_json(const prsm_io_study *s, const prsm_study_result *r, size_t o)
+{
+	const prsm_study *st = &s->study;
+	const prsm_study_output_result *q = &r->out[o];
+	const prsm_stats_summary *m = &q->summary;
+	cJSON *j = cJSON_CreateObject();
+	cJSON_AddNumberToObject(j, "n", (double)m->n);
+	num(j, "mean", m->mean);
+	num(j, "sd", m->sd);
+	num(j, "skewness", m->skewness);
+	num(j, "kurtosis_excess", m->kurtosis_excess);
+	num(j, "min", m->min);
+	num(j, "max", m->max);
+	cJSON *qs = cJSON_AddObjectToObject(j, "quantiles");
+	for (int k = 0; k < PRSM_STATS_QUANTILES; k++)
+		num(qs, quantile_names[k], m->quantile[k]);
+	cJSON *h = cJSON_AddObjectToObject(j, "histogram");
+	num(h, "lower", m->hist_lower);
+	num(h, "upper", m->hist_upper);
+	cJSON *counts = cJSON_AddArrayToObject(h, "counts");
+	for (int k = 0; k < PRSM_STATS_HIST_BINS; k++)
+		cJSON_AddItemToArray(counts, cJSON_CreateNumber((double)m->hist_count[k]));
+	cJSON *se = cJSON_AddObjectToObject(j, "standard_errors");
+	num(se, "mean", m->se_mean);
+	num(se, "sd", m->se_sd);
+	num(se, "median", m->se_quantile_median);
+	if (st->outputs[o].has_spec) {
+		const prsm_spec *sp = &st->outputs[o].spec;
+		cJSON *spec = cJSON_AddObjectToObject(j, "spec");
+		if (sp->has_lower)
+			num(spec, "lower", sp->lower);
+		if (sp->has_upper)
+			num(spec, "upper", sp->upper);
+		cJSON *y = cJSON_AddObjectToObject(j, "yield");
+		num(y, "fraction", m->yield);
+		cJSON_AddItemToObject(y, "interval95", pair(m->yield_low95, m->yield_high95));
+		num(y, "standard_error", m->se_yield);
+		cJSON_AddStringToObject(y, "interval_method", "Wilson score, 95 %");
+		cJSON *ppm = cJSON_AddObjectToObject(j, "ppm");
+		num(ppm, "low", m->ppm_low);
+		num(ppm, "high", m->ppm_high);
+		num(ppm, "low_normal_fit", m->ppm_low_normal);
+		num(ppm, "high_normal_fit", m->ppm_high_normal);
+		num(j, "cp", m->cp);
+		num(j, "cpk", m->cpk);
+		num(j, "cpk_standard_error", m->se_cpk);
+	}
+	if (q->has_stack) {
+		cJSON *sk = cJSON_AddObjectToObject(j, "stack");
+		num(sk, "nominal", q->nominal);
+		cJSON_AddItemToObject(sk, "worst_case", pair(q->worst_low, q->worst_high));
+		num(sk, "rss_halfwidth", q->rss);
+		cJSON_AddItemToObject(sk, "rss", pair(q->nominal - q->rss, q->nominal + q->rss));
+		cJSON_AddStringToObject(sk, "method",
+		                        "one tolerance at a time at its half-width (3 sd for normal, the range for "
+		                        "uniform, the 99.865 % quantile for radial magnitudes at their worst of 8 "
+		                        "directions), from the centre of every distribution; worst case sums the "
+		                        "changes, RSS adds them in quadrature");
+	}
+	cJSON *sens = cJSON_AddObjectToObject(j, "sensitivity");
+	num(sens, "src_r2", q->src_r2);
+	num(sens, "srrc_r2", q->srrc_r2);
+	cJSON_AddStringToObject(sens, "contribution_definition",
+	                        "src_percent = 100 x the sum of squared standardized regression coefficients over "
+	                        "the tolerance's variables: the share of the output variance the linear fit "
+	                        "explains through it (the shares sum to 100 R^2 for independent inputs); "
+	                        "sobol_first/sobol_total are variance-based indices (Saltelli 2010 / Jansen "
+	                        "1999) over all of the tolerance's variables as one group");
+	cJSON *arr = cJSON_AddArrayToObject(sens, "tolerances");
+	for (size_t g = 0; g < st->n_groups; g++) {
+		const prsm_study_contribution *c = &q->by_group[g];
+		cJSON *t = cJSON_CreateObject();
+		cJSON_AddStringToObject(t, "parameter", st->groups[g].name);
+		cJSON_AddNumberToObject(t, "variables", (double)st->groups[g].n_vars);
+		if (q->has_src) {
+			num(t, "src", c->src);
+			num(t, "srrc", c->srrc);
+			num(t, "src_percent", c->src_percent);
+			num(t, "srrc_percent", c->srrc_percent);
+		}
+		if (q->has_stack)
+			num(t, "stack_change", c->stack_um);
+		if (q->has_sobol) {
+			num(t, "sobol_first", c->sobol.first);
+			num(t, "sobol_first_standard_error", c->sobol.first_se);
+			cJSON_AddItemToObject(t, "sobol_first_interval95", pair(c->sobol.first_low, c->sobol.first_high));
+			num(t, "sobol_total", c->sobol.total);
+			num(t, "sobol_total_standard_error", c->sobol.total_se);
+			cJSON_AddItemToObject(t, "sobol_total_interval95", pair(c->sobol.total_low, c->sobol.total_high));
+		}
+		cJSON_AddItemToArray(arr, t);
+	}
+	return j;
+}
+
+cJSON *prsm_io_study_result_to_json(const prsm_io_study *s, const prsm_study_result *r)
+{
+	const prsm_study *st = &s->study;
+	const prsm_mc_result *run = &r->run;
+	cJSON *doc = cJSON_CreateObject();
+	if (!doc)
+		return NULL;
+	if (s->name[0])
+		cJSON_AddStringToObject(doc, "name", s->name);
+	cJSON_AddStringToObject(doc, "model", s->is_benchmark ? prsm_bench_name(s->bench.kind) : "design");
+	cJSON *ver = cJSON_AddObjectToObject(doc, "versions");
+	cJSON_AddStringToObject(ver, "prsm", PRSM_VERSION);
+	cJSON_AddStringToObject(ver, "engine", PRSM_ENGINE_NAME);
+	cJSON_AddStringToObject(ver, "model", PRSM_STUDY_MODEL_VERSION);
+	if (!s->is_benchmark)
+		cJSON_AddStringToObject(doc, "assembly_mode", s->prsm.mode == PRSM_MODE_EXACT ? "exact" : "linear");
+	cJSON_AddNumberToObject(doc, "seed", (double)st->mc.seed);
+	cJSON *smp = cJSON_AddObjectToObject(doc, "samples");
+	cJSON_AddNumberToObject(smp, "cap", (double)st->mc.samples);
+	cJSON_AddNumberToObject(smp, "run", (double)run->n);
+	cJSON_AddNumberToObject(smp, "used", (double)run->n_ok);
+	cJSON_AddNumberToObject(smp, "failed", (double)run->n_failed);
+	cJSON_AddNumberToObject(smp, "edge_contact", (double)run->n_edge);
+	cJSON_AddStringToObject(smp, "edge_contact_policy", st->mc.edge == PRSM_EDGE_INCLUDE ? "include" : "exclude");
+	cJSON *fl = cJSON_AddArrayToObject(smp, "failed_samples");
+	cJSON *el = cJSON_AddArrayToObject(smp, "edge_contact_samples");
+	size_t nf = 0, ne = 0;
+	for (size_t j = 0; j < run->n; j++) {
+		if (run->status[j] == PRSM_SAMPLE_FAILED && nf++ < PRSM_MC_LISTED_FAILURES)
+			cJSON_AddItemToArray(fl, cJSON_CreateNumber((double)(run->first_sample + j)));
+		if (run->status[j] == PRSM_SAMPLE_EDGE && ne++ < PRSM_MC_LISTED_FAILURES)
+			cJSON_AddItemToArray(el, cJSON_CreateNumber((double)(run->first_sample + j)));
+	}
+	cJSON_AddNumberToObject(smp, "block_size", (double)st->mc.block_size);
+	cJSON_AddNumberToObject(smp, "variables", (double)st->d);
+	cJSON *sampler = cJSON_AddObjectToObject(doc, "sampler");
+	cJSON_AddStringToObject(sampler, "requested", prsm_sampler_name(st->mc.sampler));
+	cJSON_AddStringToObject(sampler, "used", prsm_sampler_name(run->sampler));
+	cJSON_AddStringToObject(doc, "stop_reason", prsm_stop_reason_name(run->stop));
+	cJSON_AddBoolToObject(doc, "converged", run->converged);
+	cJSON *tm = cJSON_AddObjectToObject(doc, "timing_s");
+	num(tm, "monte_carlo", r->elapsed_run_s);
+	num(tm, "sensitivity", r->elapsed_sensitivity_s);
+	cJSON_AddNumberToObject(tm, "threads", st->mc.threads);
+	cJSON_AddBoolToObject(doc, "cache_hit", 0);
+	cJSON *w = cJSON_AddArrayToObject(doc, "warnings");
+	for (int i = 0; i < r->n_warnings; i++)
+		cJSON_AddItemToArray(w, cJSON_CreateString(r->warnings[i]));
+	cJSON *tols = cJSON_AddArrayToObject(doc, "tolerances");
+	for (size_t g = 0; g < s->n_tolerances; g++) {
+		const prsm_io_tolerance *t = &s->tolerances[g];
+		cJSON *tj = dist_json(t);
+		cJSON_AddStringToObject(tj, "parameter", t->parameter);
+		cJSON_AddNumberToObject(tj, "variables", (double)st->groups[g].n_vars);
+		if (t->per_roller || t->per_start)
+			cJSON_AddBoolToObject(tj, "shared", t->shared);
+		if (t->radial)
+			cJSON_AddStringToObject(tj, "direction", "uniform on [0, 2 pi) rad, drawn independently");
+		cJSON_AddItemToArray(tols, tj);
+	}
+	if (r->has_sobol) {
+		cJSON *so = cJSON_AddObjectToObject(doc, "sobol");
+		cJSON_AddNumberToObject(so, "base_samples", (double)r->sobol_rows);
+		cJSON_AddNumberToObject(so, "base_samples_used", (double)r->sobol_rows_ok);
+		cJSON_AddNumberToObject(so, "evaluations", (double)r->sobol_evaluations);
+		cJSON_AddStringToObject(so, "sampler", prsm_sampler_name(r->sobol_sampler));
+		cJSON_AddNumberToObject(so, "bootstrap", (double)st->sens.bootstrap);
+	}
+	cJSON *outs = cJSON_AddObjectToObject(doc, "outputs");
+	for (size_t o = 0; o < st->m; o++)
+		cJSON_AddItemToObject(outs, st->outputs[o].name, output_json(s, r, o));
+	return doc;
+}
+
+int prsm_io_study_write_csv(FILE *f, const prsm_io_study *s, const prsm_study_result *r)
+{
+	static const char *const status_names[] = {"ok", "failed", "edge_contact", "unrun"};
+	const prsm_study *st = &s->study;
+	const prsm_mc_result *run = &r->run;
+	fprintf(f, "sample,status");
+	for (size_t i = 0; i < st->d; i++)
+		fprintf(f, ",%s", st->info[i].name);
+	for (size_t o = 0; o < st->m; o++)
+		fprintf(f, ",%s", st->outputs[o].name);
+	fputc('\n', f);
+	for (size_t j = 0; j < run->n; j++) {
+		fprintf(f, "%zu,%s", run->first_sample + j, status_names[run->status[j] & 3]);
+		for (size_t i = 0; i < st->d; i++)
+			fprintf(f, ",%.17g", run->x[j * st->d + i]);
+		for (size_t o = 0; o < st->m; o++) {
+			double v = run->y[j * st->m + o];
+			if (isfinite(v))
+				fprintf(f, ",%.17g", v);
+			else
+				fputc(',', f);
+		}
+		fputc('\n', f);
+	}
+	return ferror(f) ? PRSM_EIO : 0;
+}

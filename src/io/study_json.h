@@ -1,0 +1,69 @@
+/*
+ * study_json.h: the study document (schemas/study.schema.json) to a prsm_study, and its result
+ * to JSON and CSV (DESIGN.md, "Documents": study, result).
+ *
+ * A study is a design (or a named analytic benchmark) + `tolerances` + `outputs` + `specs` +
+ * `monte_carlo` + `sensitivity`, with optional `errors` (a fixed error set every sample starts
+ * from), `assembly` (mode, measuring load, angles per revolution) and `correlations`. Every
+ * problem is reported at once with its JSON pointer. Units convert here: a tolerance is given in
+ * the unit its parameter names (screw.runout_um in µm), the engine binds it in mm or rad.
+ */
+#ifndef PRSM_IO_STUDY_JSON_H
+#define PRSM_IO_STUDY_JSON_H
+
+#include <stdio.h>
+
+#include <cJSON.h>
+
+#include "mc/bench_models.h"
+#include "mc/prsm_model.h"
+#include "mc/study.h"
+#include "model/assembly.h"
+#include "util/problems.h"
+
+/* Limits of the document (the schema states the same numbers). */
+#define PRSM_IO_STUDY_MAX_TOLERANCES 64
+#define PRSM_IO_STUDY_SOBOL_MAX_SAMPLES 1048576
+#define PRSM_IO_STUDY_MAX_BOOTSTRAP 10000
+
+/* One tolerance as the document gave it (echoed in the result). */
+typedef struct {
+	char parameter[PRSM_STUDY_NAME_MAX];
+	prsm_dist dist;                  /* in the parameter's API unit */
+	int shorthand;                   /* given as {"tol_*": t, "cpk": c} */
+	double tol, cpk;                 /* the shorthand's values */
+	int per_roller, per_start, shared, radial;
+} prsm_io_tolerance;
+
+/* A loaded study: everything the engine's model points into lives here, so the struct must
+ * not move after prsm_io_study_load(). Large (about 1 MB): allocate it on the heap. */
+typedef struct {
+	char name[128];
+	int is_benchmark;
+	prsm_bench_model bench;
+	prsm_design design;
+	prsm_analysis analysis;
+	prsm_assembly assembly;
+	prsm_assembly_options assembly_options;
+	prsm_mc_prsm prsm;
+	prsm_mc_binding bindings[PRSM_MC_MAX_VARIABLES];
+	size_t n_tolerances;
+	prsm_io_tolerance tolerances[PRSM_IO_STUDY_MAX_TOLERANCES];
+	prsm_study study;
+} prsm_io_study;
+
+/* Read and check the study document doc, load its design (nominal analysis and assembly) and
+ * build the variables. Every problem goes to problems with its pointer; rule warnings of the
+ * design to warnings (may be NULL). Returns 0, PRSM_EINVAL (problems were added) or
+ * PRSM_EGEOMETRY / PRSM_EEDGE (the design cannot be analysed; a problem names it). */
+int prsm_io_study_load(prsm_io_study *out, const cJSON *doc, prsm_problems *warnings,
+                       prsm_problems *problems);
+
+/* The result document (schemas/study-result.schema.json). The caller owns the tree. */
+cJSON *prsm_io_study_result_to_json(const prsm_io_study *s, const prsm_study_result *r);
+
+/* Every sample as CSV: sample index, status, the variables in their API units, the outputs
+ * (empty for failed samples). Returns 0 or PRSM_EIO. */
+int prsm_io_study_write_csv(FILE *f, const prsm_io_study *s, const prsm_study_result *r);
+
+#endif
