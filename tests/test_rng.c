@@ -257,6 +257,28 @@ static void test_gaussian_moments(void **state)
 	gsl_rng_free(r);
 }
 
+/* The bulk draw is the same sequence as one call at a time, from any position in a block. */
+static void test_fill_uniform_pos(void **state)
+{
+	(void)state;
+	double a[1003], b[1003];
+	for (int skip = 0; skip < 9; skip++) {
+		gsl_rng *r1 = prsm_rng_alloc(20261121, 77), *r2 = prsm_rng_alloc(20261121, 77);
+		for (int k = 0; k < skip; k++) {
+			gsl_rng_get(r1); /* leaves the word position odd or even */
+			gsl_rng_get(r2);
+		}
+		for (int i = 0; i < 1003; i++)
+			a[i] = prsm_rng_uniform_pos(r1);
+		prsm_rng_fill_uniform_pos(r2, b, 500);
+		prsm_rng_fill_uniform_pos(r2, b + 500, 503);
+		assert_memory_equal(a, b, sizeof a);
+		assert_int_equal(gsl_rng_get(r1), gsl_rng_get(r2));
+		gsl_rng_free(r1);
+		gsl_rng_free(r2);
+	}
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -269,6 +291,7 @@ int main(void)
 		cmocka_unit_test(test_streams_differ),
 		cmocka_unit_test(test_uniform_moments),
 		cmocka_unit_test(test_uniform_pos_open_interval),
+		cmocka_unit_test(test_fill_uniform_pos),
 		cmocka_unit_test(test_gaussian_moments),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -172,14 +172,24 @@ static double bench_assembly(double budget_s, int mode, int te)
 	return (double)n / (t - t0);
 }
 
-static void add(cJSON *list, const char *name, double value, const char *unit, int threads)
+void prsm_cli_bench_add(cJSON *list, const char *name, double value, const char *unit, int threads,
+                        int decimals)
 {
 	cJSON *b = cJSON_CreateObject();
+	double scale = pow(10.0, decimals);
 	cJSON_AddStringToObject(b, "name", name);
-	cJSON_AddNumberToObject(b, "value", round(value));
+	if (isfinite(value))
+		cJSON_AddNumberToObject(b, "value", round(value * scale) / scale);
+	else
+		cJSON_AddNullToObject(b, "value");
 	cJSON_AddStringToObject(b, "unit", unit);
 	cJSON_AddNumberToObject(b, "threads", threads);
 	cJSON_AddItemToArray(list, b);
+}
+
+static void add(cJSON *list, const char *name, double value, const char *unit, int threads)
+{
+	prsm_cli_bench_add(list, name, value, unit, threads, 0);
 }
 
 int prsm_cli_bench(int argc, char **argv)
@@ -207,6 +217,7 @@ int prsm_cli_bench(int argc, char **argv)
 	add(list, "backlash_load_sharing_exact", bench_assembly(budget, PRSM_MODE_EXACT, 0), "evaluations/s", 1);
 	add(list, "te_curve_64_linear", bench_assembly(budget, PRSM_MODE_LINEAR, 1), "curves/s", 1);
 	add(list, "te_curve_64_exact", bench_assembly(budget, PRSM_MODE_EXACT, 1), "curves/s", 1);
+	prsm_cli_bench_study(list, budget);
 	char *text = cJSON_Print(doc);
 	printf("%s\n", text);
 	free(text);

@@ -134,8 +134,7 @@ static void sampler_block(sampler *s, double *u, size_t n, uint64_t stream, size
 	switch (s->kind) {
 	case PRSM_SAMPLER_RANDOM:
 		prsm_rng_set_stream(s->rng, s->seed, stream);
-		for (size_t i = 0; i < n * dim; i++)
-			u[i] = prsm_rng_uniform_pos(s->rng);
+		prsm_rng_fill_uniform_pos(s->rng, u, n * dim);
 		break;
 	case PRSM_SAMPLER_LHS:
 		/* one stratified column per dimension: stratum perm[i] of n, uniform inside it */

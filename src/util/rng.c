@@ -102,3 +102,24 @@ double prsm_rng_uniform_pos(gsl_rng *r)
 	} while (k == 0);
 	return (double)k * 0x1p-53; /* [2^-53, 1 - 2^-53] */
 }
+
+void prsm_rng_fill_uniform_pos(gsl_rng *r, double *u, size_t n)
+{
+	assert(r != NULL && r->type == prsm_rng_philox);
+	prsm_rng_state *st = r->state;
+	size_t i = 0;
+	while (i < n) {
+		/* fast path: two unread words of the current block, in the order rng_next_u64 reads
+		 * them (low half first, as the high bits) */
+		if (st->next_word % 2 == 0 && st->next_word < PRSM_RNG_WORDS_PER_BLOCK) {
+			uint64_t v = st->block[st->next_word / 2];
+			uint64_t k = ((v << 32) | (v >> 32)) >> 11;
+			if (k != 0) {
+				st->next_word += 2;
+				u[i++] = (double)k * 0x1p-53;
+				continue;
+			}
+		}
+		u[i++] = prsm_rng_uniform_pos(r);
+	}
+}
