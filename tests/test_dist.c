@@ -436,7 +436,8 @@ static void test_center_halfwidth(void **state)
 		{D4(PRSM_DIST_TRUNCNORMAL, 0.41, 1.37, -0.9, 2.2), 0.41, 1.79},        /* window */
 		{D4(PRSM_DIST_TRUNCNORMAL, 0.41, 0.37, -0.9, 2.2), 0.41, 1.11},        /* 3 sd */
 		{D4(PRSM_DIST_TRUNCNORMAL, 1.23, 0.57, 0.95, INFINITY), 1.23, 1.71},   /* one-sided */
-		{D4(PRSM_DIST_TRUNCNORMAL, -0.37, 2.11, -INFINITY, -1.9), -0.37, 6.33},
+		{D4(PRSM_DIST_TRUNCNORMAL, -0.37, 2.11, -INFINITY, -1.9), -1.9, 6.33}, /* mean outside: its end */
+		{D4(PRSM_DIST_TRUNCNORMAL, 0.0, 1.0, 6.0, 8.0), 6.0, 2.0},
 		{D2(PRSM_DIST_UNIFORM, -1.7, 3.1), 0.7, 2.4},
 		{D3(PRSM_DIST_TRIANGULAR, -0.6, 0.35, 2.9), 0.35, 2.55},
 		{D3(PRSM_DIST_TRIANGULAR, -3.1, 0.8, 0.8), 0.8, 3.9},
@@ -450,7 +451,7 @@ static void test_center_halfwidth(void **state)
 		assert_close(prsm_dist_halfwidth(d), expect[i].halfwidth, 1e-12);
 	}
 	/* lognormal and rayleigh: centre + half-width is the 0.99865 quantile */
-	for (size_t i = 8; i < 10; i++) {
+	for (size_t i = 9; i < 11; i++) {
 		const prsm_dist *d = &expect[i].d;
 		assert_close(prsm_dist_cdf(d, prsm_dist_center(d) + prsm_dist_halfwidth(d)), 0.99865, 1e-12);
 		assert_close(prsm_dist_center(d) + prsm_dist_halfwidth(d), prsm_dist_quantile(d, 0.99865),

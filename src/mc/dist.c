@@ -437,8 +437,10 @@ double prsm_dist_center(const prsm_dist *d)
 	const double *p = d->p;
 	switch (d->kind) {
 	case PRSM_DIST_NORMAL:
-	case PRSM_DIST_TRUNCNORMAL:
 		return p[0];
+	case PRSM_DIST_TRUNCNORMAL:
+		/* the parent's mean, or the nearer end of the window when the mean lies outside it */
+		return fmin(fmax(p[0], p[2]), p[3]);
 	case PRSM_DIST_UNIFORM:
 		return 0.5 * (p[0] + p[1]);
 	case PRSM_DIST_TRIANGULAR:
@@ -460,7 +462,10 @@ double prsm_dist_halfwidth(const prsm_dist *d)
 	case PRSM_DIST_NORMAL:
 		return 3.0 * p[1];
 	case PRSM_DIST_TRUNCNORMAL:
-		return fmin(3.0 * p[1], fmax(p[0] - p[2], p[3] - p[0]));
+	{
+		const double c = prsm_dist_center(d);
+		return fmin(3.0 * p[1], fmax(c - p[2], p[3] - c));
+	}
 	case PRSM_DIST_UNIFORM:
 		return 0.5 * (p[1] - p[0]);
 	case PRSM_DIST_TRIANGULAR:

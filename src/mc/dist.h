@@ -68,8 +68,8 @@ double prsm_dist_sd(const prsm_dist *d);
 
 /* Centre and tolerance half-width used by the worst-case and RSS stack figures:
  *   normal       mean, 3 sd
- *   truncnormal  mean, min(3 sd, max(mean - lower, upper - mean)) with the parameters mean and sd
- *                of the parent normal
+ *   truncnormal  c = the parent's mean clamped into [lower, upper] (the nearer end when the mean
+ *                lies outside the window), min(3 sd, max(c - lower, upper - c)), sd the parent's
  *   uniform      midpoint, half range
  *   triangular   mode, max(mode - lower, upper - mode)
  *   lognormal    median exp(mu), q(0.99865) - median

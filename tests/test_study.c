@@ -1,0 +1,230 @@
+/*
+ * test_study.c: study documents through io/study_json into the engine: the roller screw as a
+ * sampled model (determinism across threads, per-roller and shared variables, phases), the
+ * Gaussian copula, the tolerance shorthand, and the LS-1 stack of reference/benchmarks.md.
+ */
+#include "test_support.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_cdf.h>
+#include <gsl/gsl_errno.h>
+
+#include "io/study_json.h"
+
+static const char *design_json =
+	"\"design\": {\"geometry\": {\"starts\": 5, \"pitch_mm\": 2, \"flank_angle_deg\": 45,"
+	" \"roller_radius_mm\": 3.25, \"rollers\": 10, \"engaged_threads\": 10},"
+	" \"target_axial_clearance_um\": 20,"
+	" \"operating_point\": {\"axial_load_N\": 7000, \"screw_speed_rpm\": 955}}";
+
+static prsm_io_study *load(const char *text, prsm_problems *pr)
+{
+	cJSON *doc = cJSON_Parse(text);
+	assert_non_null(doc);
+	prsm_io_study *s = calloc(1, sizeof *s);
+	assert_non_null(s);
+	prsm_problems_init(pr);
+	int rc = prsm_io_study_load(s, doc, NULL, pr);
+	cJSON_Delete(doc);
+	if (rc) {
+		for (int i = 0; i < pr->count; i++)
+			print_message("%s: %s\n", pr->items[i].pointer, pr->items[i].message);
+		free(s);
+		return NULL;
+	}
+	return s;
+}
+
+static char *study_text(const char *tolerances, const char *rest)
+{
+	size_t n = strlen(design_json) + strlen(tolerances) + strlen(rest) + 64;
+	char *t = malloc(n);
+	snprintf(t, n, "{%s, \"tolerances\": [%s]%s}", design_json, tolerances, rest);
+	return t;
+}
+
+/* A roller screw study gives bit-identical samples for 1, 2 and 8 threads, in both modes. */
+static void test_prsm_threads(void **state)
+{
+	(void)state;
+	for (int mode = 0; mode < 2; mode++) {
+		char rest[512];
+		snprintf(rest, sizeof rest,
+		         ", \"assembly\": {\"mode\": \"%s\", \"angles_per_revolution\": 8},"
+		         " \"outputs\": [\"backlash_um\", \"backlash_min_um\", \"load_sharing_factor\", "
+		         "\"stiffness_N_per_um\", \"te_pp_um\", \"efficiency\"],"
+		         " \"monte_carlo\": {\"samples\": %d, \"block_size\": 16, \"seed\": 99}",
+		         mode ? "exact" : "linear", mode ? 48 : 400);
+		char *t = study_text("{\"parameter\": \"screw.runout_um\", \"tol_um\": 6},"
+		                     "{\"parameter\": \"nut.pitch_radius_um\", \"distribution\": \"uniform\", \"lower\": -4, \"upper\": 4},"
+		                     "{\"parameter\": \"roller.thickness_um\", \"tol_um\": 2.5, \"cpk\": 1.2},"
+		                     "{\"parameter\": \"roller.runout_um\", \"distribution\": \"rayleigh\", \"sigma\": 1.3},"
+		                     "{\"parameter\": \"screw.start_index_mrad\", \"distribution\": \"normal\", \"sd\": 0.2},"
+		                     "{\"parameter\": \"friction.screw_roller_mu\", \"distribution\": \"uniform\", \"lower\": -0.01, \"upper\": 0.02}",
+		                     rest);
+		prsm_problems pr;
+		prsm_io_study *s = load(t, &pr);
+		free(t);
+		assert_non_null(s);
+		/* 2 + 1 + 10 + 20 + 5 + 1 variables */
+		assert_int_equal(s->study.d, 39);
+		prsm_mc_result r[3];
+		int threads[3] = {1, 2, 8};
+		for (int k = 0; k < 3; k++) {
+			prsm_error err = PRSM_ERROR_INIT;
+			s->study.mc.threads = threads[k];
+			assert_int_equal(prsm_mc_run(&r[k], &s->study.model, s->study.vars, s->study.d, NULL, 0,
+			                             &s->study.mc, &err), 0);
+			assert_int_equal(r[k].n_failed, 0);
+		}
+		for (int k = 1; k < 3; k++) {
+			assert_memory_equal(r[0].x, r[k].x, r[0].n * r[0].d * sizeof(double));
+			assert_memory_equal(r[0].y, r[k].y, r[0].n * r[0].m * sizeof(double));
+		}
+		/* outputs move: the errors reach the model */
+		prsm_moments m;
+		prsm_moments_init(&m);
+		for (size_t j = 0; j < r[0].n; j++)
+			prsm_moments_add(&m, r[0].y[j * r[0].m]);
+		assert_true(prsm_moments_sd(&m) > 0.1);
+		for (int k = 0; k < 3; k++)
+			prsm_mc_result_free(&r[k]);
+		free(s);
+	}
+}
+
+/* Per-roller tolerances draw one variable per roller (and a phase per radial one); shared
+ * draws one for all; the sample's value reaches every roller it is bound to. */
+static void test_per_roller_and_shared(void **state)
+{
+	(void)state;
+	char *t = study_text("{\"parameter\": \"roller.thickness_um\", \"tol_um\": 3, \"shared\": true},"
+	                     "{\"parameter\": \"roller.runout_um\", \"distribution\": \"rayleigh\", \"sigma\": 1}",
+	                     ", \"outputs\": [\"backlash_um\"], \"sensitivity\": {\"stack\": false}");
+	prsm_problems pr;
+	prsm_io_study *s = load(t, &pr);
+	free(t);
+	assert_non_null(s);
+	assert_int_equal(s->study.d, 1 + 20);
+	assert_int_equal(s->study.groups[0].n_vars, 1);
+	assert_int_equal(s->study.groups[1].n_vars, 20);
+	assert_string_equal(s->study.info[0].name, "roller[*].thickness_um");
+	assert_string_equal(s->study.info[1].name, "roller[0].runout_um");
+	assert_string_equal(s->study.info[2].name, "roller[0].runout_phase_rad");
+	assert_int_equal(s->study.info[1].phase, 2);
+	assert_int_equal(s->study.info[2].phase_of, 1);
+	/* a shared thickness deviation t thickens every roller: each flank moves t/2 (MODEL.md §3,
+	 * dgap/dt = 1 for a part's thickness), a direction's chain has a screw-side and a nut-side
+	 * roller flank, and B adds both directions: B falls by 2 t */
+	double x[21] = {0}, y0, y1;
+	unsigned flags;
+	void *ws;
+	const prsm_mc_model *mdl = &s->study.model;
+	assert_int_equal(mdl->workspace_alloc(&ws, mdl->ctx), 0);
+	assert_int_equal(mdl->eval(&y0, &flags, mdl->ctx, ws, x), 0);
+	x[0] = 1.7;
+	assert_int_equal(mdl->eval(&y1, &flags, mdl->ctx, ws, x), 0);
+	assert_close(y1 - y0, -2.0 * 1.7, 1e-9);
+	mdl->workspace_free(ws);
+	free(s);
+}
+
+/* The Gaussian copula: the normal scores of two correlated tolerances have correlation rho
+ * (within 4.5 standard errors of Fisher's z), uncorrelated ones none. */
+static void test_copula(void **state)
+{
+	(void)state;
+	char *t = study_text("{\"parameter\": \"screw.pitch_radius_um\", \"distribution\": \"uniform\", \"lower\": -3, \"upper\": 5},"
+	                     "{\"parameter\": \"nut.pitch_radius_um\", \"distribution\": \"normal\", \"mean\": 1, \"sd\": 2},"
+	                     "{\"parameter\": \"screw.thickness_um\", \"distribution\": \"normal\", \"sd\": 1}",
+	                     ", \"correlations\": [{\"between\": [\"screw.pitch_radius_um\", \"nut.pitch_radius_um\"], \"rho\": 0.63}],"
+	                     " \"outputs\": [\"backlash_um\"], \"monte_carlo\": {\"samples\": 20000, \"seed\": 3}");
+	prsm_problems pr;
+	prsm_io_study *s = load(t, &pr);
+	free(t);
+	assert_non_null(s);
+	assert_int_equal(s->study.n_corr, 1);
+	prsm_mc_result r;
+	prsm_error err = PRSM_ERROR_INIT;
+	assert_int_equal(prsm_mc_run(&r, &s->study.model, s->study.vars, s->study.d, s->study.corr,
+	                             s->study.n_corr, &s->study.mc, &err), 0);
+	double sxy = 0, sxx = 0, syy = 0, sxz = 0, szz = 0;
+	for (size_t j = 0; j < r.n; j++) {
+		double a = gsl_cdf_ugaussian_Pinv((r.x[j * 3] + 3.0) / 8.0);
+		double b = (r.x[j * 3 + 1] - 1.0) / 2.0;
+		double c = r.x[j * 3 + 2];
+		sxy += a * b;
+		sxx += a * a;
+		syy += b * b;
+		sxz += a * c;
+		szz += c * c;
+	}
+	double rho = sxy / sqrt(sxx * syy), rho0 = sxz / sqrt(sxx * szz);
+	double se_z = 1.0 / sqrt((double)r.n - 3.0);
+	assert_close(atanh(rho), atanh(0.63), 4.5 * se_z);
+	assert_close(atanh(rho0), 0.0, 4.5 * se_z);
+	/* the marginals are untouched: uniform mean 1, normal sd 2 */
+	prsm_moments mu, mn;
+	prsm_moments_init(&mu);
+	prsm_moments_init(&mn);
+	for (size_t j = 0; j < r.n; j++) {
+		prsm_moments_add(&mu, r.x[j * 3]);
+		prsm_moments_add(&mn, r.x[j * 3 + 1]);
+	}
+	assert_close(mu.mean, 1.0, 4.5 * 8.0 / sqrt(12.0 * (double)r.n));
+	assert_close(prsm_moments_sd(&mn), 2.0, 4.5 * 2.0 / sqrt(2.0 * (double)r.n));
+	prsm_mc_result_free(&r);
+	free(s);
+}
+
+/* LS-1 of reference/benchmarks.md through a study document: stack figures exact, Cpk and the
+ * normal-fit ppm within their standard errors, SRC^2 shares. */
+static void test_ls1(void **state)
+{
+	(void)state;
+	const char *text =
+		"{\"model\": {\"benchmark\": \"linear\", \"coefficients\": [1, 1, -1, -1]},"
+		" \"tolerances\": ["
+		"  {\"parameter\": \"x1\", \"tol\": 0.05, \"nominal\": 30.0},"
+		"  {\"parameter\": \"x2\", \"tol\": 0.04, \"nominal\": 20.0},"
+		"  {\"parameter\": \"x3\", \"tol\": 0.03, \"nominal\": 24.9},"
+		"  {\"parameter\": \"x4\", \"tol\": 0.02, \"nominal\": 25.0}],"
+		" \"specs\": {\"y\": {\"lower\": 0, \"upper\": 0.2}},"
+		" \"monte_carlo\": {\"samples\": 40000, \"seed\": 2026, \"threads\": 2}}";
+	prsm_problems pr;
+	prsm_io_study *s = load(text, &pr);
+	assert_non_null(s);
+	prsm_study_result *r = calloc(1, sizeof *r);
+	prsm_error err = PRSM_ERROR_INIT;
+	assert_int_equal(prsm_study_run(r, &s->study, &err), 0);
+	const prsm_study_output_result *o = &r->out[0];
+	assert_close(o->nominal, 0.1, 1e-12);
+	assert_close(o->worst_low, -0.04, 1e-12);
+	assert_close(o->worst_high, 0.24, 1e-12);
+	assert_close(o->rss, 0.07348469228349534, 1e-12);
+	assert_close(o->summary.sd, 0.024494897427831785, 4.5 * o->summary.se_sd);
+	assert_close(o->summary.cpk, 1.3608276348795, 4.5 * o->summary.se_cpk);
+	assert_true(o->src_r2 > 0.999999);
+	const double share[4] = {25.0 / 54, 16.0 / 54, 9.0 / 54, 4.0 / 54};
+	for (int i = 0; i < 4; i++) {
+		double w = share[i];
+		assert_close(o->by_group[i].src_percent / 100.0, w, 4.5 * 2.0 * w * sqrt((1.0 - w) / 40000.0));
+	}
+	prsm_study_result_free(r);
+	free(r);
+	free(s);
+}
+
+int main(void)
+{
+	gsl_set_error_handler_off();
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_prsm_threads),
+		cmocka_unit_test(test_per_roller_and_shared),
+		cmocka_unit_test(test_copula),
+		cmocka_unit_test(test_ls1),
+	};
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}
