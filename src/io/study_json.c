@@ -524,8 +524,13 @@ static void read_outputs(prsm_io_study *s, const cJSON *doc, prsm_problems *pr)
 			s->study.m = 1;
 		} else {
 			snprintf(s->study.outputs[0].name, sizeof s->study.outputs[0].name, "backlash_um");
-			snprintf(s->study.outputs[1].name, sizeof s->study.outputs[1].name, "load_sharing_factor");
-			s->study.m = 2;
+			s->prsm.outputs[0] = PRSM_OUT_BACKLASH;
+			s->study.m = 1;
+			if (s->design.axial_load_N > 0.0) {
+				snprintf(s->study.outputs[1].name, sizeof s->study.outputs[1].name, "load_sharing_factor");
+				s->prsm.outputs[1] = PRSM_OUT_SHARING;
+				s->study.m = 2;
+			}
 		}
 		return;
 	}
@@ -877,6 +882,16 @@ int prsm_io_study_load(prsm_io_study *out, const cJSON *doc, prsm_problems *warn
 	}
 	out->n_tolerances = (size_t)nt;
 	read_outputs(out, doc, pr);
+	if (!out->is_benchmark && design_rc == 0 && !(out->design.axial_load_N > 0.0))
+		for (size_t o = 0; o < out->study.m; o++) {
+			prsm_output_kind k = out->prsm.outputs[o];
+			if (k == PRSM_OUT_SHARING || k == PRSM_OUT_STIFFNESS || k == PRSM_OUT_STIFFNESS_RATIO) {
+				char op[PRSM_JSON_POINTER_MAX];
+				prsm_json_pointer_append_index(op, sizeof op, "/outputs", (int)o);
+				prsm_problems_add(pr, op, "no_load", "%s needs an operating axial load "
+				                  "(/design/operating_point/axial_load_N > 0)", out->study.outputs[o].name);
+			}
+		}
 	read_specs(out, doc, pr);
 	read_mc(out, doc, pr);
 	read_sensitivity(out, doc, pr);
