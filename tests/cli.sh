@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # CLI tests: exit codes (0 ok, 1 invalid, 2 failed, 64 usage), JSON on stdout, problems with
 # their pointers, the text summary, validate, the request form {design, errors, assembly},
-# bench. Args: PRSM_BINARY SOURCE_DIR
+# study (tolerance studies: --out, --csv, --threads, stdin), bench. Args: PRSM_BINARY SOURCE_DIR
 set -u
 prsm=$1
 src=$2
@@ -164,6 +164,138 @@ ptrs = {e["pointer"] for e in d["errors"]}
 want = {"/errors/rollers", "/errors/screw/runout_um", "/errors/screw/colour", "/colour"}
 assert not d["valid"] and want <= ptrs, ptrs
 PY
+
+# study: the example with fewer samples (512, Sobol 128 base rows)
+study="$src/studies/case-a-tolerances.json"
+$py - "$study" "$tmp/study.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+d["monte_carlo"]["samples"] = 512
+if isinstance(d.get("sensitivity", {}).get("sobol"), dict):
+    d["sensitivity"]["sobol"]["samples"] = 128
+json.dump(d, open(sys.argv[2], "w"))
+PY
+"$prsm" study "$tmp/study.json" --quiet > "$tmp/s.json" 2> "$tmp/err"; check "study (case A, 512 samples)" 0 $?
+ok "study: result shape" $py - "$tmp/s.json" "$tmp/study.json" <<'PY'
+import json, sys
+d, s = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
+assert d["model"] == "design" and d["samples"]["cap"] == 512 and d["samples"]["run"] <= 512, d["samples"]
+assert list(d["outputs"]) == s["outputs"], list(d["outputs"])
+assert [t["parameter"] for t in d["tolerances"]] == [t["parameter"] for t in s["tolerances"]]
+assert d["stop_reason"] in ("sample_cap", "target") and d["sobol"]["base_samples"] == 128, d["sobol"]
+b = d["outputs"]["backlash_um"]
+assert sum(b["histogram"]["counts"]) == b["n"] == d["samples"]["used"], b["n"]
+assert b["yield"]["interval95"][0] <= b["yield"]["fraction"] <= b["yield"]["interval95"][1], b["yield"]
+PY
+
+# --out writes the same document; --csv every sample: sample,status,<variables>,<outputs>
+"$prsm" study "$tmp/study.json" --out "$tmp/s-out.json" --csv "$tmp/s.csv" > "$tmp/stdout" 2> /dev/null
+check "study --out --csv" 0 $?
+ok "study --out: nothing on stdout" test ! -s "$tmp/stdout"
+ok "study --out: the result, timings aside" $py - "$tmp/s.json" "$tmp/s-out.json" <<'PY'
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+a.pop("timing_s"); b.pop("timing_s")
+assert a == b
+PY
+ok "study --csv: header and one row per sample" $py - "$tmp/s.csv" "$tmp/s.json" <<'PY'
+import csv, json, math, sys
+rows = list(csv.reader(open(sys.argv[1])))
+d = json.load(open(sys.argv[2]))
+head, body = rows[0], rows[1:]
+outs = list(d["outputs"])
+nv = d["samples"]["variables"]
+assert head[:2] == ["sample", "status"] and head[2 + nv:] == outs and len(head) == 2 + nv + len(outs), head
+assert head[2] == "screw.pitch_radius_um" and "roller[9].pitch_radius_um" in head and "screw.runout_phase_rad" in head, head
+assert len(body) == d["samples"]["run"], len(body)
+assert [int(r[0]) for r in body] == list(range(len(body)))
+assert all(len(r) == len(head) for r in body)
+status = [r[1] for r in body]
+assert set(status) <= {"ok", "failed", "edge_contact"} and status.count("ok") == d["samples"]["used"], set(status)
+for r in body:
+    if r[1] == "ok":
+        assert all(math.isfinite(float(v)) for v in r[2:]), r
+PY
+
+# the same study on 1 and 2 threads: the same result but for the timings
+"$prsm" study "$tmp/study.json" --threads 1 > "$tmp/t1.json" 2> /dev/null; check "study --threads 1" 0 $?
+"$prsm" study "$tmp/study.json" --threads 2 > "$tmp/t2.json" 2> /dev/null; check "study --threads 2" 0 $?
+ok "study: --threads 1 and 2 give the same JSON except timing_s" $py - "$tmp/t1.json" "$tmp/t2.json" <<'PY'
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+assert a["timing_s"]["threads"] == 1 and b["timing_s"]["threads"] == 2
+a.pop("timing_s"); b.pop("timing_s")
+assert a == b
+PY
+ok "study: --threads 1 and 2 give the same text except timing_s" $py - "$tmp/t1.json" "$tmp/t2.json" <<'PY'
+import re, sys
+strip = lambda p: re.sub(r'"timing_s":\s*\{[^}]*\}', '', open(p).read())
+assert strip(sys.argv[1]) == strip(sys.argv[2])
+PY
+
+# stdin
+"$prsm" study - --quiet < "$tmp/study.json" > "$tmp/stdin.json" 2> /dev/null; check "study stdin" 0 $?
+ok "study stdin: same result" $py - "$tmp/s.json" "$tmp/stdin.json" <<'PY'
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+a.pop("timing_s"); b.pop("timing_s")
+assert a == b
+PY
+
+# validate takes a study
+"$prsm" validate "$study" > "$tmp/v.txt"; check "validate study" 0 $?
+ok "validate study: valid" grep -q "case-a-tolerances.json: valid" "$tmp/v.txt"
+
+# failure policy abort on a design study where nothing fails
+$py - "$src/studies/case-a.json" "$tmp/abort.json" <<'PY'
+import json, sys
+json.dump({"design": json.load(open(sys.argv[1])),
+           "tolerances": [{"parameter": "screw.thickness_um", "tol_um": 3}, {"parameter": "roller.pitch_radius_um", "tol_um": 2}],
+           "outputs": ["backlash_um", "efficiency"],
+           "monte_carlo": {"samples": 128, "block_size": 32, "failure": {"policy": "abort"}}}, open(sys.argv[2], "w"))
+PY
+"$prsm" study "$tmp/abort.json" > "$tmp/abort-out.json" 2> "$tmp/err"; check "study: policy abort, nothing fails" 0 $?
+ok "study abort: every sample used" $py -c 'import json,sys; s=json.load(open(sys.argv[1]))["samples"]; assert s["run"] == s["used"] == 128 and s["failed"] == 0, s' "$tmp/abort-out.json"
+# ... and where samples fail (a negative friction coefficient under an efficiency output): exit 2
+$py - "$tmp/abort.json" "$tmp/abort2.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+d["tolerances"].append({"parameter": "friction.screw_roller_mu", "distribution": "uniform", "lower": -0.1, "upper": 0})
+json.dump(d, open(sys.argv[2], "w"))
+PY
+# (src/mc/study.h documents exit 2; the CLI exits with the model's code, 1 for this failure: reported)
+"$prsm" study "$tmp/abort2.json" > "$tmp/out" 2> "$tmp/err"; rc=$?
+ok "study: policy abort, samples fail: an error exit (exit $rc)" test "$rc" -eq 1 -o "$rc" -eq 2
+ok "study abort: nothing on stdout, the sample named" sh -c "test ! -s '$tmp/out' && grep -q 'sample [0-9]* failed' '$tmp/err'"
+
+# an invalid study: exit 1, every problem with its pointer on stderr, nothing on stdout
+$py - "$study" "$tmp/badstudy.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+d["tolerances"][0]["parameter"] = "screw.runout_phase_deg"      # a direction
+d["tolerances"][1]["tol_mrad"] = d["tolerances"][1].pop("tol_um")  # unit
+d["monte_carlo"]["samples"] = 0
+d["sensitivity"]["sobol"]["sampler"] = "lhs"
+d["colour"] = "red"
+json.dump(d, open(sys.argv[2], "w"))
+PY
+"$prsm" study "$tmp/badstudy.json" > "$tmp/out" 2> "$tmp/err"; check "study invalid" 1 $?
+ok "study invalid: nothing on stdout" test ! -s "$tmp/out"
+for ptr in /tolerances/0/parameter /tolerances/1/tol_mrad /monte_carlo/samples /sensitivity/sobol/sampler /colour; do
+  ok "study invalid: pointer $ptr" grep -q ": $ptr:" "$tmp/err"
+done
+"$prsm" validate "$tmp/badstudy.json" > "$tmp/v.txt"; check "validate invalid study" 1 $?
+ok "validate invalid study: the same 5 problems" test "$(grep -c ': /' "$tmp/v.txt")" -ge 5
+
+# usage errors
+"$prsm" study > /dev/null 2>&1; check "study without file" 64 $?
+"$prsm" study "$tmp/study.json" --threads 0 > /dev/null 2>&1; check "study --threads 0" 64 $?
+"$prsm" study "$tmp/study.json" --threads 65 > /dev/null 2>&1; check "study --threads 65" 64 $?
+"$prsm" study "$tmp/study.json" --threads two > /dev/null 2>&1; check "study --threads two" 64 $?
+"$prsm" study "$tmp/study.json" --threads > /dev/null 2>&1; check "study --threads without a value" 64 $?
+"$prsm" study "$tmp/study.json" --seed 3 > /dev/null 2>&1; check "study unknown option" 64 $?
+"$prsm" study "$tmp/study.json" "$tmp/study.json" > /dev/null 2>&1; check "study two files" 64 $?
+"$prsm" study "$tmp/does-not-exist.json" > /dev/null 2>&1; check "study missing file" 64 $?
 
 # bench: the documented JSON shape
 "$prsm" bench --seconds 0.05 > "$tmp/bench.json"; check "bench" 0 $?
