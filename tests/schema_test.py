@@ -46,21 +46,6 @@ known_seen = []
 # name -> why it is known. Names are the check names used below. Empty: every disagreement
 # found so far is fixed; add one here (with the reason) only while a fix is pending.
 KNOWN = {
-    "study results have no duplicate keys":
-        "prsm_io_study_result_to_json (src/io/study_json.c, dist_json) writes \"mean\" and \"sd\" twice in the "
-        "tolerances echo of a normal or truncnormal tolerance: first the parameters, then the moments",
-    "prsm validate refuses 'ishigami with a constant'":
-        "read_benchmark accepts and ignores \"constant\" in an Ishigami model (only coefficients is refused)",
-    "prsm validate refuses 'ishigami input x01 beside x1'":
-        "param_find reads benchmark inputs with sscanf(\"x%u%c\"): x01 is x1 again, the duplicate check compares "
-        "the text, and x3 is left undrawn (normal sd 0): validate accepts, prsm study fails",
-    "prsm validate refuses 'ishigami input 'x 2''":
-        "param_find's sscanf(\"x%u%c\") skips blanks and takes a sign: \"x 2\" and \"x+2\" are x2",
-    "prsm validate refuses 'correlations that are not positive definite'":
-        "the reader does not check the correlation matrix: validate accepts, prsm study fails (not positive definite)",
-    "prsm validate names /outputs/1 for load_sharing_factor after a refused /outputs/0":
-        "the no_load check in prsm_io_study_load indexes the accepted outputs, not the document's: after a refused "
-        "output the pointer names the element before the one meant",
 }
 
 

@@ -96,9 +96,17 @@ static int param_find(param_info *pi, const char *path, const prsm_io_study *s, 
 	memset(pi, 0, sizeof *pi);
 	pi->bench_index = -1;
 	if (s->is_benchmark) {
-		unsigned idx = 0;
-		char tail = 0;
-		if (sscanf(path, "x%u%c", &idx, &tail) == 1 && idx >= 1 && idx <= s->bench.inputs) {
+		/* x1 .. xn exactly: no leading zero, sign or blank */
+		size_t idx = 0, k = 1;
+		int ok = path[0] == 'x' && path[1] >= '1' && path[1] <= '9';
+		for (; ok && path[k]; k++) {
+			if (path[k] < '0' || path[k] > '9' || idx > 1000) {
+				ok = 0;
+				break;
+			}
+			idx = 10 * idx + (size_t)(path[k] - '0');
+		}
+		if (ok && idx >= 1 && idx <= s->bench.inputs) {
 			pi->bench_index = (int)idx - 1;
 			pi->unit = "";
 			pi->scale = 1.0;
@@ -189,9 +197,10 @@ static void read_benchmark(prsm_io_study *s, const cJSON *m, const char *ptr, pr
 		b->b = 0.1;
 		prsm_json_get_number(&b->a, m, ptr, "a", PRSM_JSON_OPTIONAL, ANY, pr);
 		prsm_json_get_number(&b->b, m, ptr, "b", PRSM_JSON_OPTIONAL, ANY, pr);
-		for (const char *k = "coefficients"; k; k = NULL)
-			if (cJSON_GetObjectItemCaseSensitive(m, k)) {
-				prsm_json_pointer_append(ap, sizeof ap, ptr, k);
+		static const char *const foreign[] = {"coefficients", "constant", NULL};
+		for (int k = 0; foreign[k]; k++)
+			if (cJSON_GetObjectItemCaseSensitive(m, foreign[k])) {
+				prsm_json_pointer_append(ap, sizeof ap, ptr, foreign[k]);
 				prsm_problems_add(pr, ap, "not_allowed", "the Ishigami benchmark takes a and b only");
 			}
 		return;
@@ -446,7 +455,9 @@ static void build_vars(prsm_io_study *s, size_t g, const param_info *pi)
 	const char *dot = strchr(t->parameter, '.');
 	const char *key = dot ? dot + 1 : t->parameter;
 	char stem[PRSM_STUDY_NAME_MAX];
-	snprintf(stem, sizeof stem, "%.*s", (int)(strlen(key) > 3 && pi->radial ? strlen(key) - 3 : strlen(key)), key);
+	/* the key without its unit: runout_um -> runout, tilt_mrad -> tilt */
+	size_t unit_len = strlen(unit_of(key));
+	snprintf(stem, sizeof stem, "%.*s", (int)(unit_len ? strlen(key) - unit_len - 1 : strlen(key)), key);
 	if (s->is_benchmark) {
 		/* benchmark inputs keep their own order: x_i is variable i-1 */
 		size_t i = (size_t)pi->bench_index;
@@ -513,7 +524,8 @@ static int output_index(const prsm_io_study *s, const char *name)
 	return -1;
 }
 
-static void read_outputs(prsm_io_study *s, const cJSON *doc, prsm_problems *pr)
+/* design_ok: the design loaded, so its operating load is known. */
+static void read_outputs(prsm_io_study *s, const cJSON *doc, int design_ok, prsm_problems *pr)
 {
 	const cJSON *arr = cJSON_GetObjectItemCaseSensitive(doc, "outputs");
 	int n = cJSON_GetArraySize(arr);
@@ -559,6 +571,12 @@ static void read_outputs(prsm_io_study *s, const cJSON *doc, prsm_problems *pr)
 		}
 		if (output_index(s, name) >= 0) {
 			prsm_problems_add(pr, ip, "duplicate", "output '%s' is listed twice", name);
+			continue;
+		}
+		if (!s->is_benchmark && design_ok && !(s->design.axial_load_N > 0.0) &&
+		    (k == PRSM_OUT_SHARING || k == PRSM_OUT_STIFFNESS || k == PRSM_OUT_STIFFNESS_RATIO)) {
+			prsm_problems_add(pr, ip, "no_load", "%s needs an operating axial load "
+			                  "(/design/operating_point/axial_load_N > 0)", name);
 			continue;
 		}
 		snprintf(s->study.outputs[s->study.m].name, sizeof s->study.outputs[0].name, "%s", name);
@@ -749,7 +767,19 @@ static void read_sensitivity(prsm_io_study *s, const cJSON *doc, prsm_problems *
 	}
 }
 
+static void read_correlations_list(prsm_io_study *s, const cJSON *doc, prsm_problems *pr);
+
 static void read_correlations(prsm_io_study *s, const cJSON *doc, prsm_problems *pr)
+{
+	int before = prsm_problems_total(pr);
+	read_correlations_list(s, doc, pr);
+	prsm_error err = PRSM_ERROR_INIT;
+	if (prsm_problems_total(pr) == before && s->study.n_corr &&
+	    prsm_mc_correlation_check(s->study.corr, s->study.n_corr, s->study.d, &err))
+		prsm_problems_add(pr, "/correlations", "not_positive_definite", "%s", err.message);
+}
+
+static void read_correlations_list(prsm_io_study *s, const cJSON *doc, prsm_problems *pr)
 {
 	const cJSON *arr = cJSON_GetObjectItemCaseSensitive(doc, "correlations");
 	if (!arr)
@@ -881,17 +911,7 @@ int prsm_io_study_load(prsm_io_study *out, const cJSON *doc, prsm_problems *warn
 		}
 	}
 	out->n_tolerances = (size_t)nt;
-	read_outputs(out, doc, pr);
-	if (!out->is_benchmark && design_rc == 0 && !(out->design.axial_load_N > 0.0))
-		for (size_t o = 0; o < out->study.m; o++) {
-			prsm_output_kind k = out->prsm.outputs[o];
-			if (k == PRSM_OUT_SHARING || k == PRSM_OUT_STIFFNESS || k == PRSM_OUT_STIFFNESS_RATIO) {
-				char op[PRSM_JSON_POINTER_MAX];
-				prsm_json_pointer_append_index(op, sizeof op, "/outputs", (int)o);
-				prsm_problems_add(pr, op, "no_load", "%s needs an operating axial load "
-				                  "(/design/operating_point/axial_load_N > 0)", out->study.outputs[o].name);
-			}
-		}
+	read_outputs(out, doc, design_rc == 0, pr);
 	read_specs(out, doc, pr);
 	read_mc(out, doc, pr);
 	read_sensitivity(out, doc, pr);
@@ -977,8 +997,16 @@ static cJSON *dist_json(const prsm_io_tolerance *t)
 {
 	cJSON *o = cJSON_CreateObject();
 	cJSON_AddStringToObject(o, "distribution", prsm_dist_name(t->dist.kind));
-	for (int q = 0; q < 4 && dist_params[t->dist.kind][q]; q++)
-		num(o, dist_params[t->dist.kind][q], t->dist.p[q]);
+	/* parameters, except a normal's mean and sd (they are its moments below); a truncated
+	 * normal's parent mean and sd are echoed as parent_mean / parent_sd */
+	for (int q = 0; q < 4 && dist_params[t->dist.kind][q]; q++) {
+		const char *pn = dist_params[t->dist.kind][q];
+		if (t->dist.kind == PRSM_DIST_NORMAL)
+			continue;
+		if (t->dist.kind == PRSM_DIST_TRUNCNORMAL && q < 2)
+			pn = q == 0 ? "parent_mean" : "parent_sd";
+		num(o, pn, t->dist.p[q]);
+	}
 	num(o, "mean", prsm_dist_mean(&t->dist));
 	num(o, "sd", prsm_dist_sd(&t->dist));
 	num(o, "halfwidth", prsm_dist_halfwidth(&t->dist));

@@ -227,9 +227,8 @@ static int copula_init(copula *c, const prsm_mc_correlation *corr, size_t n_corr
 		gsl_matrix_set(m, qa, qb, corr[i].rho);
 		gsl_matrix_set(m, qb, qa, corr[i].rho);
 	}
-	gsl_error_handler_t *old = gsl_set_error_handler_off();
+	/* needs GSL's error handler off (prsm's main and the service set it once at start) */
 	int rc = gsl_linalg_cholesky_decomp1(m);
-	gsl_set_error_handler(old);
 	if (rc) {
 		gsl_matrix_free(m);
 		return prsm_error_set(err, PRSM_EINVAL, NULL,
@@ -240,6 +239,17 @@ static int copula_init(copula *c, const prsm_mc_correlation *corr, size_t n_corr
 			c->L[i][j] = gsl_matrix_get(m, i, j);
 	gsl_matrix_free(m);
 	return 0;
+}
+
+int prsm_mc_correlation_check(const prsm_mc_correlation *corr, size_t n_corr, size_t d,
+                              prsm_error *err)
+{
+	copula *c = malloc(sizeof *c);
+	if (!c)
+		return prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
+	int rc = copula_init(c, corr, n_corr, d, err);
+	free(c);
+	return rc;
 }
 
 /* Correlate the normal scores of the involved variables of one row of d uniforms. */
@@ -677,10 +687,17 @@ static int run(prsm_mc_result *out, const prsm_mc_model *model, const prsm_mc_va
 			if (o->failure == PRSM_FAILURE_ABORT && first_bad != SIZE_MAX) {
 				int st = out->status[first_bad];
 				int code = out->fail_code[first_bad];
-				rc = prsm_error_set(err, st == PRSM_SAMPLE_EDGE ? PRSM_EEDGE : (code ? code : PRSM_ENOCONVERGE), NULL,
-				                    "sample %zu %s (failure policy: abort)", c->first_row + first_bad,
-				                    st == PRSM_SAMPLE_EDGE ? "has an edge contact"
-				                                           : "failed: the model did not converge");
+				/* a computation failure (exit 2) whatever the model's own code was */
+				if (st == PRSM_SAMPLE_EDGE)
+					rc = prsm_error_set(err, PRSM_ENOCONVERGE, NULL,
+					                    "sample %zu has an edge contact (failure policy: abort)",
+					                    c->first_row + first_bad);
+				else
+					rc = prsm_error_set(err, PRSM_ENOCONVERGE, NULL, "sample %zu failed (%s%s) (failure policy: abort)",
+					                    c->first_row + first_bad, prsm_error_name(code ? code : PRSM_ENOCONVERGE),
+					                    code == PRSM_EINVAL ? ": the model refused the sampled values, e.g. a "
+					                                          "negative friction coefficient"
+					                    : code == PRSM_ENOCONVERGE || !code ? ": a solve did not converge" : "");
 				c->stop_blocks = prefix;
 				out->stop = PRSM_STOP_FAILURES;
 				break;

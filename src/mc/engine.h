@@ -170,6 +170,11 @@ int prsm_mc_result_concat(prsm_mc_result *out, const prsm_mc_result *a, const pr
 
 void prsm_mc_result_free(prsm_mc_result *r);
 
+/* Check correlations as the runs will: valid pairs, |rho| < 1, a positive definite matrix.
+ * Returns 0 or PRSM_EINVAL with err saying which. */
+int prsm_mc_correlation_check(const prsm_mc_correlation *corr, size_t n_corr, size_t d,
+                              prsm_error *err);
+
 const char *prsm_sampler_name(prsm_sampler_kind k);
 const char *prsm_stop_reason_name(prsm_stop_reason s);
 
