@@ -33,6 +33,27 @@ static void uniform_vars(prsm_mc_variable *v, size_t d, double lo, double hi)
 	}
 }
 
+/* A study of benchmark b with d uniform inputs on [lo, hi], one tolerance each, output y,
+ * default engine and sensitivity settings. */
+static void bench_study(prsm_study *s, const prsm_bench_model *b, size_t d, double lo, double hi)
+{
+	memset(s, 0, sizeof *s);
+	prsm_bench_mc_model(&s->model, b);
+	s->d = d;
+	uniform_vars(s->vars, d, lo, hi);
+	for (size_t i = 0; i < d; i++) {
+		s->info[i].phase = s->info[i].phase_of = -1;
+		snprintf(s->info[i].name, sizeof s->info[i].name, "x%zu", i + 1);
+		s->groups[i].first_var = i;
+		s->groups[i].n_vars = 1;
+	}
+	s->n_groups = d;
+	s->m = 1;
+	snprintf(s->outputs[0].name, sizeof s->outputs[0].name, "y");
+	prsm_sens_options_default(&s->sens);
+	prsm_mc_options_default(&s->mc);
+}
+
 static prsm_bench_model ishigami(void)
 {
 	prsm_bench_model b;
@@ -102,23 +123,10 @@ static void test_split_runs(void **state)
 	(void)state;
 	prsm_bench_model b = ishigami();
 	static prsm_study s;
-	memset(&s, 0, sizeof s);
-	prsm_bench_mc_model(&s.model, &b);
-	s.d = 3;
-	uniform_vars(s.vars, 3, -M_PI, M_PI);
-	for (size_t i = 0; i < 3; i++) {
-		s.info[i].phase = s.info[i].phase_of = -1;
-		snprintf(s.info[i].name, sizeof s.info[i].name, "x%zu", i + 1);
-		s.groups[i].first_var = i;
-		s.groups[i].n_vars = 1;
-	}
-	s.n_groups = 3;
-	s.m = 1;
-	snprintf(s.outputs[0].name, sizeof s.outputs[0].name, "y");
+	bench_study(&s, &b, 3, -M_PI, M_PI);
 	s.outputs[0].has_spec = 1;
 	s.outputs[0].spec.has_upper = 1;
 	s.outputs[0].spec.upper = 10.0;
-	prsm_sens_options_default(&s.sens);
 	for (int smp = 0; smp < 3; smp++) {
 		prsm_mc_options_default(&s.mc);
 		s.mc.seed = 77;
@@ -365,22 +373,10 @@ static void test_moments_and_yield(void **state)
 	lin.coef[0] = 1.0;
 	lin.coef[1] = 2.0;
 	static prsm_study s;
-	memset(&s, 0, sizeof s);
-	prsm_bench_mc_model(&s.model, &lin);
-	s.d = 2;
-	uniform_vars(s.vars, 2, 0.0, 1.0);
-	for (size_t i = 0; i < 2; i++) {
-		s.info[i].phase = s.info[i].phase_of = -1;
-		s.groups[i].first_var = i;
-		s.groups[i].n_vars = 1;
-	}
-	s.n_groups = 2;
-	s.m = 1;
+	bench_study(&s, &lin, 2, 0.0, 1.0);
 	s.outputs[0].has_spec = 1;
 	s.outputs[0].spec.has_upper = 1;
 	s.outputs[0].spec.upper = 1.0;
-	prsm_sens_options_default(&s.sens);
-	prsm_mc_options_default(&s.mc);
 	s.mc.samples = 40000;
 	s.mc.seed = 4242;
 	static prsm_study_result res;
@@ -402,21 +398,9 @@ static void test_study_sobol_ishigami(void **state)
 	(void)state;
 	prsm_bench_model b = ishigami();
 	static prsm_study s;
-	memset(&s, 0, sizeof s);
-	prsm_bench_mc_model(&s.model, &b);
-	s.d = 3;
-	uniform_vars(s.vars, 3, -M_PI, M_PI);
-	for (size_t i = 0; i < 3; i++) {
-		s.info[i].phase = s.info[i].phase_of = -1;
-		s.groups[i].first_var = i;
-		s.groups[i].n_vars = 1;
-	}
-	s.n_groups = 3;
-	s.m = 1;
-	prsm_sens_options_default(&s.sens);
+	bench_study(&s, &b, 3, -M_PI, M_PI);
 	s.sens.sobol = 1;
 	s.sens.sobol_samples = 8192;
-	prsm_mc_options_default(&s.mc);
 	s.mc.samples = 2000;
 	s.mc.threads = 2;
 	prsm_error err = PRSM_ERROR_INIT;

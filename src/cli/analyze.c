@@ -71,7 +71,7 @@ static int parse_options(options *o, int argc, char **argv, int text_default)
 	return 0;
 }
 
-static void print_problems(FILE *f, const char *path, const prsm_problems *p)
+void prsm_cli_print_problems(FILE *f, const char *path, const prsm_problems *p)
 {
 	for (int i = 0; i < p->count; i++)
 		fprintf(f, "%s: %s: %s\n", path, p->items[i].pointer[0] ? p->items[i].pointer : "/",
@@ -80,7 +80,7 @@ static void print_problems(FILE *f, const char *path, const prsm_problems *p)
 		fprintf(f, "%s: and %d more problems\n", path, p->dropped);
 }
 
-static int print_json(cJSON *doc, const char *out_path)
+int prsm_cli_print_json(const cJSON *doc, const char *out_path)
 {
 	char *text = cJSON_Print(doc);
 	if (text == NULL)
@@ -224,11 +224,11 @@ int prsm_cli_validate(int argc, char **argv)
 	}
 	free(rq);
 	if (rc == PRSM_EXIT_USAGE) {
-		print_problems(stderr, o.path, &problems);
+		prsm_cli_print_problems(stderr, o.path, &problems);
 		return rc;
 	}
 	if (o.text) {
-		print_problems(stdout, o.path, &problems);
+		prsm_cli_print_problems(stdout, o.path, &problems);
 		if (rc == 0) {
 			for (int i = 0; i < warnings.count; i++)
 				printf("%s: warning: %s: %s\n", o.path, warnings.items[i].pointer, warnings.items[i].message);
@@ -239,7 +239,7 @@ int prsm_cli_validate(int argc, char **argv)
 		cJSON_AddBoolToObject(res, "valid", rc == 0);
 		cJSON_AddItemToObject(res, "errors", prsm_io_problems_to_json(&problems));
 		cJSON_AddItemToObject(res, "warnings", prsm_io_problems_to_json(&warnings));
-		print_json(res, NULL);
+		prsm_cli_print_json(res, NULL);
 		cJSON_Delete(res);
 	}
 	return rc;
@@ -269,7 +269,7 @@ static int write_analysis(const options *o, const request *rq, const error_analy
 		cJSON_AddItemToObject(res, "errors", prsm_io_errors_to_json(&rq->errors, rq->d.starts));
 		cJSON_AddItemToObject(res, "assembly", prsm_io_assembly_to_json(&ea->report, &rq->as, &rq->options, ea->ws));
 	}
-	int rc = print_json(res, o->out_path);
+	int rc = prsm_cli_print_json(res, o->out_path);
 	cJSON_Delete(res);
 	return rc;
 }
@@ -291,7 +291,7 @@ int prsm_cli_analyze(int argc, char **argv)
 	if (rc == 0)
 		rc = load_and_analyse(rq, &warnings, &problems, doc);
 	if (rc) {
-		print_problems(stderr, o.path, &problems);
+		prsm_cli_print_problems(stderr, o.path, &problems);
 	} else {
 		if (rq->with_errors)
 			rc = run_error_analysis(&ea, rq);

@@ -5,6 +5,8 @@
 #ifndef PRSM_CLI_COMMANDS_H
 #define PRSM_CLI_COMMANDS_H
 
+#include <stdio.h>
+
 #include <cJSON.h>
 
 #include "util/problems.h"
@@ -29,6 +31,11 @@ void prsm_cli_bench_study(cJSON *list, double budget_s);
 /* Read and parse a request file ("-": stdin) into *doc (the caller frees it); problems of the
  * file or its JSON go to problems. Returns 0 or an exit code. */
 int prsm_cli_read_document(cJSON **doc, const char *path, prsm_problems *problems);
+/* Print every problem as "path: pointer: message", one per line. */
+void prsm_cli_print_problems(FILE *f, const char *path, const prsm_problems *p);
+/* Print doc as JSON to out_path (NULL: stdout). Returns 0 or PRSM_EXIT_FAILED. */
+int prsm_cli_print_json(const cJSON *doc, const char *out_path);
+
 /* Validate a study document (a parsed tree the caller keeps); returns 0 or an exit code. */
 int prsm_cli_study_check(const cJSON *doc, prsm_problems *warnings, prsm_problems *problems);
 

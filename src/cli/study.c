@@ -65,15 +65,6 @@ static void progress(void *ctx, size_t done, size_t cap)
 	fflush(stderr);
 }
 
-static void print_problems(const char *path, const prsm_problems *p)
-{
-	for (int i = 0; i < p->count; i++)
-		fprintf(stderr, "%s: %s: %s\n", path, p->items[i].pointer[0] ? p->items[i].pointer : "/",
-		        p->items[i].message);
-	if (p->dropped)
-		fprintf(stderr, "%s: and %d more problems\n", path, p->dropped);
-}
-
 int prsm_cli_study_check(const cJSON *doc, prsm_problems *warnings, prsm_problems *problems)
 {
 	prsm_io_study *s = calloc(1, sizeof *s);
@@ -82,20 +73,6 @@ int prsm_cli_study_check(const cJSON *doc, prsm_problems *warnings, prsm_problem
 	int rc = prsm_io_study_load(s, doc, warnings, problems);
 	free(s);
 	return rc ? prsm_error_exit_code(rc) : 0;
-}
-
-static int write_text(const char *path, const char *text)
-{
-	FILE *f = path ? fopen(path, "w") : stdout;
-	if (!f) {
-		perror(path);
-		return PRSM_EXIT_FAILED;
-	}
-	fprintf(f, "%s\n", text);
-	int bad = ferror(f);
-	if (f != stdout)
-		bad |= fclose(f);
-	return bad ? PRSM_EXIT_FAILED : 0;
 }
 
 int prsm_cli_study(int argc, char **argv)
@@ -109,7 +86,7 @@ int prsm_cli_study(int argc, char **argv)
 	cJSON *doc;
 	int rc = prsm_cli_read_document(&doc, o.path, &problems);
 	if (rc) {
-		print_problems(o.path, &problems);
+		prsm_cli_print_problems(stderr, o.path, &problems);
 		return rc;
 	}
 	prsm_io_study *s = calloc(1, sizeof *s);
@@ -123,7 +100,7 @@ int prsm_cli_study(int argc, char **argv)
 	int lrc = prsm_io_study_load(s, doc, &warnings, &problems);
 	cJSON_Delete(doc);
 	if (lrc) {
-		print_problems(o.path, &problems);
+		prsm_cli_print_problems(stderr, o.path, &problems);
 		rc = prsm_error_exit_code(lrc);
 		goto done;
 	}
@@ -145,10 +122,8 @@ int prsm_cli_study(int argc, char **argv)
 	cJSON *res = prsm_io_study_result_to_json(s, r);
 	if (res && warnings.count)
 		cJSON_AddItemToObject(res, "design_warnings", prsm_io_problems_to_json(&warnings));
-	char *text = res ? cJSON_Print(res) : NULL;
+	rc = res ? prsm_cli_print_json(res, o.out_path) : PRSM_EXIT_FAILED;
 	cJSON_Delete(res);
-	rc = text ? write_text(o.out_path, text) : PRSM_EXIT_FAILED;
-	free(text);
 	if (rc == 0 && o.csv_path) {
 		FILE *f = fopen(o.csv_path, "w");
 		if (!f) {

@@ -6,6 +6,8 @@
 
 #include <math.h>
 
+#include "io/json_util.h"
+
 #include "model/geometry.h"
 
 #define DEG (180.0 / M_PI)
@@ -15,14 +17,6 @@
 #define PRSM_VERSION "0.0.0"
 #endif
 #define PRSM_MODEL_VERSION "MODEL.md 2026-11 (§1, §2, §3, §4, §5, §6)"
-
-static void num(cJSON *o, const char *name, double v)
-{
-	if (isfinite(v))
-		cJSON_AddNumberToObject(o, name, v);
-	else
-		cJSON_AddNullToObject(o, name);
-}
 
 static void vec(cJSON *o, const char *name, const double *v, int n)
 {
@@ -73,14 +67,14 @@ cJSON *prsm_io_problem_document(int status, const char *title, const prsm_proble
 static cJSON *contact_json(const prsm_contact *c, double gap0_mm, const double est[2])
 {
 	cJSON *o = cJSON_CreateObject();
-	num(o, "x_mm", c->x_mm);
-	num(o, "y_mm", c->y_mm);
-	num(o, "gap_um", c->gap_mm * 1e3);
-	num(o, "gap_unthinned_um", gap0_mm * 1e3);
-	num(o, "contact_radius_body_mm", c->body_rho_mm);
-	num(o, "contact_radius_roller_mm", c->roller_u_mm);
-	num(o, "angle_on_body_deg", c->body_angle_rad * DEG);
-	num(o, "angle_on_roller_deg", c->roller_angle_rad * DEG);
+	prsm_json_add_number(o, "x_mm", c->x_mm);
+	prsm_json_add_number(o, "y_mm", c->y_mm);
+	prsm_json_add_number(o, "gap_um", c->gap_mm * 1e3);
+	prsm_json_add_number(o, "gap_unthinned_um", gap0_mm * 1e3);
+	prsm_json_add_number(o, "contact_radius_body_mm", c->body_rho_mm);
+	prsm_json_add_number(o, "contact_radius_roller_mm", c->roller_u_mm);
+	prsm_json_add_number(o, "angle_on_body_deg", c->body_angle_rad * DEG);
+	prsm_json_add_number(o, "angle_on_roller_deg", c->roller_angle_rad * DEG);
 	vec(o, "normal_radial_tangential_axial", c->normal, 3);
 	vec(o, "relative_curvatures_per_mm", c->curvature_per_mm, 2);
 	vec(o, "relative_curvatures_estimate_per_mm", est, 2);
@@ -92,22 +86,22 @@ static cJSON *contact_json(const prsm_contact *c, double gap0_mm, const double e
 static cJSON *hertz_json(const prsm_hertz *h)
 {
 	cJSON *o = cJSON_CreateObject();
-	num(o, "normal_load_N", h->load_N);
-	num(o, "sum_rho_per_mm", h->sum_rho_per_mm);
-	num(o, "curvature_difference", h->curvature_difference);
-	num(o, "ellipticity_a_over_b", h->kappa);
-	num(o, "semi_major_a_mm", h->a_mm);
-	num(o, "semi_minor_b_mm", h->b_mm);
-	num(o, "approach_um", h->delta_mm * 1e3);
-	num(o, "p_max_MPa", h->p_max_MPa);
+	prsm_json_add_number(o, "normal_load_N", h->load_N);
+	prsm_json_add_number(o, "sum_rho_per_mm", h->sum_rho_per_mm);
+	prsm_json_add_number(o, "curvature_difference", h->curvature_difference);
+	prsm_json_add_number(o, "ellipticity_a_over_b", h->kappa);
+	prsm_json_add_number(o, "semi_major_a_mm", h->a_mm);
+	prsm_json_add_number(o, "semi_minor_b_mm", h->b_mm);
+	prsm_json_add_number(o, "approach_um", h->delta_mm * 1e3);
+	prsm_json_add_number(o, "p_max_MPa", h->p_max_MPa);
 	return o;
 }
 
 static cJSON *material_json(const prsm_material *m)
 {
 	cJSON *o = cJSON_CreateObject();
-	num(o, "E_GPa", m->E_MPa * 1e-3);
-	num(o, "poisson", m->poisson);
+	prsm_json_add_number(o, "E_GPa", m->E_MPa * 1e-3);
+	prsm_json_add_number(o, "poisson", m->poisson);
 	return o;
 }
 
@@ -118,35 +112,35 @@ static cJSON *design_json(const prsm_design *d)
 	cJSON *g = cJSON_AddObjectToObject(o, "geometry");
 	cJSON_AddNumberToObject(g, "starts", d->starts);
 	cJSON_AddStringToObject(g, "hand", d->hand == PRSM_HAND_LEFT ? "left" : "right");
-	num(g, "pitch_mm", d->pitch_mm);
-	num(g, "flank_angle_deg", d->flank_angle_rad * DEG);
-	num(g, "screw_radius_mm", d->screw_radius_mm);
-	num(g, "roller_radius_mm", d->roller_radius_mm);
-	num(g, "nut_radius_mm", d->nut_radius_mm);
-	num(g, "roller_arc_radius_mm", d->roller_arc_radius_mm);
-	num(g, "screw_crest_radius_mm", d->screw_crest_radius_mm);
-	num(g, "screw_root_radius_mm", d->screw_root_radius_mm);
-	num(g, "roller_crest_radius_mm", d->roller_crest_radius_mm);
-	num(g, "roller_root_radius_mm", d->roller_root_radius_mm);
-	num(g, "nut_crest_radius_mm", d->nut_crest_radius_mm);
-	num(g, "nut_root_radius_mm", d->nut_root_radius_mm);
+	prsm_json_add_number(g, "pitch_mm", d->pitch_mm);
+	prsm_json_add_number(g, "flank_angle_deg", d->flank_angle_rad * DEG);
+	prsm_json_add_number(g, "screw_radius_mm", d->screw_radius_mm);
+	prsm_json_add_number(g, "roller_radius_mm", d->roller_radius_mm);
+	prsm_json_add_number(g, "nut_radius_mm", d->nut_radius_mm);
+	prsm_json_add_number(g, "roller_arc_radius_mm", d->roller_arc_radius_mm);
+	prsm_json_add_number(g, "screw_crest_radius_mm", d->screw_crest_radius_mm);
+	prsm_json_add_number(g, "screw_root_radius_mm", d->screw_root_radius_mm);
+	prsm_json_add_number(g, "roller_crest_radius_mm", d->roller_crest_radius_mm);
+	prsm_json_add_number(g, "roller_root_radius_mm", d->roller_root_radius_mm);
+	prsm_json_add_number(g, "nut_crest_radius_mm", d->nut_crest_radius_mm);
+	prsm_json_add_number(g, "nut_root_radius_mm", d->nut_root_radius_mm);
 	cJSON_AddNumberToObject(g, "rollers", d->rollers);
 	cJSON_AddNumberToObject(g, "engaged_threads", d->engaged_threads);
-	num(g, "running_clearance_mm", d->running_clearance_mm);
+	prsm_json_add_number(g, "running_clearance_mm", d->running_clearance_mm);
 	cJSON *t = cJSON_AddObjectToObject(o, "thinning");
-	num(t, "screw_um", 2e3 * d->flank_shift_screw_mm);
-	num(t, "roller_um", 2e3 * d->flank_shift_roller_mm);
-	num(t, "nut_um", 2e3 * d->flank_shift_nut_mm);
+	prsm_json_add_number(t, "screw_um", 2e3 * d->flank_shift_screw_mm);
+	prsm_json_add_number(t, "roller_um", 2e3 * d->flank_shift_roller_mm);
+	prsm_json_add_number(t, "nut_um", 2e3 * d->flank_shift_nut_mm);
 	cJSON *m = cJSON_AddObjectToObject(o, "materials");
 	cJSON_AddItemToObject(m, "screw", material_json(&d->screw_material));
 	cJSON_AddItemToObject(m, "roller", material_json(&d->roller_material));
 	cJSON_AddItemToObject(m, "nut", material_json(&d->nut_material));
 	cJSON *f = cJSON_AddObjectToObject(o, "friction");
-	num(f, "screw_roller", d->mu_screw_roller);
-	num(f, "nut_roller", d->mu_nut_roller);
+	prsm_json_add_number(f, "screw_roller", d->mu_screw_roller);
+	prsm_json_add_number(f, "nut_roller", d->mu_nut_roller);
 	cJSON *op = cJSON_AddObjectToObject(o, "operating_point");
-	num(op, "axial_load_N", d->axial_load_N);
-	num(op, "screw_speed_rpm", d->screw_speed_rad_s * RPM_PER_RAD_S);
+	prsm_json_add_number(op, "axial_load_N", d->axial_load_N);
+	prsm_json_add_number(op, "screw_speed_rpm", d->screw_speed_rad_s * RPM_PER_RAD_S);
 	return o;
 }
 
@@ -166,14 +160,14 @@ cJSON *prsm_io_analysis_to_json(const prsm_analysis *a, const prsm_design *d,
 
 	const prsm_geometry *g = &a->geometry;
 	cJSON *geo = cJSON_AddObjectToObject(root, "geometry");
-	num(geo, "lead_mm", g->lead_mm);
-	num(geo, "orbit_radius_mm", g->orbit_radius_mm);
-	num(geo, "helix_angle_screw_deg", g->helix_screw_rad * DEG);
-	num(geo, "helix_angle_roller_deg", g->helix_roller_rad * DEG);
-	num(geo, "helix_angle_nut_deg", g->helix_nut_rad * DEG);
+	prsm_json_add_number(geo, "lead_mm", g->lead_mm);
+	prsm_json_add_number(geo, "orbit_radius_mm", g->orbit_radius_mm);
+	prsm_json_add_number(geo, "helix_angle_screw_deg", g->helix_screw_rad * DEG);
+	prsm_json_add_number(geo, "helix_angle_roller_deg", g->helix_roller_rad * DEG);
+	prsm_json_add_number(geo, "helix_angle_nut_deg", g->helix_nut_rad * DEG);
 	cJSON_AddNumberToObject(geo, "z_max", g->z_max);
-	num(geo, "ring_gear_ratio", g->ring_gear_ratio);
-	num(geo, "roller_migration_mm_per_carrier_rev", g->migration_mm_per_rad * 2.0 * M_PI);
+	prsm_json_add_number(geo, "ring_gear_ratio", g->ring_gear_ratio);
+	prsm_json_add_number(geo, "roller_migration_mm_per_carrier_rev", g->migration_mm_per_rad * 2.0 * M_PI);
 	cJSON_AddBoolToObject(geo, "standard_rules", g->standard_rules);
 
 	cJSON *th = cJSON_AddObjectToObject(root, "thinning");
@@ -181,53 +175,53 @@ cJSON *prsm_io_analysis_to_json(const prsm_analysis *a, const prsm_design *d,
 	                                        ? "equal_gaps: roller unthinned, screw and nut thinned so both flank gaps equal a quarter of the target clearance"
 	                                        : "given");
 	if (d->thinning_rule == PRSM_THINNING_EQUAL_GAPS)
-		num(th, "target_axial_clearance_um", d->target_axial_clearance_mm * 1e3);
-	num(th, "flank_shift_screw_um", d->flank_shift_screw_mm * 1e3);
-	num(th, "flank_shift_roller_um", d->flank_shift_roller_mm * 1e3);
-	num(th, "flank_shift_nut_um", d->flank_shift_nut_mm * 1e3);
+		prsm_json_add_number(th, "target_axial_clearance_um", d->target_axial_clearance_mm * 1e3);
+	prsm_json_add_number(th, "flank_shift_screw_um", d->flank_shift_screw_mm * 1e3);
+	prsm_json_add_number(th, "flank_shift_roller_um", d->flank_shift_roller_mm * 1e3);
+	prsm_json_add_number(th, "flank_shift_nut_um", d->flank_shift_nut_mm * 1e3);
 
 	cJSON *con = cJSON_AddObjectToObject(root, "contacts");
 	cJSON_AddItemToObject(con, "screw_roller", contact_json(&a->screw, a->gap0_screw_mm, a->curvature_estimate_screw));
 	cJSON_AddItemToObject(con, "nut_roller", contact_json(&a->nut, a->gap0_nut_mm, a->curvature_estimate_nut));
-	num(con, "offset_rule_mm", a->offset_rule_mm);
-	num(root, "backlash_um", a->backlash_mm * 1e3);
+	prsm_json_add_number(con, "offset_rule_mm", a->offset_rule_mm);
+	prsm_json_add_number(root, "backlash_um", a->backlash_mm * 1e3);
 
 	const prsm_kinematics *k = &a->kinematics;
 	const double w = d->screw_speed_rad_s;
 	cJSON *kin = cJSON_AddObjectToObject(root, "kinematics");
-	num(kin, "carrier_ratio_ideal", k->carrier_ratio_ideal);
-	num(kin, "carrier_ratio", k->carrier_ratio);
-	num(kin, "roller_spin_ratio_ideal", k->roller_spin_ratio_ideal);
-	num(kin, "roller_spin_ratio", k->roller_spin_ratio);
-	num(kin, "roller_absolute_ratio_ideal", k->roller_abs_ratio_ideal);
-	num(kin, "roller_absolute_ratio", k->roller_abs_ratio);
-	num(kin, "nut_travel_per_screw_rev_mm", fabs(k->nut_speed_mm_per_rad) * 2.0 * M_PI);
-	num(kin, "slip_ratio_screw", k->slip_ratio_screw);
-	num(kin, "slip_ratio_nut", k->slip_ratio_nut);
-	num(kin, "nut_speed_mm_s", k->nut_speed_mm_per_rad * w);
-	num(kin, "carrier_speed_rpm", k->carrier_ratio * w * RPM_PER_RAD_S);
-	num(kin, "roller_spin_speed_rpm", k->roller_spin_ratio * w * RPM_PER_RAD_S);
-	num(kin, "slip_speed_screw_mm_s", k->slip_ratio_screw * fabs(k->nut_speed_mm_per_rad * w));
+	prsm_json_add_number(kin, "carrier_ratio_ideal", k->carrier_ratio_ideal);
+	prsm_json_add_number(kin, "carrier_ratio", k->carrier_ratio);
+	prsm_json_add_number(kin, "roller_spin_ratio_ideal", k->roller_spin_ratio_ideal);
+	prsm_json_add_number(kin, "roller_spin_ratio", k->roller_spin_ratio);
+	prsm_json_add_number(kin, "roller_absolute_ratio_ideal", k->roller_abs_ratio_ideal);
+	prsm_json_add_number(kin, "roller_absolute_ratio", k->roller_abs_ratio);
+	prsm_json_add_number(kin, "nut_travel_per_screw_rev_mm", fabs(k->nut_speed_mm_per_rad) * 2.0 * M_PI);
+	prsm_json_add_number(kin, "slip_ratio_screw", k->slip_ratio_screw);
+	prsm_json_add_number(kin, "slip_ratio_nut", k->slip_ratio_nut);
+	prsm_json_add_number(kin, "nut_speed_mm_s", k->nut_speed_mm_per_rad * w);
+	prsm_json_add_number(kin, "carrier_speed_rpm", k->carrier_ratio * w * RPM_PER_RAD_S);
+	prsm_json_add_number(kin, "roller_spin_speed_rpm", k->roller_spin_ratio * w * RPM_PER_RAD_S);
+	prsm_json_add_number(kin, "slip_speed_screw_mm_s", k->slip_ratio_screw * fabs(k->nut_speed_mm_per_rad * w));
 
 	const prsm_efficiency *e = &a->efficiency;
 	cJSON *eff = cJSON_AddObjectToObject(root, "efficiency");
 	cJSON_AddStringToObject(eff, "model", "sliding friction at the screw and nut contacts, 3-D normals and slip (MODEL.md §5); spin, gear-mesh and drag losses not included");
-	num(eff, "eta", e->eta);
-	num(eff, "eta_back", e->eta_back);
-	num(eff, "eta_closed_form", e->eta_closed_form);
-	num(eff, "eta_back_closed_form", e->eta_back_closed_form);
-	num(eff, "input_torque_Nm", e->input_torque_Nm);
-	num(eff, "ideal_torque_Nm", e->ideal_torque_Nm);
-	num(eff, "friction_torque_Nm", e->friction_torque_Nm);
-	num(eff, "back_driving_torque_Nm", e->back_torque_Nm);
-	num(eff, "input_power_W", e->input_power_W);
-	num(eff, "output_power_W", e->output_power_W);
-	num(eff, "loss_power_W", e->loss_power_W);
+	prsm_json_add_number(eff, "eta", e->eta);
+	prsm_json_add_number(eff, "eta_back", e->eta_back);
+	prsm_json_add_number(eff, "eta_closed_form", e->eta_closed_form);
+	prsm_json_add_number(eff, "eta_back_closed_form", e->eta_back_closed_form);
+	prsm_json_add_number(eff, "input_torque_Nm", e->input_torque_Nm);
+	prsm_json_add_number(eff, "ideal_torque_Nm", e->ideal_torque_Nm);
+	prsm_json_add_number(eff, "friction_torque_Nm", e->friction_torque_Nm);
+	prsm_json_add_number(eff, "back_driving_torque_Nm", e->back_torque_Nm);
+	prsm_json_add_number(eff, "input_power_W", e->input_power_W);
+	prsm_json_add_number(eff, "output_power_W", e->output_power_W);
+	prsm_json_add_number(eff, "loss_power_W", e->loss_power_W);
 
 	cJSON *hz = cJSON_AddObjectToObject(root, "hertz");
 	cJSON_AddStringToObject(hz, "load_sharing", "equal over rollers and engaged threads; normal load = axial load per contact / axial part of the normal");
 	cJSON_AddNumberToObject(hz, "contacts_per_side", a->contacts_sharing);
-	num(hz, "axial_load_per_contact_N", a->axial_load_per_contact_N);
+	prsm_json_add_number(hz, "axial_load_per_contact_N", a->axial_load_per_contact_N);
 	cJSON_AddItemToObject(hz, "screw_roller", hertz_json(&a->hertz_screw));
 	cJSON_AddItemToObject(hz, "nut_roller", hertz_json(&a->hertz_nut));
 	return root;

@@ -846,3 +846,11 @@ void prsm_json_problems_append_prefixed(prsm_problems *dst, const prsm_problems 
 	}
 	dst->dropped += src->dropped;
 }
+
+void prsm_json_add_number(cJSON *o, const char *name, double v)
+{
+	if (isfinite(v))
+		cJSON_AddNumberToObject(o, name, v);
+	else
+		cJSON_AddNullToObject(o, name);
+}

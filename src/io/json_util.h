@@ -136,6 +136,9 @@ int prsm_json_get_section(const cJSON **out, char *ptr, size_t cap, const cJSON 
                           const char *obj_pointer, const char *key, int required,
                           const char *const *allowed, prsm_problems *problems);
 
+/* Add name: v to o, or name: null when v is not finite (NaN marks "not defined" in results). */
+void prsm_json_add_number(cJSON *o, const char *name, double v);
+
 /* Copy every problem of src to dst with prefix put before its pointer (prefix "" or NULL copies
  * them as they are). For nesting a document whose checks know only their own pointers. */
 void prsm_json_problems_append_prefixed(prsm_problems *dst, const prsm_problems *src,

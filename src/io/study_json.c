@@ -388,9 +388,8 @@ static int read_tolerance(prsm_io_tolerance *t, param_info *pi, const prsm_io_st
 					                  dist_params[kind][3] ? ", " : "", dist_params[kind][3] ? dist_params[kind][3] : "");
 				}
 			}
-			for (const char *k = "cpk"; k; k = NULL)
-				if (cJSON_GetObjectItemCaseSensitive(o, k) || cJSON_GetObjectItemCaseSensitive(o, "nominal"))
-					prsm_problems_add(pr, ptr, "not_allowed", "cpk and nominal belong to the tol shorthand");
+			if (cJSON_GetObjectItemCaseSensitive(o, "cpk") || cJSON_GetObjectItemCaseSensitive(o, "nominal"))
+				prsm_problems_add(pr, ptr, "not_allowed", "cpk and nominal belong to the tol shorthand");
 		}
 	}
 	if (prsm_problems_total(pr) == bad) {
@@ -872,11 +871,13 @@ int prsm_io_study_load(prsm_io_study *out, const cJSON *doc, prsm_problems *warn
 		out->is_benchmark = 1;
 		if (prsm_json_object_value(model, "/model", pr) == 0)
 			read_benchmark(out, model, "/model", pr);
-		for (const char *k = "errors"; k; k = k[0] == 'e' ? "assembly" : NULL)
-			if (cJSON_GetObjectItemCaseSensitive(doc, k)) {
+		static const char *const design_only[] = {"errors", "assembly", NULL};
+		for (int k = 0; design_only[k]; k++)
+			if (cJSON_GetObjectItemCaseSensitive(doc, design_only[k])) {
 				char kp[PRSM_JSON_POINTER_MAX];
-				prsm_json_pointer_append(kp, sizeof kp, "", k);
-				prsm_problems_add(pr, kp, "not_allowed", "%s belongs to a design study, not a benchmark", k);
+				prsm_json_pointer_append(kp, sizeof kp, "", design_only[k]);
+				prsm_problems_add(pr, kp, "not_allowed", "%s belongs to a design study, not a benchmark",
+				                  design_only[k]);
 			}
 		design_rc = prsm_problems_total(pr) == start ? 0 : PRSM_EINVAL;
 	} else if (design) {
@@ -977,14 +978,6 @@ int prsm_io_study_load(prsm_io_study *out, const cJSON *doc, prsm_problems *warn
 
 /* ---- result ------------------------------------------------------------------------------ */
 
-static void num(cJSON *o, const char *name, double v)
-{
-	if (isfinite(v))
-		cJSON_AddNumberToObject(o, name, v);
-	else
-		cJSON_AddNullToObject(o, name);
-}
-
 static cJSON *pair(double a, double b)
 {
 	cJSON *arr = cJSON_CreateArray();
@@ -1005,14 +998,14 @@ static cJSON *dist_json(const prsm_io_tolerance *t)
 			continue;
 		if (t->dist.kind == PRSM_DIST_TRUNCNORMAL && q < 2)
 			pn = q == 0 ? "parent_mean" : "parent_sd";
-		num(o, pn, t->dist.p[q]);
+		prsm_json_add_number(o, pn, t->dist.p[q]);
 	}
-	num(o, "mean", prsm_dist_mean(&t->dist));
-	num(o, "sd", prsm_dist_sd(&t->dist));
-	num(o, "halfwidth", prsm_dist_halfwidth(&t->dist));
+	prsm_json_add_number(o, "mean", prsm_dist_mean(&t->dist));
+	prsm_json_add_number(o, "sd", prsm_dist_sd(&t->dist));
+	prsm_json_add_number(o, "halfwidth", prsm_dist_halfwidth(&t->dist));
 	if (t->shorthand) {
-		num(o, "tol", t->tol);
-		num(o, "cpk", t->cpk);
+		prsm_json_add_number(o, "tol", t->tol);
+		prsm_json_add_number(o, "cpk", t->cpk);
 	}
 	return o;
 }
@@ -1027,51 +1020,51 @@ static cJSON *output_json(const prsm_io_study *s, const prsm_study_result *r, si
 	const prsm_stats_summary *m = &q->summary;
 	cJSON *j = cJSON_CreateObject();
 	cJSON_AddNumberToObject(j, "n", (double)m->n);
-	num(j, "mean", m->mean);
-	num(j, "sd", m->sd);
-	num(j, "skewness", m->skewness);
-	num(j, "kurtosis_excess", m->kurtosis_excess);
-	num(j, "min", m->min);
-	num(j, "max", m->max);
+	prsm_json_add_number(j, "mean", m->mean);
+	prsm_json_add_number(j, "sd", m->sd);
+	prsm_json_add_number(j, "skewness", m->skewness);
+	prsm_json_add_number(j, "kurtosis_excess", m->kurtosis_excess);
+	prsm_json_add_number(j, "min", m->min);
+	prsm_json_add_number(j, "max", m->max);
 	cJSON *qs = cJSON_AddObjectToObject(j, "quantiles");
 	for (int k = 0; k < PRSM_STATS_QUANTILES; k++)
-		num(qs, quantile_names[k], m->quantile[k]);
+		prsm_json_add_number(qs, quantile_names[k], m->quantile[k]);
 	cJSON *h = cJSON_AddObjectToObject(j, "histogram");
-	num(h, "lower", m->hist_lower);
-	num(h, "upper", m->hist_upper);
+	prsm_json_add_number(h, "lower", m->hist_lower);
+	prsm_json_add_number(h, "upper", m->hist_upper);
 	cJSON *counts = cJSON_AddArrayToObject(h, "counts");
 	for (int k = 0; k < PRSM_STATS_HIST_BINS; k++)
 		cJSON_AddItemToArray(counts, cJSON_CreateNumber((double)m->hist_count[k]));
 	cJSON *se = cJSON_AddObjectToObject(j, "standard_errors");
-	num(se, "mean", m->se_mean);
-	num(se, "sd", m->se_sd);
-	num(se, "median", m->se_quantile_median);
+	prsm_json_add_number(se, "mean", m->se_mean);
+	prsm_json_add_number(se, "sd", m->se_sd);
+	prsm_json_add_number(se, "median", m->se_quantile_median);
 	if (st->outputs[o].has_spec) {
 		const prsm_spec *sp = &st->outputs[o].spec;
 		cJSON *spec = cJSON_AddObjectToObject(j, "spec");
 		if (sp->has_lower)
-			num(spec, "lower", sp->lower);
+			prsm_json_add_number(spec, "lower", sp->lower);
 		if (sp->has_upper)
-			num(spec, "upper", sp->upper);
+			prsm_json_add_number(spec, "upper", sp->upper);
 		cJSON *y = cJSON_AddObjectToObject(j, "yield");
-		num(y, "fraction", m->yield);
+		prsm_json_add_number(y, "fraction", m->yield);
 		cJSON_AddItemToObject(y, "interval95", pair(m->yield_low95, m->yield_high95));
-		num(y, "standard_error", m->se_yield);
+		prsm_json_add_number(y, "standard_error", m->se_yield);
 		cJSON_AddStringToObject(y, "interval_method", "Wilson score, 95 %");
 		cJSON *ppm = cJSON_AddObjectToObject(j, "ppm");
-		num(ppm, "low", m->ppm_low);
-		num(ppm, "high", m->ppm_high);
-		num(ppm, "low_normal_fit", m->ppm_low_normal);
-		num(ppm, "high_normal_fit", m->ppm_high_normal);
-		num(j, "cp", m->cp);
-		num(j, "cpk", m->cpk);
-		num(j, "cpk_standard_error", m->se_cpk);
+		prsm_json_add_number(ppm, "low", m->ppm_low);
+		prsm_json_add_number(ppm, "high", m->ppm_high);
+		prsm_json_add_number(ppm, "low_normal_fit", m->ppm_low_normal);
+		prsm_json_add_number(ppm, "high_normal_fit", m->ppm_high_normal);
+		prsm_json_add_number(j, "cp", m->cp);
+		prsm_json_add_number(j, "cpk", m->cpk);
+		prsm_json_add_number(j, "cpk_standard_error", m->se_cpk);
 	}
 	if (q->has_stack) {
 		cJSON *sk = cJSON_AddObjectToObject(j, "stack");
-		num(sk, "nominal", q->nominal);
+		prsm_json_add_number(sk, "nominal", q->nominal);
 		cJSON_AddItemToObject(sk, "worst_case", pair(q->worst_low, q->worst_high));
-		num(sk, "rss_halfwidth", q->rss);
+		prsm_json_add_number(sk, "rss_halfwidth", q->rss);
 		cJSON_AddItemToObject(sk, "rss", pair(q->nominal - q->rss, q->nominal + q->rss));
 		cJSON_AddStringToObject(sk, "method",
 		                        "one tolerance at a time at its half-width (3 sd for normal, the range for "
@@ -1080,8 +1073,8 @@ static cJSON *output_json(const prsm_io_study *s, const prsm_study_result *r, si
 		                        "changes, RSS adds them in quadrature");
 	}
 	cJSON *sens = cJSON_AddObjectToObject(j, "sensitivity");
-	num(sens, "src_r2", q->src_r2);
-	num(sens, "srrc_r2", q->srrc_r2);
+	prsm_json_add_number(sens, "src_r2", q->src_r2);
+	prsm_json_add_number(sens, "srrc_r2", q->srrc_r2);
 	cJSON_AddStringToObject(sens, "contribution_definition",
 	                        "src_percent = 100 x the sum of squared standardized regression coefficients over "
 	                        "the tolerance's variables: the share of the output variance the linear fit "
@@ -1095,19 +1088,19 @@ static cJSON *output_json(const prsm_io_study *s, const prsm_study_result *r, si
 		cJSON_AddStringToObject(t, "parameter", st->groups[g].name);
 		cJSON_AddNumberToObject(t, "variables", (double)st->groups[g].n_vars);
 		if (q->has_src) {
-			num(t, "src", c->src);
-			num(t, "srrc", c->srrc);
-			num(t, "src_percent", c->src_percent);
-			num(t, "srrc_percent", c->srrc_percent);
+			prsm_json_add_number(t, "src", c->src);
+			prsm_json_add_number(t, "srrc", c->srrc);
+			prsm_json_add_number(t, "src_percent", c->src_percent);
+			prsm_json_add_number(t, "srrc_percent", c->srrc_percent);
 		}
 		if (q->has_stack)
-			num(t, "stack_change", c->stack_um);
+			prsm_json_add_number(t, "stack_change", c->stack_um);
 		if (q->has_sobol) {
-			num(t, "sobol_first", c->sobol.first);
-			num(t, "sobol_first_standard_error", c->sobol.first_se);
+			prsm_json_add_number(t, "sobol_first", c->sobol.first);
+			prsm_json_add_number(t, "sobol_first_standard_error", c->sobol.first_se);
 			cJSON_AddItemToObject(t, "sobol_first_interval95", pair(c->sobol.first_low, c->sobol.first_high));
-			num(t, "sobol_total", c->sobol.total);
-			num(t, "sobol_total_standard_error", c->sobol.total_se);
+			prsm_json_add_number(t, "sobol_total", c->sobol.total);
+			prsm_json_add_number(t, "sobol_total_standard_error", c->sobol.total_se);
 			cJSON_AddItemToObject(t, "sobol_total_interval95", pair(c->sobol.total_low, c->sobol.total_high));
 		}
 		cJSON_AddItemToArray(arr, t);
@@ -1156,8 +1149,8 @@ cJSON *prsm_io_study_result_to_json(const prsm_io_study *s, const prsm_study_res
 	cJSON_AddStringToObject(doc, "stop_reason", prsm_stop_reason_name(run->stop));
 	cJSON_AddBoolToObject(doc, "converged", run->converged);
 	cJSON *tm = cJSON_AddObjectToObject(doc, "timing_s");
-	num(tm, "monte_carlo", r->elapsed_run_s);
-	num(tm, "sensitivity", r->elapsed_sensitivity_s);
+	prsm_json_add_number(tm, "monte_carlo", r->elapsed_run_s);
+	prsm_json_add_number(tm, "sensitivity", r->elapsed_sensitivity_s);
 	cJSON_AddNumberToObject(tm, "threads", st->mc.threads);
 	cJSON_AddBoolToObject(doc, "cache_hit", 0);
 	cJSON *w = cJSON_AddArrayToObject(doc, "warnings");

@@ -174,8 +174,6 @@ int prsm_mc_block_uniforms(double *u, size_t n, size_t dim, prsm_sampler_kind ki
                            uint64_t stream, size_t first_index, size_t *scratch)
 {
 	sampler s;
-	if (kind == PRSM_SAMPLER_SOBOL && (dim == 0 || dim > PRSM_MC_SOBOL_MAX_DIM))
-		return PRSM_EINVAL;
 	int rc = sampler_init(&s, kind, dim, seed);
 	if (rc)
 		return rc;
@@ -337,7 +335,7 @@ static int eval_one(worker *w, const double *x, double *y, int *code)
 	return (flags & PRSM_MC_FLAG_EDGE) ? PRSM_SAMPLE_EDGE : PRSM_SAMPLE_OK;
 }
 
-static int counts_in(int status, const prsm_mc_options *o)
+int prsm_mc_sample_kept(const prsm_mc_options *o, int status)
 {
 	return status == PRSM_SAMPLE_OK || (status == PRSM_SAMPLE_EDGE && o->edge == PRSM_EDGE_INCLUDE);
 }
@@ -368,7 +366,7 @@ static void run_block(worker *w, size_t b)
 			if (st == PRSM_SAMPLE_FAILED)
 				for (size_t k = 0; k < m; k++)
 					y[k] = NAN;
-			if (counts_in(st, o))
+			if (prsm_mc_sample_kept(o, st))
 				for (int t = 0; t < o->n_targets; t++) {
 					const prsm_mc_target *tg = &o->targets[t];
 					double v = y[tg->output];

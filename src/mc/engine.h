@@ -170,6 +170,9 @@ int prsm_mc_result_concat(prsm_mc_result *out, const prsm_mc_result *a, const pr
 
 void prsm_mc_result_free(prsm_mc_result *r);
 
+/* 1 when a sample of this status enters the statistics under o's edge policy. */
+int prsm_mc_sample_kept(const prsm_mc_options *o, int status);
+
 /* Check correlations as the runs will: valid pairs, |rho| < 1, a positive definite matrix.
  * Returns 0 or PRSM_EINVAL with err saying which. */
 int prsm_mc_correlation_check(const prsm_mc_correlation *corr, size_t n_corr, size_t d,

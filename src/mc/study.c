@@ -50,11 +50,6 @@ static void warn(prsm_study_result *r, const char *fmt, ...)
 	va_end(ap);
 }
 
-static int kept(const prsm_mc_options *o, int status)
-{
-	return status == PRSM_SAMPLE_OK || (status == PRSM_SAMPLE_EDGE && o->edge == PRSM_EDGE_INCLUDE);
-}
-
 /* One-at-a-time stack: centre x0, each variable moved by its half-width (radial magnitudes
  * with their worst phase), Delta_i = change of each output. */
 static int stack(prsm_study_result *r, const prsm_study *s, prsm_error *err)
@@ -140,7 +135,7 @@ int prsm_study_summarise(prsm_study_result *r, const prsm_study *s, prsm_error *
 	int rc = 0;
 	size_t nk = 0;
 	for (size_t j = 0; j < n; j++)
-		nk += kept(&s->mc, run->status[j]) ? 1 : 0;
+		nk += prsm_mc_sample_kept(&s->mc, run->status[j]) ? 1 : 0;
 	if (nk < 2)
 		return prsm_error_set(err, PRSM_ENOCONVERGE, NULL,
 		                      "only %zu of %zu samples were usable: nothing to summarise", nk, n);
@@ -161,14 +156,14 @@ int prsm_study_summarise(prsm_study_result *r, const prsm_study *s, prsm_error *
 		}
 		size_t q = 0;
 		for (size_t j = 0; j < n; j++)
-			if (kept(&s->mc, run->status[j]))
+			if (prsm_mc_sample_kept(&s->mc, run->status[j]))
 				memcpy(xk + (q++) * d, run->x + j * d, d * sizeof *xk);
 	}
 	for (size_t o = 0; o < m; o++) {
 		prsm_study_output_result *res = &r->out[o];
 		size_t q = 0;
 		for (size_t j = 0; j < n; j++)
-			if (kept(&s->mc, run->status[j]))
+			if (prsm_mc_sample_kept(&s->mc, run->status[j]))
 				y[q++] = run->y[j * m + o];
 		rc = prsm_stats_summarise(&res->summary, y, nk, s->outputs[o].has_spec ? &s->outputs[o].spec : NULL,
 		                          scratch, err);
@@ -239,7 +234,7 @@ static int sobol(prsm_study_result *r, const prsm_study *s, prsm_error *err)
 	const size_t n = sr.n, G = s->n_groups, K = G + 2, m = s->m;
 	size_t nk = 0;
 	for (size_t j = 0; j < n; j++)
-		nk += kept(&s->mc, sr.status[j]) ? 1 : 0;
+		nk += prsm_mc_sample_kept(&s->mc, sr.status[j]) ? 1 : 0;
 	r->has_sobol = 1;
 	r->sobol_rows = n;
 	r->sobol_rows_ok = nk;
@@ -265,7 +260,7 @@ static int sobol(prsm_study_result *r, const prsm_study *s, prsm_error *err)
 		for (size_t k = 0; k < K; k++) {
 			size_t q = 0;
 			for (size_t j = 0; j < n; j++)
-				if (kept(&s->mc, sr.status[j]))
+				if (prsm_mc_sample_kept(&s->mc, sr.status[j]))
 					buf[k * nk + q++] = sr.ys[(o * K + k) * n + j];
 		}
 		/* every output's bootstrap draws the same resamples */
