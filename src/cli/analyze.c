@@ -8,27 +8,9 @@
 
 #include "cli/commands.h"
 #include "io/analysis_json.h"
-#include "io/assembly_json.h"
-#include "io/design_json.h"
-#include "io/errors_json.h"
+#include "io/analyze_request.h"
 #include "io/json_util.h"
-#include "model/analysis.h"
-#include "model/assembly_report.h"
 #include "util/file.h"
-
-/* What a request asks for: a design document alone (the nominal analysis), or
- * {"design", "errors", "assembly"} (the nominal analysis and the error analysis of MODEL.md §3,
- * §4 for one concrete error set). */
-typedef struct {
-	prsm_design d;
-	prsm_analysis a;
-	int with_errors;               /* the request form with errors and/or assembly */
-	prsm_errors errors;
-	prsm_assembly_options options;
-	prsm_assembly as;
-} request;
-
-static const char *const request_keys[] = {"design", "errors", "assembly", NULL};
 
 typedef struct {
 	const char *path;
@@ -114,101 +96,12 @@ int prsm_cli_read_document(cJSON **doc, const char *path, prsm_problems *problem
 	return *doc ? 0 : PRSM_EXIT_INVALID;
 }
 
-/* Load the request document doc (taken over and freed here); problems go to *problems.
- * Returns 0 or an exit code. */
-static int load(request *rq, prsm_geometry *g, prsm_problems *warnings, prsm_problems *problems,
-                cJSON *doc)
-{
-	int rc;
-	rq->with_errors = cJSON_IsObject(doc) && cJSON_GetObjectItemCaseSensitive(doc, "design") != NULL;
-	if (!rq->with_errors) {
-		rc = prsm_io_design_load(&rq->d, g, warnings, doc, "", problems);
-	} else {
-		prsm_json_check_keys(doc, "", request_keys, problems);
-		const cJSON *design = cJSON_GetObjectItemCaseSensitive(doc, "design");
-		rc = prsm_io_design_load(&rq->d, g, warnings, design, "/design", problems);
-		const cJSON *errors = NULL, *opts = NULL;
-		char ep[PRSM_JSON_POINTER_MAX], op[PRSM_JSON_POINTER_MAX];
-		prsm_json_get_object(&errors, doc, "", "errors", PRSM_JSON_OPTIONAL, problems);
-		prsm_json_get_object(&opts, doc, "", "assembly", PRSM_JSON_OPTIONAL, problems);
-		prsm_json_pointer_append(ep, sizeof ep, "", "errors");
-		prsm_json_pointer_append(op, sizeof op, "", "assembly");
-		/* the error set's shape (Z rollers, n starts) and the lead need the design; when it is
-		 * invalid the rest is still checked against an unknown one, all problems at once */
-		prsm_design unknown;
-		prsm_design_init(&unknown);
-		unknown.rollers = unknown.starts = 0;
-		const prsm_design *shape = rc == 0 ? &rq->d : &unknown;
-		prsm_io_errors_from_json(&rq->errors, errors, ep, shape, problems);
-		prsm_io_assembly_options_from_json(&rq->options, opts, op, shape, problems);
-		if (problems->count || problems->dropped)
-			rc = PRSM_EINVAL;
-	}
-	cJSON_Delete(doc);
-	return rc ? PRSM_EXIT_INVALID : 0;
-}
-
-/* Parse, load and analyse the request: the checks shared by validate and analyze. Problems of
- * the document and of the nominal contacts (edge contact, no contact point) go to *problems;
- * warnings are those of the analysis. Returns 0 or an exit code. */
-static int load_and_analyse(request *rq, prsm_problems *warnings, prsm_problems *problems,
-                            cJSON *doc)
-{
-	prsm_geometry g;
-	int rc = load(rq, &g, warnings, problems, doc);
-	if (rc)
-		return rc;
-	prsm_error err = PRSM_ERROR_INIT;
-	int arc = prsm_analysis_nominal(&rq->a, &rq->d, warnings, &err);
-	if (arc == 0 && rq->with_errors)
-		arc = prsm_assembly_init(&rq->as, &rq->d, &rq->a, &err);
-	if (arc == 0)
-		return 0;
-	/* only the contact solver can tell that the contacts lie on their flanks */
-	char ptr[PRSM_JSON_POINTER_MAX + 8];
-	snprintf(ptr, sizeof ptr, "%s%s", rq->with_errors ? "/design" : "", err.pointer);
-	prsm_problems_add(problems, ptr,
-	                  arc == PRSM_EEDGE ? "edge_contact" : arc == PRSM_EINVAL ? "too_large" : "no_contact",
-	                  "%s", err.message);
-	return prsm_error_exit_code(arc);
-}
-
-/* The error analysis of the request's error set (MODEL.md §3, §4); ws buffers allocated here. */
-typedef struct {
-	prsm_assembly_report report;
-	prsm_assembly_workspace *ws;
-} error_analysis;
-
-static int run_error_analysis(error_analysis *ea, const request *rq)
-{
-	int n, m;
-	prsm_assembly_record_length(&n, &m, &rq->as, &rq->options);
-	ea->ws = calloc(1, sizeof *ea->ws);
-	if (ea->ws == NULL)
-		return PRSM_EXIT_FAILED;
-	ea->ws->te_mm = calloc((size_t)n, sizeof(double));
-	ea->ws->spectrum_mm = calloc((size_t)m, sizeof(double));
-	if (ea->ws->te_mm == NULL || ea->ws->spectrum_mm == NULL)
-		return PRSM_EXIT_FAILED;
-	prsm_assembly_analyse(&ea->report, &rq->as, &rq->errors, &rq->options, ea->ws);
-	return 0;
-}
-
-static void free_error_analysis(error_analysis *ea)
-{
-	if (ea->ws) {
-		free(ea->ws->te_mm);
-		free(ea->ws->spectrum_mm);
-		free(ea->ws);
-	}
-}
-
 int prsm_cli_validate(int argc, char **argv)
 {
 	options o;
 	if (parse_options(&o, argc, argv, 1))
 		return PRSM_EXIT_USAGE;
-	request *rq = calloc(1, sizeof *rq);
+	prsm_analyze_request *rq = calloc(1, sizeof *rq);
 	if (rq == NULL)
 		return PRSM_EXIT_FAILED;
 	prsm_problems warnings, problems;
@@ -216,12 +109,12 @@ int prsm_cli_validate(int argc, char **argv)
 	prsm_problems_init(&problems);
 	cJSON *doc;
 	int rc = prsm_cli_read_document(&doc, o.path, &problems);
-	if (rc == 0 && cJSON_IsObject(doc) && cJSON_GetObjectItemCaseSensitive(doc, "tolerances")) {
+	if (rc == 0 && cJSON_IsObject(doc) && cJSON_GetObjectItemCaseSensitive(doc, "tolerances"))
 		rc = prsm_cli_study_check(doc, &warnings, &problems);
-		cJSON_Delete(doc);
-	} else if (rc == 0) {
-		rc = load_and_analyse(rq, &warnings, &problems, doc);
-	}
+	else if (rc == 0)
+		rc = prsm_error_exit_code(prsm_io_analyze_load(rq, doc, &warnings, &problems));
+	cJSON_Delete(doc);
+	prsm_io_analyze_free(rq);
 	free(rq);
 	if (rc == PRSM_EXIT_USAGE) {
 		prsm_cli_print_problems(stderr, o.path, &problems);
@@ -245,7 +138,7 @@ int prsm_cli_validate(int argc, char **argv)
 	return rc;
 }
 
-static int write_analysis(const options *o, const request *rq, const error_analysis *ea,
+static int write_analysis(const options *o, const prsm_analyze_request *rq,
                           const prsm_problems *warnings)
 {
 	if (o->text) {
@@ -254,21 +147,15 @@ static int write_analysis(const options *o, const request *rq, const error_analy
 			perror(o->out_path);
 			return PRSM_EXIT_FAILED;
 		}
-		prsm_io_analysis_print_text(f, &rq->a, &rq->d, warnings);
-		if (rq->with_errors)
-			prsm_io_assembly_print_text(f, &ea->report, &rq->as);
+		prsm_io_analyze_print_text(f, rq, warnings);
 		int bad = ferror(f);
 		if (f != stdout)
 			bad |= fclose(f);
 		return bad ? PRSM_EXIT_FAILED : 0;
 	}
-	cJSON *res = prsm_io_analysis_to_json(&rq->a, &rq->d, warnings);
+	cJSON *res = prsm_io_analyze_to_json(rq, warnings);
 	if (res == NULL)
 		return PRSM_EXIT_FAILED;
-	if (rq->with_errors) {
-		cJSON_AddItemToObject(res, "errors", prsm_io_errors_to_json(&rq->errors, rq->d.starts));
-		cJSON_AddItemToObject(res, "assembly", prsm_io_assembly_to_json(&ea->report, &rq->as, &rq->options, ea->ws));
-	}
 	int rc = prsm_cli_print_json(res, o->out_path);
 	cJSON_Delete(res);
 	return rc;
@@ -279,26 +166,25 @@ int prsm_cli_analyze(int argc, char **argv)
 	options o;
 	if (parse_options(&o, argc, argv, 0))
 		return PRSM_EXIT_USAGE;
-	request *rq = calloc(1, sizeof *rq);
+	prsm_analyze_request *rq = calloc(1, sizeof *rq);
 	if (rq == NULL)
 		return PRSM_EXIT_FAILED;
 	prsm_problems warnings, problems;
 	prsm_problems_init(&warnings);
 	prsm_problems_init(&problems);
-	error_analysis ea = {0};
 	cJSON *doc;
 	int rc = prsm_cli_read_document(&doc, o.path, &problems);
 	if (rc == 0)
-		rc = load_and_analyse(rq, &warnings, &problems, doc);
+		rc = prsm_error_exit_code(prsm_io_analyze_load(rq, doc, &warnings, &problems));
+	cJSON_Delete(doc);
 	if (rc) {
 		prsm_cli_print_problems(stderr, o.path, &problems);
 	} else {
-		if (rq->with_errors)
-			rc = run_error_analysis(&ea, rq);
+		rc = prsm_error_exit_code(prsm_io_analyze_run(rq));
 		if (rc == 0)
-			rc = write_analysis(&o, rq, &ea, &warnings);
+			rc = write_analysis(&o, rq, &warnings);
 	}
-	free_error_analysis(&ea);
+	prsm_io_analyze_free(rq);
 	free(rq);
 	return rc;
 }

@@ -1,0 +1,140 @@
+/*
+ * analyze_request.c: the analyze request from JSON to its result (MODEL.md §2–§6), for the CLI
+ * and the service alike.
+ */
+#include "io/analyze_request.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "io/analysis_json.h"
+#include "io/assembly_json.h"
+#include "io/design_json.h"
+#include "io/errors_json.h"
+#include "io/json_util.h"
+#include "util/error.h"
+
+static const char *const request_keys[] = {"design", "errors", "assembly", NULL};
+
+/* The document part: design, and the error set with its options when asked. Returns 0 or
+ * PRSM_EINVAL / PRSM_EGEOMETRY (prsm_io_design_load's codes). */
+static int load_document(prsm_analyze_request *rq, prsm_geometry *g, prsm_problems *warnings,
+                         prsm_problems *problems, const cJSON *doc)
+{
+	int rc;
+	rq->with_errors = cJSON_IsObject(doc) && cJSON_GetObjectItemCaseSensitive(doc, "design") != NULL;
+	if (!rq->with_errors)
+		return prsm_io_design_load(&rq->d, g, warnings, doc, "", problems);
+	prsm_json_check_keys(doc, "", request_keys, problems);
+	const cJSON *design = cJSON_GetObjectItemCaseSensitive(doc, "design");
+	rc = prsm_io_design_load(&rq->d, g, warnings, design, "/design", problems);
+	const cJSON *errors = NULL, *opts = NULL;
+	char ep[PRSM_JSON_POINTER_MAX], op[PRSM_JSON_POINTER_MAX];
+	prsm_json_get_object(&errors, doc, "", "errors", PRSM_JSON_OPTIONAL, problems);
+	prsm_json_get_object(&opts, doc, "", "assembly", PRSM_JSON_OPTIONAL, problems);
+	prsm_json_pointer_append(ep, sizeof ep, "", "errors");
+	prsm_json_pointer_append(op, sizeof op, "", "assembly");
+	/* the error set's shape (Z rollers, n starts) and the lead need the design; when it is
+	 * invalid the rest is still checked against an unknown one, all problems at once */
+	prsm_design unknown;
+	prsm_design_init(&unknown);
+	unknown.rollers = unknown.starts = 0;
+	const prsm_design *shape = rc == 0 ? &rq->d : &unknown;
+	prsm_io_errors_from_json(&rq->errors, errors, ep, shape, problems);
+	prsm_io_assembly_options_from_json(&rq->options, opts, op, shape, problems);
+	if (rc == 0 && (problems->count || problems->dropped))
+		rc = PRSM_EINVAL;
+	return rc;
+}
+
+int prsm_io_analyze_load(prsm_analyze_request *rq, const cJSON *doc, prsm_problems *warnings,
+                         prsm_problems *problems)
+{
+	memset(rq, 0, sizeof *rq);
+	prsm_geometry g;
+	int rc = load_document(rq, &g, warnings, problems, doc);
+	if (rc)
+		return rc;
+	prsm_error err = PRSM_ERROR_INIT;
+	rc = prsm_analysis_nominal(&rq->a, &rq->d, warnings, &err);
+	if (rc == 0 && rq->with_errors)
+		rc = prsm_assembly_init(&rq->as, &rq->d, &rq->a, &err);
+	if (rc == 0)
+		return 0;
+	/* only the contact solver can tell that the contacts lie on their flanks */
+	char ptr[PRSM_JSON_POINTER_MAX + 8];
+	snprintf(ptr, sizeof ptr, "%s%s", rq->with_errors ? "/design" : "", err.pointer);
+	prsm_problems_add(problems, ptr,
+	                  rc == PRSM_EEDGE ? "edge_contact" : rc == PRSM_EINVAL ? "too_large" : "no_contact",
+	                  "%s", err.message);
+	return rc;
+}
+
+int prsm_io_analyze_run(prsm_analyze_request *rq)
+{
+	if (!rq->with_errors)
+		return 0;
+	int n, m;
+	prsm_assembly_record_length(&n, &m, &rq->as, &rq->options);
+	rq->ws = calloc(1, sizeof *rq->ws);
+	if (rq->ws == NULL)
+		return PRSM_ENOMEM;
+	rq->ws->te_mm = calloc((size_t)n, sizeof(double));
+	rq->ws->spectrum_mm = calloc((size_t)m, sizeof(double));
+	if (rq->ws->te_mm == NULL || rq->ws->spectrum_mm == NULL)
+		return PRSM_ENOMEM;
+	prsm_assembly_analyse(&rq->report, &rq->as, &rq->errors, &rq->options, rq->ws);
+	return 0;
+}
+
+cJSON *prsm_io_analyze_to_json(const prsm_analyze_request *rq, const prsm_problems *warnings)
+{
+	cJSON *res = prsm_io_analysis_to_json(&rq->a, &rq->d, warnings);
+	if (res == NULL)
+		return NULL;
+	if (rq->with_errors) {
+		cJSON_AddItemToObject(res, "errors", prsm_io_errors_to_json(&rq->errors, rq->d.starts));
+		cJSON_AddItemToObject(res, "assembly",
+		                      prsm_io_assembly_to_json(&rq->report, &rq->as, &rq->options, rq->ws));
+	}
+	return res;
+}
+
+void prsm_io_analyze_print_text(FILE *out, const prsm_analyze_request *rq,
+                                const prsm_problems *warnings)
+{
+	prsm_io_analysis_print_text(out, &rq->a, &rq->d, warnings);
+	if (rq->with_errors)
+		prsm_io_assembly_print_text(out, &rq->report, &rq->as);
+}
+
+void prsm_io_analyze_free(prsm_analyze_request *rq)
+{
+	if (rq->ws) {
+		free(rq->ws->te_mm);
+		free(rq->ws->spectrum_mm);
+		free(rq->ws);
+		rq->ws = NULL;
+	}
+}
+
+int prsm_io_analyze(cJSON **out, const cJSON *doc, prsm_problems *problems)
+{
+	*out = NULL;
+	prsm_analyze_request *rq = calloc(1, sizeof *rq);
+	if (rq == NULL)
+		return PRSM_ENOMEM;
+	prsm_problems warnings;
+	prsm_problems_init(&warnings);
+	int rc = prsm_io_analyze_load(rq, doc, &warnings, problems);
+	if (rc == 0)
+		rc = prsm_io_analyze_run(rq);
+	if (rc == 0) {
+		*out = prsm_io_analyze_to_json(rq, &warnings);
+		if (*out == NULL)
+			rc = PRSM_ENOMEM;
+	}
+	prsm_io_analyze_free(rq);
+	free(rq);
+	return rc;
+}

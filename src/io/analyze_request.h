@@ -1,0 +1,62 @@
+/*
+ * analyze_request.h: the analyze request (schemas/analyze-request.schema.json) from JSON to its
+ * result, shared by `prsm analyze`/`prsm validate` and the service's POST /v1/designs/analyze.
+ *
+ * A request is a design document alone (the nominal analysis) or {"design", "errors",
+ * "assembly"} (the nominal analysis and the error analysis of MODEL.md §3, §4 for one concrete
+ * error set). Every problem of the document is reported at once, with its JSON pointer; the
+ * contact solver's findings (an edge contact, no contact point) are problems too, at the
+ * pointer of the design's geometry.
+ */
+#ifndef PRSM_IO_ANALYZE_REQUEST_H
+#define PRSM_IO_ANALYZE_REQUEST_H
+
+#include <stdio.h>
+
+#include <cJSON.h>
+
+#include "model/analysis.h"
+#include "model/assembly.h"
+#include "model/assembly_report.h"
+#include "model/design.h"
+#include "model/errors.h"
+#include "util/problems.h"
+
+typedef struct {
+	prsm_design d;                 /* the resolved design (thinning solved when asked) */
+	prsm_analysis a;               /* its nominal analysis */
+	int with_errors;               /* the request form with errors and/or assembly */
+	prsm_errors errors;            /* the error set (with_errors) */
+	prsm_assembly_options options; /* error-analysis options (with_errors) */
+	prsm_assembly as;              /* the assembly built from the design (with_errors) */
+	prsm_assembly_report report;   /* the error analysis, after prsm_io_analyze_run */
+	prsm_assembly_workspace *ws;   /* its buffers, owned here (prsm_io_analyze_free) */
+} prsm_analyze_request;
+
+/* Read the request doc (not taken over) into rq and run the nominal analysis. Problems of the
+ * document and of the nominal contacts go to problems, rule and analysis warnings to
+ * warnings. Returns 0, PRSM_EINVAL (the document), PRSM_EEDGE or PRSM_EGEOMETRY (the design
+ * cannot work) or PRSM_ENOMEM. rq is zeroed first; free it with prsm_io_analyze_free. */
+int prsm_io_analyze_load(prsm_analyze_request *rq, const cJSON *doc, prsm_problems *warnings,
+                         prsm_problems *problems);
+
+/* The error analysis of a loaded request with errors (nothing to do without them); allocates
+ * rq->ws. Returns 0 or PRSM_ENOMEM. */
+int prsm_io_analyze_run(prsm_analyze_request *rq);
+
+/* The result document of a loaded and run request; the caller owns it. NULL when out of
+ * memory. */
+cJSON *prsm_io_analyze_to_json(const prsm_analyze_request *rq, const prsm_problems *warnings);
+
+/* The engineer's one-page text summary of a loaded and run request. */
+void prsm_io_analyze_print_text(FILE *out, const prsm_analyze_request *rq,
+                                const prsm_problems *warnings);
+
+/* Free what rq owns (not rq itself). */
+void prsm_io_analyze_free(prsm_analyze_request *rq);
+
+/* Everything in one call, for a service: load, run and build the result (*out, owned by the
+ * caller) or fill problems. Returns 0 or the code of prsm_io_analyze_load/run. */
+int prsm_io_analyze(cJSON **out, const cJSON *doc, prsm_problems *problems);
+
+#endif
