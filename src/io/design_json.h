@@ -31,6 +31,10 @@
 #define PRSM_DESIGN_E_MAX_GPA 2000.0
 #define PRSM_DESIGN_LOAD_MAX_N 1e8
 #define PRSM_DESIGN_SPEED_MAX_RPM 1e5
+#define PRSM_DESIGN_DENSITY_MAX_KG_M3 50000.0
+#define PRSM_DESIGN_GEAR_TEETH_MAX 1000
+#define PRSM_DESIGN_TORQUE_MAX_NM 1e6
+#define PRSM_DESIGN_CURVE_POINTS_MAX 1000
 
 /*
  * Read the design document doc into out (initialised here with prsm_design_init(); optional

@@ -17,7 +17,55 @@ enum { PRSM_HAND_RIGHT = 1, PRSM_HAND_LEFT = -1 };
 typedef struct {
 	double E_MPa;   /* Young's modulus, MPa */
 	double poisson; /* Poisson's ratio, - */
+	double density_kg_m3; /* density, kg/m^3 (column critical speed, masses) */
 } prsm_material;
+
+/* Losses beyond flank sliding (MODEL.md §5, second bullet); src/model/losses.h computes them. */
+typedef struct {
+	int spin;                     /* spin friction at every contact: 1 on (default), 0 off */
+	int gear_mesh;                /* ring-gear mesh loss: 1 on (default), 0 off */
+	double gear_friction;         /* Coulomb mu of the gear teeth, - */
+	int roller_gear_teeth;        /* z_1; 0: the default rule of losses.h */
+	int ring_gear_teeth;          /* z_2; 0: z_1 r_n / r_r */
+	double gear_contact_ratio;    /* epsilon_alpha, - */
+	double gear_pressure_angle_rad; /* rad */
+	double drag_torque_Nm;        /* load-independent drag torque on the screw, N m */
+	double viscous_drag_Nm_s_per_rad; /* drag torque per screw speed, N m s/rad */
+	double seal_torque_Nm;        /* seal torque, N m */
+} prsm_design_losses;
+
+/* Load entry of the spring-chain load distribution (MODEL.md §6). */
+enum { PRSM_ENTRY_SAME_SIDE = 0, PRSM_ENTRY_OPPOSITE_SIDE = 1 };
+
+/* Thread compliance, load distribution and stiffness settings (MODEL.md §6). The thread
+ * compliance fields mirror prsm_compliance_options (model/compliance.h). */
+typedef struct {
+	int width_rule;               /* PRSM_THREAD_COMPLIANCE_NONE or PRSM_THREAD_WIDTH_* */
+	double width_fraction;        /* share rule: fraction of the circumference share, - */
+	double width_mm;              /* given rule: effective width, mm */
+	double ellipse_factor;        /* ellipse rule: w = factor x 2a, - */
+	double calibration;           /* multiplies every thread compliance, - */
+	int negative_terms;           /* PRSM_YAMAMOTO_CLAMP or PRSM_YAMAMOTO_KEEP */
+	int load_entry;               /* PRSM_ENTRY_* */
+	int curve_points;             /* load-deflection curve points; 0: no curve */
+	double curve_max_load_N;      /* its largest load, N; NaN: 2 x the operating load */
+} prsm_design_stiffness;
+
+#define PRSM_DUTY_CYCLE_MAX 64
+
+/* Capacity and life settings (MODEL.md §6). */
+typedef struct {
+	double p_allow_MPa;           /* allowed peak pressure for C_0a, MPa */
+	int reliability_percent;      /* 90, 95, 96, 97, 98 or 99 */
+	int duty_steps;               /* 0: the operating load throughout */
+	double duty_load_N[PRSM_DUTY_CYCLE_MAX];    /* axial load of each step, N */
+	double duty_travel_mm[PRSM_DUTY_CYCLE_MAX]; /* travel of each step, mm */
+	double preload_N;             /* preload of a two-half nut, N; 0: none */
+	double lp_material_factor;    /* b_m of the Lundberg-Palmgren rating, - */
+	int column;                   /* 1 when free length and fixity are given */
+	double free_length_mm;        /* unsupported screw length, mm */
+	int fixity;                   /* PRSM_FIXITY_* (model/life.h) */
+} prsm_design_life;
 
 /* How a target clearance is split into flank shifts (the rule is reported with the result). */
 enum { PRSM_THINNING_GIVEN = 0, PRSM_THINNING_EQUAL_GAPS = 1 };
@@ -49,6 +97,10 @@ typedef struct {
 	prsm_material screw_material, roller_material, nut_material;
 	double mu_screw_roller;       /* Coulomb friction coefficient at the screw-roller contact */
 	double mu_nut_roller;         /* Coulomb friction coefficient at the nut-roller contact */
+	double nut_outer_radius_mm;   /* outer radius of the nut body, mm; NaN: 1.3 r_n */
+	prsm_design_losses losses;    /* efficiency beyond sliding */
+	prsm_design_stiffness stiffness; /* thread compliance, load distribution, stiffness */
+	prsm_design_life life;        /* capacity, life, column */
 	/* operating point */
 	double axial_load_N;          /* F on the nut, N */
 	double screw_speed_rad_s;     /* omega of the screw, rad/s */

@@ -5,6 +5,9 @@
 
 #include <math.h>
 
+#include "model/compliance.h"
+#include "model/life.h"
+
 double prsm_design_lead_mm(const prsm_design *d)
 {
 	return d->starts * d->pitch_mm; /* MODEL.md §1: L = n P */
@@ -27,7 +30,7 @@ double prsm_design_orbit_radius_mm(const prsm_design *d)
 
 void prsm_design_init(prsm_design *d)
 {
-	const prsm_material steel = {206000.0, 0.3};
+	const prsm_material steel = {206000.0, 0.3, 7850.0};
 	*d = (prsm_design){0};
 	d->starts = 0;
 	d->hand = PRSM_HAND_RIGHT;
@@ -51,6 +54,17 @@ void prsm_design_init(prsm_design *d)
 	d->mu_nut_roller = 0.05;
 	d->axial_load_N = 0.0;
 	d->screw_speed_rad_s = 0.0;
+	d->nut_outer_radius_mm = NAN;
+	/* MODEL.md §5: drag and seal torques default 0; spin and gear mesh on */
+	d->losses = (prsm_design_losses){1, 1, 0.05, 0, 0, 1.5, 20.0 * M_PI / 180.0, 0.0, 0.0, 0.0};
+	/* MODEL.md §6: Yamamoto with the circumference-share width, calibration 1, clamped */
+	d->stiffness = (prsm_design_stiffness){PRSM_THREAD_WIDTH_SHARE, 1.0, 1.0, 1.0, 1.0,
+	                                       PRSM_YAMAMOTO_CLAMP, PRSM_ENTRY_SAME_SIDE, 0, NAN};
+	d->life = (prsm_design_life){0};
+	d->life.p_allow_MPa = PRSM_STATIC_P_ALLOW_MPA;
+	d->life.reliability_percent = 90;
+	d->life.lp_material_factor = 1.0;
+	d->life.fixity = PRSM_FIXITY_SUPPORTED_SUPPORTED;
 }
 
 int prsm_design_resolve(prsm_design *d, prsm_problems *errors)
@@ -125,6 +139,10 @@ int prsm_geometry_check(prsm_geometry *out, prsm_problems *warnings, prsm_proble
 		prsm_problems_add(errors, "/geometry/screw_root_radius_mm", "thread_extent",
 		                  "screw needs 0 < root (%g) < pitch radius (%g) < crest (%g) mm",
 		                  d->screw_root_radius_mm, rs, d->screw_crest_radius_mm);
+	if (!isnan(d->nut_outer_radius_mm) && !(d->nut_outer_radius_mm > d->nut_root_radius_mm))
+		prsm_problems_add(errors, "/geometry/nut_outer_radius_mm", "nut_wall",
+		                  "nut outer radius %g mm must exceed the nut root radius %g mm",
+		                  d->nut_outer_radius_mm, d->nut_root_radius_mm);
 	if (!(d->roller_root_radius_mm > 0.0 && d->roller_root_radius_mm < rr && rr < d->roller_crest_radius_mm))
 		prsm_problems_add(errors, "/geometry/roller_root_radius_mm", "thread_extent",
 		                  "roller needs 0 < root (%g) < pitch radius (%g) < crest (%g) mm",
