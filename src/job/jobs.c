@@ -1,0 +1,481 @@
+/*
+ * jobs.c: submissions, the worker pool and live progress (see jobs.h).
+ *
+ * Locking: j->mu guards the workers' slots (which job each runs, its cancel flag and
+ * progress) and the stopping flag; a claim from the store and the registration of the
+ * claimed job happen under it, as do a cancel in the store and the raising of the running
+ * worker's flag, so a cancel can never fall between a claim and its registration. Workers
+ * sleep on j->cv; a submission that creates a job wakes one. The store has its own locks.
+ */
+#include "job/jobs.h"
+
+#include <math.h>
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "io/analysis_json.h"
+#include "io/canonical.h"
+#include "util/clock.h"
+#include "util/sha256.h"
+
+typedef struct {
+	struct prsm_jobs *jobs;
+	pthread_t thread;
+	int started;
+	char id[PRSM_STORE_ID_MAX];          /* the job running here, "" when idle */
+	volatile int cancel;                 /* raised by a cancel or by closing */
+	size_t done, planned;                /* progress of the running job */
+	double started_clock_s;              /* prsm_clock_seconds() at its start */
+} worker;
+
+struct prsm_jobs {
+	prsm_store *store;
+	prsm_jobs_options opt;
+	pthread_mutex_t mu;
+	pthread_cond_t cv;
+	int stopping;
+	int n_workers;
+	worker w[PRSM_JOBS_MAX_WORKERS];
+};
+
+void prsm_job_view_clear(prsm_job_view *v)
+{
+	prsm_store_job_clear(&v->row);
+}
+
+static void progress_cb(void *ctx, size_t done, size_t planned)
+{
+	worker *w = ctx;
+	pthread_mutex_lock(&w->jobs->mu);
+	w->done = done;
+	w->planned = planned;
+	pthread_mutex_unlock(&w->jobs->mu);
+}
+
+/* The problem document of a failed run, as text (malloc'd; NULL when out of memory). */
+static char *failure_problem(const prsm_error *err)
+{
+	prsm_problems p;
+	prsm_problems_init(&p);
+	prsm_problems_add(&p, err->pointer, "computation", "%s", err->message[0] ? err->message : prsm_error_name(err->code));
+	int status = prsm_error_http_status(err->code);
+	cJSON *doc = prsm_io_problem_document(status, status == 422 ? "Unprocessable Content" : "Computation failed", &p);
+	char *text = doc ? cJSON_PrintUnformatted(doc) : NULL;
+	cJSON_Delete(doc);
+	return text;
+}
+
+static void run_one(worker *w, prsm_store_job *job)
+{
+	prsm_jobs *j = w->jobs;
+	const prsm_job_kind *k = NULL;
+	for (size_t i = 0; i < j->opt.n_kinds; i++)
+		if (strcmp(j->opt.kinds[i]->name, job->kind) == 0)
+			k = j->opt.kinds[i];
+	prsm_error err = PRSM_ERROR_INIT;
+	prsm_job_output out = {0};
+	int rc;
+	if (!k) {
+		rc = prsm_error_set(&err, PRSM_EINVAL, NULL, "this prsm has no job kind '%s'", job->kind);
+	} else {
+		prsm_job_run_ctx ctx = {&w->cancel, progress_cb, w, j->opt.limits};
+		rc = k->run(&out, job->request, &ctx, &err);
+	}
+	pthread_mutex_lock(&j->mu);
+	int cancelled = w->cancel, stopping = j->stopping;
+	w->id[0] = '\0';
+	pthread_mutex_unlock(&j->mu);
+	prsm_error serr = PRSM_ERROR_INIT;
+	if (rc == 0) {
+		if (prsm_store_finish(j->store, job->id, PRSM_JOB_DONE, out.result, NULL, out.csv, out.csv_len,
+		                      out.samples_done, out.samples_planned, NULL, &serr))
+			fprintf(stderr, "prsm serve: job %s: %s\n", job->id, serr.message);
+	} else if (cancelled || rc == PRSM_ECANCELLED) {
+		/* a cancel left the store's row cancelled already; a shutdown queues it again */
+		if (stopping && prsm_store_requeue(j->store, job->id, &serr))
+			fprintf(stderr, "prsm serve: job %s: %s\n", job->id, serr.message);
+	} else {
+		char *problem = failure_problem(&err);
+		if (prsm_store_finish(j->store, job->id, PRSM_JOB_FAILED, NULL, problem ? problem : "{}", NULL, 0, 0, 0,
+		                      NULL, &serr))
+			fprintf(stderr, "prsm serve: job %s: %s\n", job->id, serr.message);
+		free(problem);
+	}
+	prsm_job_output_free(&out);
+}
+
+static void *worker_main(void *arg)
+{
+	worker *w = arg;
+	prsm_jobs *j = w->jobs;
+	pthread_mutex_lock(&j->mu);
+	while (!j->stopping) {
+		prsm_store_job job;
+		prsm_error err = PRSM_ERROR_INIT;
+		int rc = prsm_store_claim(j->store, &job, &err);
+		if (rc == 0) {
+			snprintf(w->id, sizeof w->id, "%s", job.id);
+			w->cancel = 0;
+			w->done = w->planned = 0;
+			w->started_clock_s = prsm_clock_seconds();
+			pthread_mutex_unlock(&j->mu);
+			run_one(w, &job);
+			prsm_store_job_clear(&job);
+			pthread_mutex_lock(&j->mu);
+			continue;
+		}
+		if (rc != PRSM_ENOTFOUND)
+			fprintf(stderr, "prsm serve: worker: %s\n", err.message);
+		/* nothing queued: sleep until a submission (or a second, as a safety net) */
+		struct timespec ts;
+		clock_gettime(CLOCK_REALTIME, &ts);
+		ts.tv_sec += 1;
+		pthread_cond_timedwait(&j->cv, &j->mu, &ts);
+	}
+	pthread_mutex_unlock(&j->mu);
+	return NULL;
+}
+
+int prsm_jobs_open(prsm_jobs **out, const prsm_jobs_options *o, int *recovered, prsm_error *err)
+{
+	*out = NULL;
+	if (o->workers < 1 || o->workers > PRSM_JOBS_MAX_WORKERS)
+		return prsm_error_set(err, PRSM_EINVAL, NULL, "workers: %d (1..%d)", o->workers, PRSM_JOBS_MAX_WORKERS);
+	prsm_jobs *j = calloc(1, sizeof *j); /* handed to the caller */
+	if (!j)
+		return prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
+	j->opt = *o;
+	if (!j->opt.kinds) {
+		j->opt.kinds = prsm_job_kinds;
+		j->opt.n_kinds = prsm_job_kind_count;
+	}
+	int rc = prsm_store_open(&j->store, o->db_path, o->store_connections, err);
+	if (rc) {
+		free(j);
+		return rc;
+	}
+	int n = 0;
+	rc = prsm_store_recover(j->store, &n, err);
+	if (rc) {
+		prsm_store_close(j->store);
+		free(j);
+		return rc;
+	}
+	if (recovered)
+		*recovered = n;
+	/* compute the kinds' versions now, not in the first request */
+	for (size_t i = 0; i < j->opt.n_kinds; i++)
+		j->opt.kinds[i]->version();
+	pthread_mutex_init(&j->mu, NULL);
+	pthread_cond_init(&j->cv, NULL);
+	j->n_workers = o->workers;
+	for (int i = 0; i < j->n_workers; i++) {
+		j->w[i].jobs = j;
+		j->w[i].started = pthread_create(&j->w[i].thread, NULL, worker_main, &j->w[i]) == 0;
+		if (!j->w[i].started) {
+			prsm_jobs_close(j);
+			return prsm_error_set(err, PRSM_ENOMEM, NULL, "cannot start worker %d", i);
+		}
+	}
+	*out = j;
+	return 0;
+}
+
+void prsm_jobs_close(prsm_jobs *j)
+{
+	if (!j)
+		return;
+	pthread_mutex_lock(&j->mu);
+	j->stopping = 1;
+	for (int i = 0; i < j->n_workers; i++)
+		if (j->w[i].id[0])
+			j->w[i].cancel = 1;
+	pthread_cond_broadcast(&j->cv);
+	pthread_mutex_unlock(&j->mu);
+	for (int i = 0; i < j->n_workers; i++)
+		if (j->w[i].started)
+			pthread_join(j->w[i].thread, NULL);
+	pthread_cond_destroy(&j->cv);
+	pthread_mutex_destroy(&j->mu);
+	prsm_store_close(j->store);
+	free(j);
+}
+
+/* Live progress of a job running here, under j->mu. */
+static void add_live(prsm_jobs *j, prsm_job_view *v)
+{
+	v->eta_s = NAN;
+	v->samples_done = v->row.samples_done;
+	v->samples_planned = v->row.samples_planned;
+	if (v->row.state != PRSM_JOB_RUNNING)
+		return;
+	pthread_mutex_lock(&j->mu);
+	for (int i = 0; i < j->n_workers; i++) {
+		worker *w = &j->w[i];
+		if (w->id[0] && strcmp(w->id, v->row.id) == 0) {
+			v->live = 1;
+			v->samples_done = (long long)w->done;
+			v->samples_planned = (long long)w->planned;
+			double elapsed = prsm_clock_seconds() - w->started_clock_s;
+			if (w->done > 0 && w->planned >= w->done)
+				v->eta_s = elapsed * (double)(w->planned - w->done) / (double)w->done;
+			break;
+		}
+	}
+	pthread_mutex_unlock(&j->mu);
+}
+
+int prsm_jobs_submit(prsm_jobs *j, prsm_job_view *out, prsm_submit_outcome *outcome,
+                     const prsm_job_kind *k, const cJSON *doc, prsm_problems *problems, prsm_error *err)
+{
+	memset(out, 0, sizeof *out);
+	out->kind = k;
+	out->eta_s = NAN;
+	cJSON *norm = NULL;
+	int rc = k->normalise(&norm, doc, &j->opt.limits, problems);
+	if (rc)
+		return prsm_error_set(err, rc, NULL, "the request is invalid");
+	char *canon = NULL;
+	size_t len = 0;
+	rc = prsm_canonical_json(&canon, &len, norm, PRSM_JOBS_MAX_REQUEST_BYTES, err);
+	cJSON_Delete(norm);
+	if (rc) {
+		prsm_problems_add(problems, err->pointer, "canonical", "%s", err->message);
+		return rc;
+	}
+	prsm_sha256 h;
+	uint8_t d[PRSM_SHA256_BYTES];
+	char key[PRSM_SHA256_HEX];
+	const char *version = k->version();
+	prsm_sha256_init(&h);
+	prsm_sha256_update(&h, k->name, strlen(k->name) + 1);
+	prsm_sha256_update(&h, version, strlen(version) + 1);
+	prsm_sha256_update(&h, canon, len);
+	prsm_sha256_final(&h, d);
+	prsm_sha256_to_hex(key, d);
+	rc = prsm_store_submit(j->store, &out->row, outcome, k->name, key, canon, j->opt.max_queued, err);
+	free(canon);
+	if (rc)
+		return rc;
+	if (*outcome == PRSM_SUBMIT_CREATED) {
+		pthread_mutex_lock(&j->mu);
+		pthread_cond_signal(&j->cv);
+		pthread_mutex_unlock(&j->mu);
+	} else if (*outcome == PRSM_SUBMIT_CACHED) {
+		char id[PRSM_STORE_ID_MAX];
+		snprintf(id, sizeof id, "%s", out->row.id);
+		rc = prsm_store_get(j->store, &out->row, id, PRSM_STORE_WITH_RESULT, err);
+		if (rc)
+			return rc;
+		out->cache_hit = 1;
+	}
+	if (*outcome != PRSM_SUBMIT_FULL)
+		add_live(j, out);
+	return 0;
+}
+
+int prsm_jobs_get(prsm_jobs *j, prsm_job_view *out, const prsm_job_kind *k, const char *id, int flags,
+                  prsm_error *err)
+{
+	memset(out, 0, sizeof *out);
+	out->kind = k;
+	int rc = prsm_store_get(j->store, &out->row, id, flags, err);
+	if (rc)
+		return rc;
+	if (strcmp(out->row.kind, k->name) != 0) {
+		prsm_job_view_clear(out);
+		return prsm_error_set(err, PRSM_ENOTFOUND, NULL, "no %s %.40s", k->name, id);
+	}
+	add_live(j, out);
+	return 0;
+}
+
+int prsm_jobs_cancel(prsm_jobs *j, prsm_job_view *out, const prsm_job_kind *k, const char *id,
+                     prsm_error *err)
+{
+	int rc = prsm_jobs_get(j, out, k, id, 0, err);
+	if (rc)
+		return rc;
+	prsm_job_view_clear(out);
+	memset(out, 0, sizeof *out);
+	out->kind = k;
+	out->eta_s = NAN;
+	pthread_mutex_lock(&j->mu);
+	rc = prsm_store_cancel(j->store, &out->row, id, err);
+	if (rc == 0)
+		for (int i = 0; i < j->n_workers; i++)
+			if (j->w[i].id[0] && strcmp(j->w[i].id, id) == 0)
+				j->w[i].cancel = 1;
+	pthread_mutex_unlock(&j->mu);
+	out->samples_done = out->row.samples_done;
+	out->samples_planned = out->row.samples_planned;
+	return rc;
+}
+
+int prsm_jobs_csv(prsm_jobs *j, char **csv, size_t *len, const prsm_job_kind *k, const char *id,
+                  prsm_error *err)
+{
+	*csv = NULL;
+	*len = 0;
+	prsm_job_view v;
+	int rc = prsm_jobs_get(j, &v, k, id, 0, err);
+	if (rc)
+		return rc;
+	if (v.row.state != PRSM_JOB_DONE)
+		rc = prsm_error_set(err, PRSM_ENOTFOUND, NULL, "job %s is %s: samples exist once it is done", id,
+		                    prsm_job_state_name(v.row.state));
+	else
+		rc = prsm_store_get_csv(j->store, csv, len, id, err);
+	prsm_job_view_clear(&v);
+	return rc;
+}
+
+int prsm_jobs_list(prsm_jobs *j, prsm_job_view *items, size_t max, size_t *n, long long *next_seq,
+                   const prsm_job_kind *k, long long before_seq, prsm_error *err)
+{
+	*n = 0;
+	*next_seq = 0;
+	prsm_store_job *rows = calloc(max ? max : 1, sizeof *rows); /* freed below */
+	if (!rows)
+		return prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
+	int more = 0;
+	int rc = prsm_store_list(j->store, rows, max, n, &more, k->name, before_seq, err);
+	for (size_t i = 0; !rc && i < *n; i++) {
+		memset(&items[i], 0, sizeof items[i]);
+		items[i].row = rows[i];
+		items[i].kind = k;
+		add_live(j, &items[i]);
+	}
+	if (!rc && more && *n)
+		*next_seq = rows[*n - 1].seq;
+	free(rows);
+	return rc;
+}
+
+void prsm_jobs_counts(prsm_jobs *j, int *workers, int *running)
+{
+	pthread_mutex_lock(&j->mu);
+	*workers = j->n_workers;
+	*running = 0;
+	for (int i = 0; i < j->n_workers; i++)
+		*running += j->w[i].id[0] != '\0';
+	pthread_mutex_unlock(&j->mu);
+}
+
+static void add_time(cJSON *o, const char *name, double unix_s)
+{
+	if (unix_s <= 0) {
+		cJSON_AddNullToObject(o, name);
+		return;
+	}
+	time_t t = (time_t)unix_s;
+	struct tm tm;
+	gmtime_r(&t, &tm);
+	char buf[40], out[48];
+	strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%S", &tm);
+	int ms = (int)((unix_s - (double)t) * 1000.0);
+	if (ms < 0)
+		ms = 0;
+	if (ms > 999)
+		ms = 999;
+	snprintf(out, sizeof out, "%s.%03dZ", buf, ms);
+	cJSON_AddStringToObject(o, name, out);
+}
+
+cJSON *prsm_job_view_to_json(const prsm_job_view *v)
+{
+	const prsm_store_job *r = &v->row;
+	cJSON *o = cJSON_CreateObject();
+	if (!o)
+		return NULL;
+	cJSON_AddStringToObject(o, "id", r->id);
+	cJSON_AddStringToObject(o, "kind", r->kind);
+	cJSON_AddStringToObject(o, "state", prsm_job_state_name(r->state));
+	add_time(o, "created_at", r->created_s);
+	add_time(o, "started_at", r->started_s);
+	add_time(o, "finished_at", r->finished_s);
+	cJSON_AddNumberToObject(o, "attempts", r->attempts);
+	cJSON *p = cJSON_AddObjectToObject(o, "progress");
+	cJSON_AddNumberToObject(p, "samples_done", (double)v->samples_done);
+	cJSON_AddNumberToObject(p, "samples_planned", (double)v->samples_planned);
+	if (v->samples_planned > 0)
+		cJSON_AddNumberToObject(p, "fraction", (double)v->samples_done / (double)v->samples_planned);
+	else
+		cJSON_AddNullToObject(p, "fraction");
+	/* the engine does not report its stop-rule statistics while it runs */
+	cJSON_AddNullToObject(p, "interval_width");
+	if (isfinite(v->eta_s))
+		cJSON_AddNumberToObject(p, "eta_s", v->eta_s);
+	else
+		cJSON_AddNullToObject(p, "eta_s");
+	cJSON_AddBoolToObject(o, "cache_hit", v->cache_hit);
+	cJSON *l = cJSON_AddObjectToObject(o, "links");
+	char url[160];
+	snprintf(url, sizeof url, "/v1/%s/%s", v->kind->collection, r->id);
+	cJSON_AddStringToObject(l, "self", url);
+	if (v->kind->has_samples_csv) {
+		snprintf(url, sizeof url, "/v1/%s/%s/samples.csv", v->kind->collection, r->id);
+		cJSON_AddStringToObject(l, "samples_csv", url);
+	}
+	char schema[96];
+	snprintf(schema, sizeof schema, "/v1/schemas/%s", v->kind->result_schema);
+	cJSON_AddStringToObject(l, "result_schema", schema);
+	return o;
+}
+
+int prsm_job_view_to_text(char **out, size_t *len, const prsm_job_view *v)
+{
+	*out = NULL;
+	*len = 0;
+	cJSON *o = prsm_job_view_to_json(v);
+	if (!o)
+		return PRSM_ENOMEM;
+	if (v->row.state == PRSM_JOB_FAILED && v->row.problem) {
+		cJSON *p = cJSON_Parse(v->row.problem);
+		if (p)
+			cJSON_AddItemToObject(o, "problem", p);
+	}
+	char *env = cJSON_PrintUnformatted(o); /* freed below */
+	cJSON_Delete(o);
+	if (!env)
+		return PRSM_ENOMEM;
+	size_t elen = strlen(env);
+	const char *result = v->row.state == PRSM_JOB_DONE ? v->row.result : NULL;
+	char *marked = NULL; /* the result with cache_hit set, freed below */
+	if (result && v->cache_hit) {
+		cJSON *res = cJSON_Parse(result);
+		if (res && cJSON_GetObjectItemCaseSensitive(res, "cache_hit"))
+			cJSON_ReplaceItemInObjectCaseSensitive(res, "cache_hit", cJSON_CreateTrue());
+		marked = res ? cJSON_PrintUnformatted(res) : NULL;
+		cJSON_Delete(res);
+		if (marked)
+			result = marked;
+	}
+	if (!result) {
+		*out = env;
+		*len = elen;
+		return 0;
+	}
+	static const char mid[] = ",\"result\":";
+	size_t rlen = strlen(result);
+	size_t total = elen - 1 + sizeof mid - 1 + rlen + 1;
+	char *buf = malloc(total + 1); /* handed to the caller */
+	if (!buf) {
+		free(env);
+		free(marked);
+		return PRSM_ENOMEM;
+	}
+	memcpy(buf, env, elen - 1);
+	memcpy(buf + elen - 1, mid, sizeof mid - 1);
+	memcpy(buf + elen - 1 + sizeof mid - 1, result, rlen);
+	buf[total - 1] = '}';
+	buf[total] = '\0';
+	free(env);
+	free(marked);
+	*out = buf;
+	*len = total;
+	return 0;
+}
