@@ -23,6 +23,8 @@ static void usage(FILE *out)
 	        "                   --out FILE, --csv FILE (every sample), --threads N, --quiet\n"
 	        "  validate FILE|-  check a design, analyze request or study document, print every problem\n"
 	        "                   --format text|json\n"
+	        "  serve            the HTTP/JSON service (default 127.0.0.1:8080, database ./prsm.db)\n"
+	        "                   --port N, --db PATH, --workers N; prsm serve --help for all\n"
 	        "  bench            throughput of the engine's kernels, as JSON\n"
 	        "                   --seconds S (per kernel, default 0.5)\n"
 	        "  version          engine and model versions\n"
@@ -45,6 +47,8 @@ int main(int argc, char **argv)
 		return prsm_cli_validate(argc - 1, argv + 1);
 	if (strcmp(cmd, "study") == 0)
 		return prsm_cli_study(argc - 1, argv + 1);
+	if (strcmp(cmd, "serve") == 0)
+		return prsm_cli_serve(argc - 1, argv + 1);
 	if (strcmp(cmd, "bench") == 0)
 		return prsm_cli_bench(argc - 1, argv + 1);
 	if (strcmp(cmd, "version") == 0 || strcmp(cmd, "--version") == 0)

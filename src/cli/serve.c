@@ -1,0 +1,210 @@
+/*
+ * serve.c: `prsm serve`: the HTTP/JSON service (DESIGN.md, "Service"; api/openapi.yaml).
+ *
+ * Opens the database (jobs left running by a crash are queued again), starts the job workers
+ * and the HTTP threads, and waits for SIGTERM or SIGINT: then it stops accepting connections,
+ * lets the open ones finish (up to a few seconds), stops the workers — a job still running is
+ * queued again and resumes at the next start — and exits 0. Signals are blocked in every
+ * thread and taken by sigwait() here, so no handler runs inside the libraries.
+ */
+#include <errno.h>
+#include <pthread.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <gsl/gsl_errno.h>
+#include <microhttpd.h>
+
+#include "cli/commands.h"
+#include "http/server.h"
+#include "job/jobs.h"
+#include "util/file.h"
+
+#ifndef PRSM_DATA_DIR
+#define PRSM_DATA_DIR "."
+#endif
+
+#define TOKEN_MAX 511
+
+static void serve_usage(FILE *f)
+{
+	fprintf(f,
+	        "usage: prsm serve [options]\n"
+	        "  --host ADDR          address to bind (default 127.0.0.1; numeric IPv4 or IPv6)\n"
+	        "  --port N             TCP port (default 8080; 0: any free port)\n"
+	        "  --db PATH            SQLite database (default ./prsm.db)\n"
+	        "  --threads N          HTTP threads (default 2)\n"
+	        "  --workers N          jobs run at once (default 1)\n"
+	        "  --job-threads N      engine threads per job (default 1)\n"
+	        "  --token-file PATH    bearer token for POST and DELETE (or env PRSM_TOKEN)\n"
+	        "  --max-body-bytes N   largest request body (default 1048576)\n"
+	        "  --timeout-s N        idle connection timeout (default 30)\n"
+	        "  --max-connections N  open connections at most (default 512)\n"
+	        "  --max-queued N       queued jobs at most, then 503 (default 64)\n"
+	        "  --max-samples N      Monte Carlo samples per job (default 200000)\n"
+	        "  --job-time-cap-s S   time cap per job (default 600)\n"
+	        "  --data-dir DIR       directory with schemas/, api/ and web/ (default %s)\n",
+	        PRSM_DATA_DIR);
+}
+
+static int number_arg(long long *out, const char *opt, const char *s, long long lo, long long hi)
+{
+	char *end;
+	errno = 0;
+	long long v = strtoll(s, &end, 10);
+	if (!*s || *end || errno || v < lo || v > hi) {
+		fprintf(stderr, "prsm serve: %s takes an integer %lld..%lld\n", opt, lo, hi);
+		return -1;
+	}
+	*out = v;
+	return 0;
+}
+
+static int read_token(char *out, size_t size, const char *path)
+{
+	char *text = NULL;
+	size_t len = 0;
+	prsm_error err = PRSM_ERROR_INIT;
+	if (prsm_file_read(&text, &len, path, TOKEN_MAX, &err)) {
+		fprintf(stderr, "prsm serve: --token-file %s: %s\n", path, err.message);
+		return -1;
+	}
+	while (len && (text[len - 1] == '\n' || text[len - 1] == '\r' || text[len - 1] == ' '))
+		text[--len] = '\0';
+	snprintf(out, size, "%s", text);
+	free(text);
+	if (!out[0]) {
+		fprintf(stderr, "prsm serve: --token-file %s is empty\n", path);
+		return -1;
+	}
+	return 0;
+}
+
+int prsm_cli_serve(int argc, char **argv)
+{
+	gsl_set_error_handler_off();
+	prsm_http_options ho = PRSM_HTTP_OPTIONS_INIT;
+	prsm_jobs_options jo = PRSM_JOBS_OPTIONS_INIT;
+	ho.data_dir = PRSM_DATA_DIR;
+	const char *token_file = NULL;
+	char token[TOKEN_MAX + 1] = "";
+	for (int i = 1; i < argc; i++) {
+		const char *a = argv[i];
+		const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+		long long n;
+		if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+			serve_usage(stdout);
+			return 0;
+		}
+		if (!v || a[0] != '-') {
+			fprintf(stderr, "prsm serve: unknown or incomplete option '%s'\n", a);
+			serve_usage(stderr);
+			return PRSM_EXIT_USAGE;
+		}
+		i++;
+		if (strcmp(a, "--host") == 0) {
+			ho.host = v;
+		} else if (strcmp(a, "--port") == 0) {
+			if (number_arg(&n, a, v, 0, 65535))
+				return PRSM_EXIT_USAGE;
+			ho.port = (int)n;
+		} else if (strcmp(a, "--db") == 0) {
+			jo.db_path = v;
+		} else if (strcmp(a, "--threads") == 0) {
+			if (number_arg(&n, a, v, 1, 64))
+				return PRSM_EXIT_USAGE;
+			ho.threads = (int)n;
+		} else if (strcmp(a, "--workers") == 0) {
+			if (number_arg(&n, a, v, 1, PRSM_JOBS_MAX_WORKERS))
+				return PRSM_EXIT_USAGE;
+			jo.workers = (int)n;
+		} else if (strcmp(a, "--job-threads") == 0) {
+			if (number_arg(&n, a, v, 1, 64))
+				return PRSM_EXIT_USAGE;
+			jo.limits.threads = (int)n;
+		} else if (strcmp(a, "--token-file") == 0) {
+			token_file = v;
+		} else if (strcmp(a, "--max-body-bytes") == 0) {
+			if (number_arg(&n, a, v, 1024, 256LL * 1024 * 1024))
+				return PRSM_EXIT_USAGE;
+			ho.max_body_bytes = (size_t)n;
+		} else if (strcmp(a, "--timeout-s") == 0) {
+			if (number_arg(&n, a, v, 1, 3600))
+				return PRSM_EXIT_USAGE;
+			ho.timeout_s = (unsigned)n;
+		} else if (strcmp(a, "--max-connections") == 0) {
+			if (number_arg(&n, a, v, 1, 100000))
+				return PRSM_EXIT_USAGE;
+			ho.max_connections = (unsigned)n;
+		} else if (strcmp(a, "--max-queued") == 0) {
+			if (number_arg(&n, a, v, 1, 1000000))
+				return PRSM_EXIT_USAGE;
+			jo.max_queued = (size_t)n;
+		} else if (strcmp(a, "--max-samples") == 0) {
+			if (number_arg(&n, a, v, 2, 4000000))
+				return PRSM_EXIT_USAGE;
+			jo.limits.max_samples = (size_t)n;
+		} else if (strcmp(a, "--job-time-cap-s") == 0) {
+			if (number_arg(&n, a, v, 1, 86400 * 7))
+				return PRSM_EXIT_USAGE;
+			jo.limits.max_time_s = (double)n;
+		} else if (strcmp(a, "--data-dir") == 0) {
+			ho.data_dir = v;
+		} else {
+			fprintf(stderr, "prsm serve: unknown option '%s'\n", a);
+			serve_usage(stderr);
+			return PRSM_EXIT_USAGE;
+		}
+	}
+	if (token_file) {
+		if (read_token(token, sizeof token, token_file))
+			return PRSM_EXIT_USAGE;
+	} else if (getenv("PRSM_TOKEN") && getenv("PRSM_TOKEN")[0]) {
+		snprintf(token, sizeof token, "%s", getenv("PRSM_TOKEN"));
+	}
+	ho.token = token[0] ? token : NULL;
+	jo.store_connections = ho.threads + jo.workers + 2;
+	if (jo.store_connections > PRSM_STORE_MAX_CONNS)
+		jo.store_connections = PRSM_STORE_MAX_CONNS;
+
+	/* every thread started from here on inherits the blocked signals; sigwait takes them */
+	sigset_t set;
+	sigemptyset(&set);
+	sigaddset(&set, SIGINT);
+	sigaddset(&set, SIGTERM);
+	pthread_sigmask(SIG_BLOCK, &set, NULL);
+	signal(SIGPIPE, SIG_IGN);
+
+	prsm_error err = PRSM_ERROR_INIT;
+	prsm_jobs *jobs = NULL;
+	int recovered = 0;
+	if (prsm_jobs_open(&jobs, &jo, &recovered, &err)) {
+		fprintf(stderr, "prsm serve: %s\n", err.message);
+		return PRSM_EXIT_FAILED;
+	}
+	prsm_http *http = NULL;
+	if (prsm_http_start(&http, &ho, jobs, &err)) {
+		fprintf(stderr, "prsm serve: %s\n", err.message);
+		prsm_jobs_close(jobs);
+		return PRSM_EXIT_FAILED;
+	}
+	fprintf(stderr, "prsm serve: listening on http://%s%s%s:%d/ (database %s, %d workers%s%s)\n",
+	        strchr(ho.host, ':') ? "[" : "", ho.host, strchr(ho.host, ':') ? "]" : "", prsm_http_port(http),
+	        jo.db_path, jo.workers, ho.token ? ", token required for POST and DELETE" : "",
+	        recovered ? ", resuming interrupted jobs" : "");
+	int sig = 0;
+	sigwait(&set, &sig);
+	fprintf(stderr, "prsm serve: %s: stopping\n", sig == SIGINT ? "SIGINT" : "SIGTERM");
+	prsm_http_quiesce(http);
+	/* a moment for requests in flight to be answered */
+	struct timespec ts = {0, 200000000L};
+	nanosleep(&ts, NULL);
+	prsm_http_stop(http);
+	prsm_jobs_close(jobs);
+	fprintf(stderr, "prsm serve: stopped\n");
+	return 0;
+}
