@@ -732,7 +732,7 @@ static int load_schemas(prsm_http *h, prsm_error *err)
 			rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "more than %d schemas in %s", MAX_SCHEMAS, dir);
 			break;
 		}
-		char path[PATH_MAX + SCHEMA_NAME_MAX];
+		char path[PATH_MAX + 260];
 		snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
 		rc = load_doc(&h->schemas[h->n_schemas], e->d_name, path, err);
 		if (!rc)
