@@ -403,15 +403,15 @@ VALID = [
              ("materials", {"screw": {"E_GPa": 2000, "poisson": 0.4999}, "roller": {"poisson": 0}}),
              ("operating_point", {"axial_load_N": 1e8, "screw_speed_rpm": -100000}),
              ("geometry/running_clearance_mm", 0), ("geometry/rollers", 3))),
-    ("thinning at +-2000 um", variant(("target_axial_clearance_um", DELETE),
-                                      ("thinning", {"screw_um": 2000, "roller_um": -2000, "nut_um": 2000}))),
+    ("thinning 600 um, roller teeth 400 um thicker", variant(("target_axial_clearance_um", DELETE),
+                                      ("thinning", {"screw_um": 600, "roller_um": -400, "nut_um": 600}))),
     ("flank angle 89.9 deg, friction-locked screw (eta 0, torques null)",
      variant(("geometry/flank_angle_deg", 89.9), ("friction", {"screw_roller": 0.6, "nut_roller": 0.6}))),
     ("friction-locked at standstill (NaN powers null)",
      variant(("geometry/flank_angle_deg", 70), ("friction/screw_roller", 0.6),
              ("operating_point", {"axial_load_N": 1000, "screw_speed_rpm": 0}))),
     ("no load, no speed", variant(("operating_point", {}))),
-    ("target 5000 um", variant(("target_axial_clearance_um", 5000))),
+    ("target 1000 um", variant(("target_axial_clearance_um", 1000))),
 ]
 
 # Valid for the schema, refused by the C validator for a reason a JSON Schema cannot express.
@@ -559,13 +559,14 @@ for name, doc in VALID:
 # the documents are the ones they claim to be: nulls where eta = 0, warnings where expected
 r = results.get("flank angle 89.9 deg, friction-locked screw (eta 0, torques null)")
 if r:
-    check("eta 0: input and friction torques are null",
-          r["efficiency"]["eta"] == 0 and r["efficiency"]["input_torque_Nm"] is None
-          and r["efficiency"]["friction_torque_Nm"] is None, str(r["efficiency"]))
+    check("eta 0: the drive locks, input and sliding torques are null",
+          r["efficiency"]["eta"] == 0 and r["efficiency"]["drive_locked"]
+          and r["efficiency"]["torque_Nm"]["input"] is None
+          and r["efficiency"]["torque_Nm"]["sliding"] is None, str(r["efficiency"]))
 r = results.get("friction-locked at standstill (NaN powers null)")
 if r:
     check("eta 0 at 0 rpm: input and loss powers are null",
-          r["efficiency"]["input_power_W"] is None and r["efficiency"]["loss_power_W"] is None,
+          r["efficiency"]["power_W"]["input"] is None and r["efficiency"]["power_W"]["loss"] is None,
           str(r["efficiency"]))
 r = results.get("non-standard radii (rule warnings)")
 if r:

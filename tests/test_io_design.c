@@ -16,6 +16,7 @@
 #include <string.h>
 
 #include "io/design_json.h"
+#include "io/stages_json.h"
 #include "io/json_util.h"
 
 /* ---- helpers ---------------------------------------------------------------------------- */
@@ -714,6 +715,22 @@ static void studies_load_without_problems(void **state)
 		if (doc == NULL) {
 			dump(&p);
 			fail_msg("%s does not parse", path);
+		}
+		/* a multi-stage design (MODEL.md §7) loads and analyses as a whole */
+		if (prsm_io_is_multistage(doc)) {
+			prsm_io_multistage *ms = calloc(1, sizeof *ms);
+			assert_non_null(ms);
+			int mrc = prsm_io_multistage_load(ms, doc, &w, &p);
+			cJSON_Delete(doc);
+			if (mrc != 0 || p.count != 0) {
+				dump(&p);
+				fail_msg("%s: %d problems", path, p.count);
+			}
+			assert_true(ms->stages >= 2);
+			assert_true(ms->chain.efficiency > 0.0 && ms->chain.efficiency < 1.0);
+			free(ms);
+			loaded++;
+			continue;
 		}
 		/* a study embeds its design under /design; a design file is the design */
 		const cJSON *design = cJSON_GetObjectItemCaseSensitive(doc, "design");

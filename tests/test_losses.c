@@ -739,8 +739,19 @@ static void test_errors(void **state)
 	e.rollers = 0;
 	expect_einval(&e, &o, NULL, NULL);
 	e = d;
-	e.mu_screw_roller = 1.2; /* beta + rho > 90 deg: the flanks wedge */
-	expect_einval(&e, &o, NULL, NULL);
+	e.mu_screw_roller = 1.2; /* beta + rho > 90 deg: the flanks wedge, the drive locks */
+	{
+		prsm_analysis a;
+		prsm_design good = e;
+		good.mu_screw_roller = 0.05;
+		analyse(&a, &good);
+		prsm_losses_result r;
+		prsm_error err = PRSM_ERROR_INIT;
+		assert_int_equal(prsm_losses_compute(&r, &e, &a.kinematics, &a.screw, &a.nut, NULL, NULL, &o, &err), 0);
+		assert_true(r.flags & PRSM_LOSSES_DRIVE_LOCKED);
+		assert_true(r.eta == 0.0 && isnan(r.input_torque_Nm));
+		assert_true(r.gear_teeth_roller > 0 && r.gear_teeth_ring > r.gear_teeth_roller);
+	}
 	/* loads */
 	double q[10], qn[10];
 	for (int i = 0; i < 10; i++)

@@ -9,6 +9,7 @@
 #include "io/json_util.h"
 
 #include "model/geometry.h"
+#include "model/life.h"
 
 #define DEG (180.0 / M_PI)
 #define RPM_PER_RAD_S (60.0 / (2.0 * M_PI))
@@ -16,7 +17,7 @@
 #ifndef PRSM_VERSION
 #define PRSM_VERSION "0.0.0"
 #endif
-#define PRSM_MODEL_VERSION "MODEL.md 2026-11 (§1, §2, §3, §4, §5, §6)"
+#define PRSM_MODEL_VERSION "MODEL.md 2026-11 (§1, §2, §3, §4, §5, §6, §7)"
 
 static void vec(cJSON *o, const char *name, const double *v, int n)
 {
@@ -102,6 +103,7 @@ static cJSON *material_json(const prsm_material *m)
 	cJSON *o = cJSON_CreateObject();
 	prsm_json_add_number(o, "E_GPa", m->E_MPa * 1e-3);
 	prsm_json_add_number(o, "poisson", m->poisson);
+	prsm_json_add_number(o, "density_kg_m3", m->density_kg_m3);
 	return o;
 }
 
@@ -127,6 +129,9 @@ static cJSON *design_json(const prsm_design *d)
 	cJSON_AddNumberToObject(g, "rollers", d->rollers);
 	cJSON_AddNumberToObject(g, "engaged_threads", d->engaged_threads);
 	prsm_json_add_number(g, "running_clearance_mm", d->running_clearance_mm);
+	prsm_json_add_number(g, "nut_outer_radius_mm", isnan(d->nut_outer_radius_mm)
+	                                                   ? PRSM_NUT_OUTER_PER_PITCH_RADIUS * d->nut_radius_mm
+	                                                   : d->nut_outer_radius_mm);
 	cJSON *t = cJSON_AddObjectToObject(o, "thinning");
 	prsm_json_add_number(t, "screw_um", 2e3 * d->flank_shift_screw_mm);
 	prsm_json_add_number(t, "roller_um", 2e3 * d->flank_shift_roller_mm);
@@ -141,11 +146,275 @@ static cJSON *design_json(const prsm_design *d)
 	cJSON *op = cJSON_AddObjectToObject(o, "operating_point");
 	prsm_json_add_number(op, "axial_load_N", d->axial_load_N);
 	prsm_json_add_number(op, "screw_speed_rpm", d->screw_speed_rad_s * RPM_PER_RAD_S);
+	const prsm_design_losses *l = &d->losses;
+	cJSON *lo = cJSON_AddObjectToObject(o, "losses");
+	cJSON_AddBoolToObject(lo, "spin", l->spin);
+	cJSON_AddBoolToObject(lo, "gear_mesh", l->gear_mesh);
+	prsm_json_add_number(lo, "gear_friction", l->gear_friction);
+	if (l->roller_gear_teeth)
+		cJSON_AddNumberToObject(lo, "roller_gear_teeth", l->roller_gear_teeth);
+	if (l->ring_gear_teeth)
+		cJSON_AddNumberToObject(lo, "ring_gear_teeth", l->ring_gear_teeth);
+	prsm_json_add_number(lo, "gear_contact_ratio", l->gear_contact_ratio);
+	prsm_json_add_number(lo, "gear_pressure_angle_deg", l->gear_pressure_angle_rad * DEG);
+	prsm_json_add_number(lo, "drag_torque_Nm", l->drag_torque_Nm);
+	prsm_json_add_number(lo, "viscous_drag_Nm_s_per_rad", l->viscous_drag_Nm_s_per_rad);
+	prsm_json_add_number(lo, "seal_torque_Nm", l->seal_torque_Nm);
+	const prsm_design_stiffness *st = &d->stiffness;
+	cJSON *so = cJSON_AddObjectToObject(o, "stiffness");
+	cJSON *tc = cJSON_AddObjectToObject(so, "thread_compliance");
+	static const char *const widths[] = {"share", "given", "ellipse"};
+	cJSON_AddStringToObject(tc, "model", st->width_rule == PRSM_THREAD_COMPLIANCE_NONE ? "none" : "yamamoto");
+	if (st->width_rule != PRSM_THREAD_COMPLIANCE_NONE)
+		cJSON_AddStringToObject(tc, "width", widths[st->width_rule - PRSM_THREAD_WIDTH_SHARE]);
+	if (st->width_rule == PRSM_THREAD_WIDTH_SHARE)
+		prsm_json_add_number(tc, "width_fraction", st->width_fraction);
+	if (st->width_rule == PRSM_THREAD_WIDTH_GIVEN)
+		prsm_json_add_number(tc, "width_mm", st->width_mm);
+	if (st->width_rule == PRSM_THREAD_WIDTH_ELLIPSE)
+		prsm_json_add_number(tc, "ellipse_factor", st->ellipse_factor);
+	prsm_json_add_number(tc, "calibration", st->calibration);
+	cJSON_AddStringToObject(tc, "negative_terms", st->negative_terms == PRSM_YAMAMOTO_KEEP ? "keep" : "clamp");
+	cJSON_AddStringToObject(so, "load_entry", st->load_entry == PRSM_ENTRY_OPPOSITE_SIDE ? "opposite_side" : "same_side");
+	if (st->curve_points > 0) {
+		cJSON *cu = cJSON_AddObjectToObject(so, "load_deflection_curve");
+		cJSON_AddNumberToObject(cu, "points", st->curve_points);
+		if (!isnan(st->curve_max_load_N))
+			prsm_json_add_number(cu, "max_load_N", st->curve_max_load_N);
+	}
+	const prsm_design_life *lf = &d->life;
+	cJSON *li = cJSON_AddObjectToObject(o, "life");
+	prsm_json_add_number(li, "p_allow_MPa", lf->p_allow_MPa);
+	cJSON_AddNumberToObject(li, "reliability_percent", lf->reliability_percent);
+	if (lf->duty_steps > 0) {
+		cJSON *dc = cJSON_AddArrayToObject(li, "duty_cycle");
+		for (int i = 0; i < lf->duty_steps; i++) {
+			cJSON *step = cJSON_CreateObject();
+			prsm_json_add_number(step, "axial_load_N", lf->duty_load_N[i]);
+			prsm_json_add_number(step, "travel_mm", lf->duty_travel_mm[i]);
+			cJSON_AddItemToArray(dc, step);
+		}
+	}
+	prsm_json_add_number(li, "preload_N", lf->preload_N);
+	prsm_json_add_number(li, "lp_material_factor", lf->lp_material_factor);
+	if (lf->column) {
+		static const char *const fix[] = {"fixed_free", "supported_supported", "fixed_supported", "fixed_fixed"};
+		cJSON *co = cJSON_AddObjectToObject(o, "column");
+		prsm_json_add_number(co, "free_length_mm", lf->free_length_mm);
+		cJSON_AddStringToObject(co, "fixity", fix[lf->fixity]);
+	}
 	return o;
 }
 
+static cJSON *tooth_json(const prsm_thread_compliance *t)
+{
+	cJSON *o = cJSON_CreateObject();
+	prsm_json_add_number(o, "width_mm", t->width_mm);
+	prsm_json_add_number(o, "root_thickness_mm", t->tooth.root_thickness_mm);
+	prsm_json_add_number(o, "load_thickness_mm", t->tooth.load_thickness_mm);
+	prsm_json_add_number(o, "load_height_mm", t->tooth.load_height_mm);
+	cJSON *terms = cJSON_AddObjectToObject(o, "yamamoto_terms_mm2_per_N");
+	prsm_json_add_number(terms, "bending", t->terms.bending);
+	prsm_json_add_number(terms, "shear", t->terms.shear);
+	prsm_json_add_number(terms, "root_tilt", t->terms.root_tilt);
+	prsm_json_add_number(terms, "root_shear", t->terms.root_shear);
+	prsm_json_add_number(terms, "radial", t->terms.radial);
+	prsm_json_add_number(terms, "sum_used", t->terms.sum_mm2_per_N);
+	cJSON *neg = cJSON_AddArrayToObject(o, "negative_terms");
+	static const char *const names[] = {"bending", "shear", "root_tilt", "root_shear", "radial"};
+	for (int i = 0; i < 5; i++)
+		if (t->terms.negative_terms & (1 << i))
+			cJSON_AddItemToArray(neg, cJSON_CreateString(names[i]));
+	prsm_json_add_number(o, "compliance_um_per_kN", t->compliance_mm_per_N * 1e6);
+	return o;
+}
+
+static void losses_json(cJSON *root, const prsm_performance *p)
+{
+	const prsm_losses_result *l = &p->losses;
+	cJSON *eff = cJSON_AddObjectToObject(root, "efficiency");
+	cJSON_AddStringToObject(eff, "model", "sliding friction at the screw and nut contacts (3-D normals and slip), spin friction (3/8) mu Q a E(e) at every contact of the load distribution, ring-gear mesh loss (Ohlendorf's H_v, internal mesh), drag and seal torques (MODEL.md §5); T = F L / (2 pi eta_sliding) + T_spin + T_gear + T_drag + T_seal");
+	prsm_json_add_number(eff, "eta", l->eta);
+	prsm_json_add_number(eff, "eta_back", l->eta_back);
+	prsm_json_add_number(eff, "eta_sliding", l->eta_slide);
+	prsm_json_add_number(eff, "eta_back_sliding", l->eta_back_slide);
+	prsm_json_add_number(eff, "eta_closed_form", l->eta_closed_form);
+	prsm_json_add_number(eff, "eta_back_closed_form", l->eta_back_closed_form);
+	cJSON_AddBoolToObject(eff, "self_locking", (l->flags & PRSM_LOSSES_SELF_LOCKING) != 0);
+	cJSON_AddBoolToObject(eff, "drive_locked", (l->flags & PRSM_LOSSES_DRIVE_LOCKED) != 0);
+	cJSON *t = cJSON_AddObjectToObject(eff, "torque_Nm");
+	prsm_json_add_number(t, "ideal", l->ideal_torque_Nm);
+	prsm_json_add_number(t, "sliding", l->sliding_torque_Nm);
+	prsm_json_add_number(t, "spin", l->spin_torque_Nm);
+	prsm_json_add_number(t, "gear_mesh", l->gear_torque_Nm);
+	prsm_json_add_number(t, "drag", l->drag_torque_Nm);
+	prsm_json_add_number(t, "seal", l->seal_torque_Nm);
+	prsm_json_add_number(t, "input", l->input_torque_Nm);
+	prsm_json_add_number(eff, "back_driving_output_torque_Nm", l->back_output_torque_Nm);
+	cJSON *w = cJSON_AddObjectToObject(eff, "power_W");
+	prsm_json_add_number(w, "input", l->input_power_W);
+	prsm_json_add_number(w, "output", l->output_power_W);
+	prsm_json_add_number(w, "sliding", l->sliding_power_W);
+	prsm_json_add_number(w, "spin", l->spin_power_W);
+	prsm_json_add_number(w, "gear_mesh", l->gear_power_W);
+	prsm_json_add_number(w, "drag", l->drag_power_W);
+	prsm_json_add_number(w, "seal", l->seal_power_W);
+	prsm_json_add_number(w, "loss", l->loss_power_W);
+	cJSON *sp = cJSON_AddObjectToObject(eff, "spin");
+	prsm_json_add_number(sp, "speed_screw_contact_rad_s", l->spin_speed_screw_rad_s);
+	prsm_json_add_number(sp, "speed_nut_contact_rad_s", l->spin_speed_nut_rad_s);
+	prsm_json_add_number(sp, "moment_screw_side_per_roller_Nm", l->spin_moment_screw_Nm);
+	prsm_json_add_number(sp, "moment_nut_side_per_roller_Nm", l->spin_moment_nut_Nm);
+	cJSON *g = cJSON_AddObjectToObject(eff, "gear_mesh");
+	cJSON_AddNumberToObject(g, "roller_teeth", l->gear_teeth_roller);
+	cJSON_AddNumberToObject(g, "ring_teeth", l->gear_teeth_ring);
+	prsm_json_add_number(g, "contact_ratio", l->gear_eps_alpha);
+	prsm_json_add_number(g, "loss_factor_Hv", l->gear_Hv);
+	prsm_json_add_number(g, "roller_moment_Nm", l->roller_moment_Nm);
+	prsm_json_add_number(g, "tangential_force_per_roller_N", l->gear_tangential_force_N);
+	prsm_json_add_number(g, "pitch_speed_m_s", l->gear_pitch_speed_m_s);
+}
+
+static void side_json(cJSON *o, const char *name, const prsm_loaddist_side_result *s,
+                      const double *loads, int n)
+{
+	cJSON *x = cJSON_AddObjectToObject(o, name);
+	cJSON *arr = cJSON_AddArrayToObject(x, "thread_loads_N");
+	for (int i = 0; i < n; i++)
+		cJSON_AddItemToArray(arr, cJSON_CreateNumber(loads[i]));
+	prsm_json_add_number(x, "max_over_mean", s->max_over_mean);
+	cJSON_AddNumberToObject(x, "most_loaded_thread", s->max_index + 1);
+	prsm_json_add_number(x, "most_loaded_axial_N", s->max_axial_N);
+	prsm_json_add_number(x, "most_loaded_normal_N", s->max_normal_N);
+	prsm_json_add_number(x, "p_max_MPa", s->p_max_MPa);
+	prsm_json_add_number(x, "semi_major_a_mm", s->a_mm);
+	prsm_json_add_number(x, "semi_minor_b_mm", s->b_mm);
+	cJSON_AddNumberToObject(x, "lifted_off_contacts", s->lifted_off);
+}
+
+/* Thread compliance, load distribution, stiffness, capacity, life, column (MODEL.md §6). */
+static void performance_json(cJSON *root, const prsm_performance *p, const prsm_design *d)
+{
+	const prsm_design_compliance *c = &p->compliance;
+	cJSON *tc = cJSON_AddObjectToObject(root, "thread_compliance");
+	const int none = c->options.width_rule == PRSM_THREAD_COMPLIANCE_NONE;
+	static const char *const rules[] = {"none: rigid threads",
+		"yamamoto, width share: width_fraction x the thread circumference at the pitch radius per contact (2 pi r_s / Z screw, 2 pi r_n / Z nut, pi r_r roller)",
+		"yamamoto, width given", "yamamoto, width ellipse: ellipse_factor x the Hertz major axis 2a at the operating load"};
+	cJSON_AddStringToObject(tc, "rule", rules[c->options.width_rule]);
+	cJSON_AddStringToObject(tc, "caution", "thread stiffness is uncertain by a factor of about 3 between the width rules (MODEL.md §6): compare them before trusting a stiffness");
+	prsm_json_add_number(tc, "calibration", c->options.calibration);
+	cJSON_AddStringToObject(tc, "negative_terms", c->options.negative_terms == PRSM_YAMAMOTO_KEEP ? "keep" : "clamp");
+	prsm_json_add_number(tc, "nut_outer_radius_mm", c->nut_outer_radius_mm);
+	if (!none) {
+		cJSON_AddItemToObject(tc, "screw", tooth_json(&c->screw));
+		cJSON_AddItemToObject(tc, "roller_screw_side", tooth_json(&c->roller_screw_side));
+		cJSON_AddItemToObject(tc, "roller_nut_side", tooth_json(&c->roller_nut_side));
+		cJSON_AddItemToObject(tc, "nut", tooth_json(&c->nut));
+	}
+	prsm_json_add_number(tc, "screw_side_um_per_kN", c->screw_side_mm_per_N * 1e6);
+	prsm_json_add_number(tc, "nut_side_um_per_kN", c->nut_side_mm_per_N * 1e6);
+	cJSON *seg = cJSON_AddObjectToObject(tc, "body_stretch_per_pitch_um_per_kN");
+	prsm_json_add_number(seg, "screw_core", p->segments.screw_mm_per_N * 1e6);
+	prsm_json_add_number(seg, "roller_core", p->segments.roller_mm_per_N * 1e6);
+	prsm_json_add_number(seg, "nut_body", p->segments.nut_mm_per_N * 1e6);
+
+	const double F = fabs(d->axial_load_N);
+	cJSON *ld = cJSON_AddObjectToObject(root, "load_distribution");
+	cJSON_AddStringToObject(ld, "model", "spring chain per roller (MODEL.md §6): Hertz + thread compliance per contact, screw core, roller core and nut body stretch between threads; rollers share the load equally");
+	cJSON_AddStringToObject(ld, "load_entry", d->stiffness.load_entry == PRSM_ENTRY_OPPOSITE_SIDE ? "opposite_side" : "same_side");
+	prsm_json_add_number(ld, "axial_load_N", F);
+	cJSON_AddNumberToObject(ld, "rollers", d->rollers);
+	cJSON_AddNumberToObject(ld, "threads", p->threads);
+	if (F > 0.0) {
+		prsm_json_add_number(ld, "roller_load_N", p->dist.roller_load_N);
+		side_json(ld, "screw_side", &p->dist.side[PRSM_SIDE_SCREW], p->thread_load_screw_N, p->threads);
+		side_json(ld, "nut_side", &p->dist.side[PRSM_SIDE_NUT], p->thread_load_nut_N, p->threads);
+		cJSON_AddNumberToObject(ld, "iterations", p->dist.iterations);
+	}
+
+	cJSON *st = cJSON_AddObjectToObject(root, "stiffness");
+	cJSON_AddStringToObject(st, "includes", "nut unit over the engagement: Hertz contacts, thread compliance, screw core, roller cores and nut body; not the support bearings, the housing or the screw outside the nut");
+	prsm_json_add_number(st, "at_load_N", F);
+	prsm_json_add_number(st, "axial_N_per_um", F > 0.0 ? p->stiffness_N_per_um : NAN);
+	prsm_json_add_number(st, "approach_um", F > 0.0 ? p->dist.approach_mm * 1e3 : 0.0);
+	if (p->curve_points > 0) {
+		cJSON *cu = cJSON_AddArrayToObject(st, "load_deflection_curve");
+		for (int i = 0; i < p->curve_points; i++) {
+			cJSON *pt = cJSON_CreateObject();
+			prsm_json_add_number(pt, "load_N", p->curve_load_N[i]);
+			prsm_json_add_number(pt, "approach_um", p->curve_approach_um[i]);
+			prsm_json_add_number(pt, "stiffness_N_per_um", p->curve_stiffness_N_per_um[i]);
+			cJSON_AddItemToArray(cu, pt);
+		}
+	}
+
+	cJSON *cap = cJSON_AddObjectToObject(root, "capacity");
+	cJSON *s0 = cJSON_AddObjectToObject(cap, "static");
+	cJSON_AddStringToObject(s0, "definition", "C_0a: the axial load at which the most loaded contact of the load distribution reaches p_allow (MODEL.md §6), the smaller of the two sides");
+	prsm_json_add_number(s0, "C0a_N", p->C0a_N);
+	prsm_json_add_number(s0, "screw_side_N", p->C0a_screw_N);
+	prsm_json_add_number(s0, "nut_side_N", p->C0a_nut_N);
+	prsm_json_add_number(s0, "equal_sharing_screw_side_N", p->static_screw.C0a_N);
+	prsm_json_add_number(s0, "equal_sharing_nut_side_N", p->static_nut.C0a_N);
+	prsm_json_add_number(s0, "load_factor_screw_side", p->static_screw.load_factor);
+	prsm_json_add_number(s0, "load_factor_nut_side", p->static_nut.load_factor);
+	prsm_json_add_number(s0, "p_allow_MPa", p->static_screw.p_allow_MPa);
+	prsm_json_add_number(s0, "safety_factor", p->static_safety);
+	const prsm_dynamic_capacity *dy = &p->dynamic;
+	cJSON *c1 = cJSON_AddObjectToObject(cap, "dynamic");
+	cJSON_AddStringToObject(c1, "method", dy->method.name);
+	cJSON *k = cJSON_AddObjectToObject(c1, "constants");
+	prsm_json_add_number(k, "f_c_N_mm", dy->method.constant);
+	prsm_json_add_number(k, "material_factor_b_m", dy->method.material_factor);
+	prsm_json_add_number(k, "diameter_exponent", dy->method.diameter_exponent);
+	prsm_json_add_number(k, "combination_exponent", dy->method.combination_exponent);
+	prsm_json_add_number(k, "life_exponent", dy->method.life_exponent);
+	prsm_json_add_number(k, "weibull_slope", dy->method.weibull_slope);
+	cJSON_AddStringToObject(c1, "caution", "there is no ISO standard for roller screws; makers borrow from ball screws and bearings, and catalogue C_a values differ by maker");
+	prsm_json_add_number(c1, "C_a_N", dy->C_a_N);
+	prsm_json_add_number(c1, "distribution_factor", p->distribution_factor);
+	prsm_json_add_number(c1, "ball_diameter_mm", dy->ball_diameter_mm);
+	prsm_json_add_number(c1, "contact_angle_deg", dy->contact_angle_rad * DEG);
+	prsm_json_add_number(c1, "gamma", dy->gamma);
+	prsm_json_add_number(c1, "q_screw_N", dy->q_screw_N);
+	prsm_json_add_number(c1, "q_nut_N", dy->q_nut_N);
+	prsm_json_add_number(c1, "q_roller_screw_side_N", dy->q_roller_screw_side_N);
+	prsm_json_add_number(c1, "q_roller_nut_side_N", dy->q_roller_nut_side_N);
+	prsm_json_add_number(c1, "q_combined_N", dy->q_combined_N);
+	prsm_json_add_number(c1, "thread_row_N", dy->row_N);
+
+	const prsm_life_rating *lr = &p->life;
+	cJSON *li = cJSON_AddObjectToObject(root, "life");
+	cJSON_AddStringToObject(li, "definition", "L = a1 (C_a / F_e)^3 10^6 screw revolutions (MODEL.md §6); F_e the cubic mean load of the duty cycle weighted by travel (or the operating load), raised by the preload derating; null when F_e = 0");
+	prsm_json_add_number(li, "mean_load_N", p->mean_load_N);
+	prsm_json_add_number(li, "equivalent_load_N", p->equivalent_load_N);
+	cJSON_AddNumberToObject(li, "duty_cycle_steps", d->life.duty_steps);
+	prsm_json_add_number(li, "preload_N", d->life.preload_N);
+	cJSON_AddNumberToObject(li, "reliability_percent", lr->reliability_percent);
+	prsm_json_add_number(li, "reliability_factor_a1", lr->reliability_factor);
+	prsm_json_add_number(li, "revolutions", lr->revolutions);
+	prsm_json_add_number(li, "hours", lr->hours > 0.0 ? lr->hours : NAN);
+	prsm_json_add_number(li, "distance_km", lr->distance_km);
+
+	if (p->has_column) {
+		const prsm_column *co = &p->column;
+		cJSON *cl = cJSON_AddObjectToObject(root, "column");
+		static const char *const fix[] = {"fixed_free", "supported_supported", "fixed_supported", "fixed_fixed"};
+		cJSON_AddStringToObject(cl, "fixity", fix[co->fixity]);
+		prsm_json_add_number(cl, "free_length_mm", co->free_length_mm);
+		prsm_json_add_number(cl, "root_diameter_mm", co->root_diameter_mm);
+		prsm_json_add_number(cl, "critical_speed_rpm", co->critical_speed_rpm);
+		prsm_json_add_number(cl, "catalogue_critical_speed_rpm", co->catalogue_speed_rpm);
+		prsm_json_add_number(cl, "buckling_load_N", co->buckling_load_N);
+		prsm_json_add_number(cl, "speed_margin", d->screw_speed_rad_s != 0.0 ? co->catalogue_speed_rpm / fabs(d->screw_speed_rad_s * RPM_PER_RAD_S) : NAN);
+		prsm_json_add_number(cl, "buckling_margin", F > 0.0 ? co->buckling_load_N / F : NAN);
+		cJSON_AddStringToObject(cl, "formulas", "critical speed: beam theory (60/2 pi) (lambda/L)^2 sqrt(E I / rho A) and the catalogue n = f_c d_r / L^2 10^7 (steel, with the catalogues' 0.8); buckling: Euler m pi^2 E I / L^2, I = pi d_r^4 / 64; no safety factor applied");
+	}
+}
+
 cJSON *prsm_io_analysis_to_json(const prsm_analysis *a, const prsm_design *d,
-                                const prsm_problems *warnings)
+                                const prsm_performance *perf, const prsm_problems *warnings)
 {
 	cJSON *root = cJSON_CreateObject();
 	if (root == NULL)
@@ -203,20 +472,24 @@ cJSON *prsm_io_analysis_to_json(const prsm_analysis *a, const prsm_design *d,
 	prsm_json_add_number(kin, "roller_spin_speed_rpm", k->roller_spin_ratio * w * RPM_PER_RAD_S);
 	prsm_json_add_number(kin, "slip_speed_screw_mm_s", k->slip_ratio_screw * fabs(k->nut_speed_mm_per_rad * w));
 
-	const prsm_efficiency *e = &a->efficiency;
-	cJSON *eff = cJSON_AddObjectToObject(root, "efficiency");
-	cJSON_AddStringToObject(eff, "model", "sliding friction at the screw and nut contacts, 3-D normals and slip (MODEL.md §5); spin, gear-mesh and drag losses not included");
-	prsm_json_add_number(eff, "eta", e->eta);
-	prsm_json_add_number(eff, "eta_back", e->eta_back);
-	prsm_json_add_number(eff, "eta_closed_form", e->eta_closed_form);
-	prsm_json_add_number(eff, "eta_back_closed_form", e->eta_back_closed_form);
-	prsm_json_add_number(eff, "input_torque_Nm", e->input_torque_Nm);
-	prsm_json_add_number(eff, "ideal_torque_Nm", e->ideal_torque_Nm);
-	prsm_json_add_number(eff, "friction_torque_Nm", e->friction_torque_Nm);
-	prsm_json_add_number(eff, "back_driving_torque_Nm", e->back_torque_Nm);
-	prsm_json_add_number(eff, "input_power_W", e->input_power_W);
-	prsm_json_add_number(eff, "output_power_W", e->output_power_W);
-	prsm_json_add_number(eff, "loss_power_W", e->loss_power_W);
+	if (perf) {
+		losses_json(root, perf);
+	} else {
+		const prsm_efficiency *e = &a->efficiency;
+		cJSON *eff = cJSON_AddObjectToObject(root, "efficiency");
+		cJSON_AddStringToObject(eff, "model", "sliding friction only, at the screw and nut contacts, 3-D normals and slip (MODEL.md §5)");
+		prsm_json_add_number(eff, "eta", e->eta);
+		prsm_json_add_number(eff, "eta_back", e->eta_back);
+		prsm_json_add_number(eff, "eta_closed_form", e->eta_closed_form);
+		prsm_json_add_number(eff, "eta_back_closed_form", e->eta_back_closed_form);
+		prsm_json_add_number(eff, "input_torque_Nm", e->input_torque_Nm);
+		prsm_json_add_number(eff, "ideal_torque_Nm", e->ideal_torque_Nm);
+		prsm_json_add_number(eff, "friction_torque_Nm", e->friction_torque_Nm);
+		prsm_json_add_number(eff, "back_driving_torque_Nm", e->back_torque_Nm);
+		prsm_json_add_number(eff, "input_power_W", e->input_power_W);
+		prsm_json_add_number(eff, "output_power_W", e->output_power_W);
+		prsm_json_add_number(eff, "loss_power_W", e->loss_power_W);
+	}
 
 	cJSON *hz = cJSON_AddObjectToObject(root, "hertz");
 	cJSON_AddStringToObject(hz, "load_sharing", "equal over rollers and engaged threads; normal load = axial load per contact / axial part of the normal");
@@ -224,16 +497,19 @@ cJSON *prsm_io_analysis_to_json(const prsm_analysis *a, const prsm_design *d,
 	prsm_json_add_number(hz, "axial_load_per_contact_N", a->axial_load_per_contact_N);
 	cJSON_AddItemToObject(hz, "screw_roller", hertz_json(&a->hertz_screw));
 	cJSON_AddItemToObject(hz, "nut_roller", hertz_json(&a->hertz_nut));
+	if (perf)
+		performance_json(root, perf, d);
 	return root;
 }
 
 void prsm_io_analysis_print_text(FILE *out, const prsm_analysis *a, const prsm_design *d,
-                                 const prsm_problems *warnings)
+                                 const prsm_performance *perf, const prsm_problems *warnings)
 {
 	const prsm_geometry *g = &a->geometry;
 	const prsm_kinematics *k = &a->kinematics;
-	const prsm_efficiency *e = &a->efficiency;
-	fprintf(out, "PRSM nominal analysis (prsm %s, %s)\n\n", PRSM_VERSION, PRSM_MODEL_VERSION);
+	const double F = fabs(d->axial_load_N), rpm = d->screw_speed_rad_s * RPM_PER_RAD_S;
+	fprintf(out, "PRSM analysis (prsm %s, %s)\n", PRSM_VERSION, PRSM_MODEL_VERSION);
+	fprintf(out, "Operating point: %.6g N axial, %.6g rpm\n\n", F, rpm);
 	fprintf(out, "Geometry\n");
 	fprintf(out, "  starts %d (%s hand), pitch %.4g mm, lead %.4g mm, flank half-angle %.4g deg\n",
 	        d->starts, d->hand == PRSM_HAND_LEFT ? "left" : "right", d->pitch_mm, g->lead_mm,
@@ -243,33 +519,70 @@ void prsm_io_analysis_print_text(FILE *out, const prsm_analysis *a, const prsm_d
 	        d->roller_arc_radius_mm);
 	fprintf(out, "  helix angles: screw %.4f, roller %.4f, nut %.4f deg\n", g->helix_screw_rad * DEG,
 	        g->helix_roller_rad * DEG, g->helix_nut_rad * DEG);
-	fprintf(out, "  rollers %d of Z_max %d, engaged threads %d\n\n", d->rollers, g->z_max,
-	        d->engaged_threads);
+	fprintf(out, "  rollers %d of Z_max %d, engaged threads %d, nominal backlash %.3f um\n\n",
+	        d->rollers, g->z_max, d->engaged_threads, a->backlash_mm * 1e3);
 	fprintf(out, "Contacts                     screw-roller     nut-roller\n");
-	fprintf(out, "  point x, y (mm)         %8.5f %7.5f %8.5f %7.5f\n", a->screw.x_mm, a->screw.y_mm,
-	        a->nut.x_mm, a->nut.y_mm);
-	fprintf(out, "  gap unthinned (um)         %10.3f     %10.3f\n", a->gap0_screw_mm * 1e3,
-	        a->gap0_nut_mm * 1e3);
 	fprintf(out, "  gap (um)                   %10.3f     %10.3f\n", a->screw.gap_mm * 1e3,
 	        a->nut.gap_mm * 1e3);
-	fprintf(out, "  angle on body (deg)        %10.4f     %10.4f\n", a->screw.body_angle_rad * DEG,
-	        a->nut.body_angle_rad * DEG);
-	fprintf(out, "  angle on roller (deg)      %10.4f     %10.4f\n", a->screw.roller_angle_rad * DEG,
-	        a->nut.roller_angle_rad * DEG);
-	fprintf(out, "  Hertz p_max (MPa)          %10.1f     %10.1f\n", a->hertz_screw.p_max_MPa,
+	fprintf(out, "  contact radius body (mm)   %10.4f     %10.4f\n", a->screw.body_rho_mm, a->nut.body_rho_mm);
+	fprintf(out, "  p_max equal sharing (MPa)  %10.1f     %10.1f\n", a->hertz_screw.p_max_MPa,
 	        a->hertz_nut.p_max_MPa);
-	fprintf(out, "  Hertz a x b (mm)        %6.4f x %6.4f %6.4f x %6.4f\n", a->hertz_screw.a_mm,
-	        a->hertz_screw.b_mm, a->hertz_nut.a_mm, a->hertz_nut.b_mm);
-	fprintf(out, "  nominal axial backlash %.3f um\n\n", a->backlash_mm * 1e3);
-	fprintf(out, "Kinematics (nut held)\n");
-	fprintf(out, "  carrier ratio %.5f (ideal %.5f), roller spin %.5f relative to carrier\n",
-	        k->carrier_ratio, k->carrier_ratio_ideal, k->roller_spin_ratio);
-	fprintf(out, "  sliding at the screw contact %.4f x nut speed\n\n", k->slip_ratio_screw);
-	fprintf(out, "Efficiency (sliding, mu %.3g)\n", d->mu_screw_roller);
-	fprintf(out, "  eta %.4f (closed form %.4f), back-driving %.4f (closed form %.4f)\n", e->eta,
-	        e->eta_closed_form, e->eta_back, e->eta_back_closed_form);
-	fprintf(out, "  at %.6g N: input torque %.4g N m (ideal %.4g N m)\n\n", d->axial_load_N,
-	        e->input_torque_Nm, e->ideal_torque_Nm);
+	if (perf && F > 0.0)
+		fprintf(out, "  p_max most loaded (MPa)    %10.1f     %10.1f   (thread %d / %d)\n",
+		        perf->dist.side[0].p_max_MPa, perf->dist.side[1].p_max_MPa,
+		        perf->dist.side[0].max_index + 1, perf->dist.side[1].max_index + 1);
+	fprintf(out, "\nKinematics (nut held): carrier ratio %.5f (ideal %.5f), roller spin %.5f, slip %.4f x v\n\n",
+	        k->carrier_ratio, k->carrier_ratio_ideal, k->roller_spin_ratio, k->slip_ratio_screw);
+	if (!perf) {
+		const prsm_efficiency *e = &a->efficiency;
+		fprintf(out, "Efficiency (sliding only, mu %.3g): eta %.4f, back-driving %.4f\n\n",
+		        d->mu_screw_roller, e->eta, e->eta_back);
+	} else {
+		const prsm_losses_result *l = &perf->losses;
+		fprintf(out, "Efficiency: eta %.4f, back-driving %.4f%s (sliding only %.4f / %.4f; closed form %.4f)\n",
+		        l->eta, l->eta_back, (l->flags & PRSM_LOSSES_SELF_LOCKING) ? " (self-locking)" : "",
+		        l->eta_slide, l->eta_back_slide, l->eta_closed_form);
+		fprintf(out, "  input torque %.4g N m = ideal %.4g + sliding %.4g + spin %.4g + gear %.3g + drag %.3g + seal %.3g\n",
+		        l->input_torque_Nm, l->ideal_torque_Nm, l->sliding_torque_Nm, l->spin_torque_Nm,
+		        l->gear_torque_Nm, l->drag_torque_Nm, l->seal_torque_Nm);
+		fprintf(out, "  power in %.4g W, out %.4g W, loss %.4g W\n\n", l->input_power_W, l->output_power_W,
+		        l->loss_power_W);
+		const prsm_design_compliance *c = &perf->compliance;
+		fprintf(out, "Stiffness and load distribution (%s entry)\n",
+		        d->stiffness.load_entry == PRSM_ENTRY_OPPOSITE_SIDE ? "opposite-side" : "same-side");
+		if (c->options.width_rule == PRSM_THREAD_COMPLIANCE_NONE)
+			fprintf(out, "  thread compliance: none (rigid threads)\n");
+		else
+			fprintf(out, "  thread compliance: Yamamoto, width %s, calibration %.3g: screw side %.4g, nut side %.4g um/kN per contact\n",
+			        c->options.width_rule == PRSM_THREAD_WIDTH_SHARE ? "share" :
+			        c->options.width_rule == PRSM_THREAD_WIDTH_GIVEN ? "given" : "ellipse",
+			        c->options.calibration, c->screw_side_mm_per_N * 1e6, c->nut_side_mm_per_N * 1e6);
+		if (F > 0.0) {
+			fprintf(out, "  axial stiffness %.4g N/um at %.6g N (approach %.3f um)\n", perf->stiffness_N_per_um,
+			        F, perf->dist.approach_mm * 1e3);
+			fprintf(out, "  max/mean thread load: screw side %.3f, nut side %.3f\n",
+			        perf->dist.side[0].max_over_mean, perf->dist.side[1].max_over_mean);
+			fprintf(out, "  thread loads per roller, screw side (N):");
+			for (int i = 0; i < perf->threads && i < 12; i++)
+				fprintf(out, " %.4g", perf->thread_load_screw_N[i]);
+			fprintf(out, "%s\n", perf->threads > 12 ? " ..." : "");
+		} else {
+			fprintf(out, "  no load: stiffness not defined (Hertz contacts have none at zero load)\n");
+		}
+		fprintf(out, "\nCapacity and life\n");
+		fprintf(out, "  C_0a %.5g N at p_allow %.0f MPa (static safety %.3g); C_a %.5g N (L-P, distribution factor %.3f)\n",
+		        perf->C0a_N, d->life.p_allow_MPa, perf->static_safety, perf->dynamic.C_a_N,
+		        perf->distribution_factor);
+		if (perf->equivalent_load_N > 0.0)
+			fprintf(out, "  L%d life at %.5g N equivalent: %.4g revolutions, %.4g h, %.4g km\n",
+			        100 - perf->life.reliability_percent, perf->equivalent_load_N, perf->life.revolutions,
+			        perf->life.hours, perf->life.distance_km);
+		if (perf->has_column)
+			fprintf(out, "  column (%.5g mm): critical speed %.5g rpm (catalogue %.5g), buckling %.5g N\n",
+			        perf->column.free_length_mm, perf->column.critical_speed_rpm,
+			        perf->column.catalogue_speed_rpm, perf->column.buckling_load_N);
+		fprintf(out, "\n");
+	}
 	fprintf(out, "Warnings: %d\n", prsm_problems_total(warnings));
 	for (int i = 0; i < warnings->count; i++)
 		fprintf(out, "  %s: %s\n", warnings->items[i].pointer, warnings->items[i].message);

@@ -9,11 +9,13 @@
 #include <stdio.h>
 
 #include "model/analysis.h"
+#include "model/performance.h"
 #include "util/problems.h"
 
-/* Build the result object; the caller owns it (cJSON_Delete). NULL when out of memory. */
+/* Build the result object; the caller owns it (cJSON_Delete). NULL when out of memory. perf
+ * (may be NULL: sliding efficiency only) adds the operating-point analysis of MODEL.md §5-§6. */
 cJSON *prsm_io_analysis_to_json(const prsm_analysis *a, const prsm_design *d,
-                                const prsm_problems *warnings);
+                                const prsm_performance *perf, const prsm_problems *warnings);
 
 /* Problems as a JSON array of {pointer, code, message}; caller owns it. */
 cJSON *prsm_io_problems_to_json(const prsm_problems *p);
@@ -23,6 +25,6 @@ cJSON *prsm_io_problem_document(int status, const char *title, const prsm_proble
 
 /* Write the engineer's one-page summary. */
 void prsm_io_analysis_print_text(FILE *out, const prsm_analysis *a, const prsm_design *d,
-                                 const prsm_problems *warnings);
+                                 const prsm_performance *perf, const prsm_problems *warnings);
 
 #endif

@@ -47,10 +47,42 @@ static int load_document(prsm_analyze_request *rq, prsm_geometry *g, prsm_proble
 	return rc;
 }
 
+/* A failure of the operating-point analysis as a problem at the setting's pointer. */
+static int performance_problem(prsm_problems *problems, const char *base, int rc, const prsm_error *err)
+{
+	char ptr[2 * PRSM_JSON_POINTER_MAX];
+	snprintf(ptr, sizeof ptr, "%s%s", base, err->pointer);
+	prsm_problems_add(problems, ptr, rc == PRSM_ENOCONVERGE ? "no_convergence" : "invalid_setting",
+	                  "%s", err->message);
+	return rc;
+}
+
+static int load_multistage(prsm_analyze_request *rq, const cJSON *doc, prsm_problems *warnings,
+                           prsm_problems *problems)
+{
+	rq->multistage = 1;
+	rq->ms = calloc(1, sizeof *rq->ms);
+	if (rq->ms == NULL)
+		return PRSM_ENOMEM;
+	int rc = prsm_io_multistage_load(rq->ms, doc, warnings, problems);
+	prsm_error err = PRSM_ERROR_INIT;
+	for (int k = 0; rc == 0 && k < rq->ms->stages; k++) {
+		rc = prsm_performance_compute(&rq->ms_perf[k], &rq->ms->design[k], &rq->ms->analysis[k], &err);
+		if (rc) {
+			char base[PRSM_JSON_POINTER_MAX];
+			prsm_json_pointer_append_index(base, sizeof base, "/stages", k);
+			return performance_problem(problems, base, rc, &err);
+		}
+	}
+	return rc;
+}
+
 int prsm_io_analyze_load(prsm_analyze_request *rq, const cJSON *doc, prsm_problems *warnings,
                          prsm_problems *problems)
 {
 	memset(rq, 0, sizeof *rq);
+	if (prsm_io_is_multistage(doc))
+		return load_multistage(rq, doc, warnings, problems);
 	prsm_geometry g;
 	int rc = load_document(rq, &g, warnings, problems, doc);
 	if (rc)
@@ -59,8 +91,10 @@ int prsm_io_analyze_load(prsm_analyze_request *rq, const cJSON *doc, prsm_proble
 	rc = prsm_analysis_nominal(&rq->a, &rq->d, warnings, &err);
 	if (rc == 0 && rq->with_errors)
 		rc = prsm_assembly_init(&rq->as, &rq->d, &rq->a, &err);
-	if (rc == 0)
-		return 0;
+	if (rc == 0) {
+		rc = prsm_performance_compute(&rq->perf, &rq->d, &rq->a, &err);
+		return rc ? performance_problem(problems, rq->with_errors ? "/design" : "", rc, &err) : 0;
+	}
 	/* only the contact solver can tell that the contacts lie on their flanks */
 	char ptr[PRSM_JSON_POINTER_MAX + 8];
 	snprintf(ptr, sizeof ptr, "%s%s", rq->with_errors ? "/design" : "", err.pointer);
@@ -89,7 +123,9 @@ int prsm_io_analyze_run(prsm_analyze_request *rq)
 
 cJSON *prsm_io_analyze_to_json(const prsm_analyze_request *rq, const prsm_problems *warnings)
 {
-	cJSON *res = prsm_io_analysis_to_json(&rq->a, &rq->d, warnings);
+	if (rq->multistage)
+		return prsm_io_multistage_to_json(rq->ms, rq->ms_perf, warnings);
+	cJSON *res = prsm_io_analysis_to_json(&rq->a, &rq->d, &rq->perf, warnings);
 	if (res == NULL)
 		return NULL;
 	if (rq->with_errors) {
@@ -103,13 +139,22 @@ cJSON *prsm_io_analyze_to_json(const prsm_analyze_request *rq, const prsm_proble
 void prsm_io_analyze_print_text(FILE *out, const prsm_analyze_request *rq,
                                 const prsm_problems *warnings)
 {
-	prsm_io_analysis_print_text(out, &rq->a, &rq->d, warnings);
+	if (rq->multistage) {
+		prsm_io_multistage_print_text(out, rq->ms, rq->ms_perf, warnings);
+		return;
+	}
+	prsm_io_analysis_print_text(out, &rq->a, &rq->d, &rq->perf, warnings);
 	if (rq->with_errors)
 		prsm_io_assembly_print_text(out, &rq->report, &rq->as);
 }
 
 void prsm_io_analyze_free(prsm_analyze_request *rq)
 {
+	prsm_performance_free(&rq->perf);
+	for (int k = 0; k < PRSM_STAGES_MAX; k++)
+		prsm_performance_free(&rq->ms_perf[k]);
+	free(rq->ms);
+	rq->ms = NULL;
 	if (rq->ws) {
 		free(rq->ws->te_mm);
 		free(rq->ws->spectrum_mm);

@@ -2,9 +2,9 @@
  * analyze_request.h: the analyze request (schemas/analyze-request.schema.json) from JSON to its
  * result, shared by `prsm analyze`/`prsm validate` and the service's POST /v1/designs/analyze.
  *
- * A request is a design document alone (the nominal analysis) or {"design", "errors",
- * "assembly"} (the nominal analysis and the error analysis of MODEL.md §3, §4 for one concrete
- * error set). Every problem of the document is reported at once, with its JSON pointer; the
+ * A request is a design document alone (the nominal and operating-point analysis), a
+ * multi-stage design ({"stages": [...]}, MODEL.md §7) or {"design", "errors", "assembly"} (the
+ * analysis and the error analysis of MODEL.md §3, §4 for one concrete error set). Every problem of the document is reported at once, with its JSON pointer; the
  * contact solver's findings (an edge contact, no contact point) are problems too, at the
  * pointer of the design's geometry.
  */
@@ -20,11 +20,17 @@
 #include "model/assembly_report.h"
 #include "model/design.h"
 #include "model/errors.h"
+#include "model/performance.h"
+#include "io/stages_json.h"
 #include "util/problems.h"
 
 typedef struct {
+	int multistage;                /* the multi-stage form (MODEL.md §7): only ms is set */
+	prsm_io_multistage *ms;        /* its stages and chain, owned here */
+	prsm_performance ms_perf[PRSM_STAGES_MAX]; /* each stage's operating-point analysis */
 	prsm_design d;                 /* the resolved design (thinning solved when asked) */
 	prsm_analysis a;               /* its nominal analysis */
+	prsm_performance perf;         /* its operating-point analysis (MODEL.md §5, §6) */
 	int with_errors;               /* the request form with errors and/or assembly */
 	prsm_errors errors;            /* the error set (with_errors) */
 	prsm_assembly_options options; /* error-analysis options (with_errors) */

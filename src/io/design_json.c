@@ -234,8 +234,8 @@ static void read_friction(prsm_design *d, const cJSON *doc, const char *base, pr
 	                     range(0.0, 0, 1.0, 1), problems);
 }
 
-static void read_operating_point(prsm_design *d, const cJSON *doc, const char *base,
-                                 prsm_problems *problems)
+void prsm_io_operating_point_from_json(prsm_design *d, const cJSON *doc, const char *base,
+                                       prsm_problems *problems)
 {
 	char op[PRSM_JSON_POINTER_MAX];
 	const cJSON *o;
@@ -269,7 +269,7 @@ static void read_losses(prsm_design *d, const cJSON *doc, const char *base, prsm
 	prsm_json_get_int(&o->ring_gear_teeth, l, lp, "ring_gear_teeth", PRSM_JSON_OPTIONAL, 12,
 	                  PRSM_DESIGN_GEAR_TEETH_MAX, problems);
 	prsm_json_get_number(&o->gear_contact_ratio, l, lp, "gear_contact_ratio", PRSM_JSON_OPTIONAL,
-	                     range(1.0, 0, 3.0, 0), problems);
+	                     range(1.0, 0, 2.0, 0), problems);
 	double deg;
 	if (prsm_json_get_number(&deg, l, lp, "gear_pressure_angle_deg", PRSM_JSON_OPTIONAL,
 	                         range(5.0, 0, 45.0, 0), problems) == PRSM_JSON_PRESENT)
@@ -424,7 +424,7 @@ int prsm_io_design_from_json(prsm_design *out, const cJSON *doc, const char *bas
 	read_backlash(out, doc, base, problems);
 	read_materials(out, doc, base, problems);
 	read_friction(out, doc, base, problems);
-	read_operating_point(out, doc, base, problems);
+	prsm_io_operating_point_from_json(out, doc, base, problems);
 	read_losses(out, doc, base, problems);
 	read_stiffness(out, doc, base, problems);
 	read_life(out, doc, base, problems);

@@ -62,4 +62,9 @@ int prsm_io_design_load(prsm_design *out,         /* the resolved design */
                         const char *base_pointer, /* its pointer in the request, "" at the top */
                         prsm_problems *problems); /* every error, with its pointer */
 
+/* The "operating_point" member of doc (pointer base), if present, into d's load and speed;
+ * problems with their pointers. */
+void prsm_io_operating_point_from_json(prsm_design *d, const cJSON *doc, const char *base,
+                                       prsm_problems *problems);
+
 #endif

@@ -106,12 +106,14 @@ int prsm_compliance_tooth(prsm_thread_tooth *out, const prsm_design *d, int part
 		                      P, beta);
 	double b, depth;
 	const prsm_material *m;
+	const char *thinning = "/thinning"; /* where a tooth thinned away is the design's problem */
 	switch (part) {
 	case PRSM_THREAD_SCREW:
 		m = &d->screw_material;
 		b = 0.5 * P - 2.0 * d->flank_shift_screw_mm;
 		depth = d->screw_radius_mm - d->screw_root_radius_mm;
 		out->diameter_mm = 2.0 * d->screw_radius_mm;
+		thinning = "/thinning/screw_um";
 		break;
 	case PRSM_THREAD_NUT:
 		m = &d->nut_material;
@@ -120,12 +122,14 @@ int prsm_compliance_tooth(prsm_thread_tooth *out, const prsm_design *d, int part
 		out->diameter_mm = 2.0 * d->nut_radius_mm;
 		out->internal = 1;
 		out->outer_diameter_mm = 2.0 * nut_outer_radius_mm;
+		thinning = "/thinning/nut_um";
 		break;
 	case PRSM_THREAD_ROLLER:
 		m = &d->roller_material;
 		b = 0.5 * P - 2.0 * d->flank_shift_roller_mm;
 		depth = d->roller_radius_mm - d->roller_root_radius_mm;
 		out->diameter_mm = 2.0 * d->roller_radius_mm;
+		thinning = "/thinning/roller_um";
 		break;
 	default:
 		return prsm_error_set(err, PRSM_EINVAL, NULL, "thread tooth: unknown part %d", part);
@@ -133,7 +137,7 @@ int prsm_compliance_tooth(prsm_thread_tooth *out, const prsm_design *d, int part
 	out->E_MPa = m->E_MPa;
 	out->poisson = m->poisson;
 	if (!(b > 0.0 && b < P) || !(depth > 0.0))
-		return prsm_error_set(err, PRSM_EINVAL, "/geometry",
+		return prsm_error_set(err, PRSM_EINVAL, !(depth > 0.0) ? "/geometry" : thinning,
 		                      "%s tooth: needs 0 < thickness at the pitch line (%g mm) < P (%g mm) and "
 		                      "a root below the pitch line (depth %g mm)", part_name(part), b, P, depth);
 	if (part != PRSM_THREAD_ROLLER) {

@@ -256,10 +256,20 @@ int prsm_losses_compute(prsm_losses_result *out, const prsm_design *d, const prs
 	out->eta_back_slide = eff.eta_back;
 	out->eta_closed_form = eff.eta_closed_form;
 	out->eta_back_closed_form = eff.eta_back_closed_form;
-	if (!(eff.eta > 0.0))
-		return prsm_error_set(err, PRSM_EINVAL, "/friction/screw_roller",
-		                      "the screw cannot drive the load: friction mu %g wedges the flanks "
-		                      "(sliding efficiency 0)", d->mu_screw_roller);
+	if (!(eff.eta > 0.0)) {
+		/* friction wedges the flanks: no torque drives the load (eta 0, torques undefined);
+		 * the load may still back-drive, with the sliding losses only */
+		out->flags |= PRSM_LOSSES_DRIVE_LOCKED;
+		out->eta = 0.0;
+		out->eta_back = eff.eta_back > 0.0 ? eff.eta_back : 0.0;
+		if (!(eff.eta_back > 0.0))
+			out->flags |= PRSM_LOSSES_SELF_LOCKING;
+		out->ideal_torque_Nm = fabs(d->axial_load_N) * prsm_design_lead_mm(d) * 1e-3 / (2.0 * M_PI);
+		out->sliding_torque_Nm = out->input_torque_Nm = out->back_output_torque_Nm = NAN;
+		out->input_power_W = out->sliding_power_W = out->loss_power_W = NAN;
+		out->output_power_W = fabs(d->axial_load_N) * fabs(k->nut_speed_mm_per_rad * d->screw_speed_rad_s) * 1e-3;
+		return gear_setup(out, d, o, err);
+	}
 
 	const double F = fabs(d->axial_load_N), w = fabs(d->screw_speed_rad_s); /* N, rad/s */
 	const double L = prsm_design_lead_mm(d);                                 /* mm */

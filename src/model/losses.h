@@ -101,7 +101,9 @@ enum {
 	PRSM_LOSSES_NO_LOAD = 2,      /* F = 0 */
 	PRSM_LOSSES_AT_REST = 4,      /* omega = 0: powers 0, torques are the omega -> 0+ limits */
 	PRSM_LOSSES_LIMIT = 8,        /* eta, eta' are the F -> 0+ limits (no load, no torque) */
-	PRSM_LOSSES_GEAR_RATIO = 16   /* z_2 / z_1 != r_n / r_r: gears and threads disagree */
+	PRSM_LOSSES_GEAR_RATIO = 16,  /* z_2 / z_1 != r_n / r_r: gears and threads disagree */
+	PRSM_LOSSES_DRIVE_LOCKED = 32 /* friction wedges the flanks: eta 0, the input torque and the
+	                                 powers that need it NaN, nothing else computed */
 };
 
 /* Smallest default roller gear teeth (undercut limit of a 20 deg standard pinion). */
