@@ -158,6 +158,7 @@ for name, s in schemas.items():
         check(f"{name}: $ref {ref} resolves", ok, detail)
 
 V_DESIGN = make_validator(schemas["design.schema.json"])
+multistage_documents = []
 V_ANALYSIS = make_validator(schemas["analysis.schema.json"])
 V_PROBLEM = make_validator(schemas["problem.schema.json"])
 V_VALIDATION = make_validator(schemas["validation.schema.json"])
@@ -471,6 +472,9 @@ for path in studies:
         continue
     if isinstance(doc, dict) and "design" in doc:
         request_studies.append(path)  # an analyze request {design, errors, assembly}: section 8
+        continue
+    if isinstance(doc, dict) and "stages" in doc:
+        multistage_documents.append(path)  # a multi-stage design: section 10
         continue
     if not (isinstance(doc, dict) and "geometry" in doc):
         print(f"note: {name} is not a design document (no geometry), skipped")
@@ -1980,6 +1984,60 @@ rc, vdoc = validate_cli("no_load after a refused output", write_doc(
 found = [(p.get("pointer"), p.get("code")) for p in (vdoc or {}).get("errors", [])]
 check("prsm validate names /outputs/1 for load_sharing_factor after a refused /outputs/0",
       ("/outputs/1", "no_load") in found, str(found))
+
+# ---- 10. multi-stage designs (MODEL.md §7) ---------------------------------------------------
+V_MULTI = make_validator(schemas["multistage-design.schema.json"])
+check("studies/ has a multi-stage design", len(multistage_documents) >= 1)
+for path in multistage_documents:
+    name = os.path.relpath(path, ROOT) if "ROOT" in globals() else path
+    doc = load_json(path)
+    e = schema_errors(V_MULTI, doc)
+    check(f"{name}: matches multistage-design.schema.json", not e, e)
+    e = schema_errors(V_REQUEST, doc)
+    check(f"{name}: matches analyze-request.schema.json", not e, e)
+    rc, res = analyze_cli(name, path)
+    check(f"{name}: prsm analyze exits 0", rc == 0, f"exit {rc}")
+    if not res:
+        continue
+    ch = res["chain"]
+    leads = [st["design"]["geometry"]["pitch_mm"] * st["design"]["geometry"]["starts"] for st in res["stages"]]
+    w = ch["screw_speed_rpm"] * 2 * math.pi / 60
+    check(f"{name}: output speed = omega sum L / 2 pi", close(ch["output_speed_mm_s"], w * sum(leads) / (2 * math.pi)))
+    check(f"{name}: eta = F sum L / (2 pi T_in)",
+          close(ch["efficiency"], ch["axial_load_N"] * sum(leads) * 1e-3 / (2 * math.pi * ch["input_torque_Nm"])))
+    per = ch["per_stage"]
+    check(f"{name}: the last stage carries F, earlier ones F + spline friction",
+          close(per[-1]["axial_load_N"], ch["axial_load_N"]) and
+          all(close(per[k]["axial_load_N"], ch["axial_load_N"] + per[k + 1]["spline_friction_force_N"])
+              for k in range(len(per) - 1)))
+    check(f"{name}: each stage's analysis is at its load",
+          all(close(res["stages"][k]["design"]["operating_point"]["axial_load_N"], per[k]["axial_load_N"])
+              for k in range(len(per))))
+    losses = sum(p_.get("stage_loss_W", 0) + p_.get("spline_loss_W", 0) + p_.get("thrust_bearing_loss_W", 0) for p_ in per)
+    check(f"{name}: input power = output + losses", close(ch["input_power_W"], ch["output_power_W"] + losses))
+    # frictionless couplings: the travel-weighted harmonic rule of the stage efficiencies
+    free = dict(doc, couplings={"spline_friction": 0, "thrust_bearing_friction": 0})
+    rc, fres = analyze_cli(f"{name} (frictionless couplings)", write_doc(free))
+    if fres:
+        etas = [st["efficiency"]["eta"] for st in fres["stages"]]
+        harmonic = sum(leads) / sum(L / e_ for L, e_ in zip(leads, etas))
+        check(f"{name}: frictionless couplings give sum L / sum (L_k / eta_k)",
+              close(fres["chain"]["efficiency"], harmonic), f'{fres["chain"]["efficiency"]} vs {harmonic}')
+        check(f"{name}: coupling friction lowers the efficiency", ch["efficiency"] < fres["chain"]["efficiency"])
+    rc, _, out, _ = prsm("analyze", path, "--format", "text")
+    check(f"{name}: --format text names the chain", rc == 0 and "chain efficiency" in out, out[:200])
+    base = load_json(path)
+    for bad_name, bad, pointer in [
+        ("operating point in a stage", dict(base, stages=[dict(base["stages"][0], operating_point={"axial_load_N": 1})] + base["stages"][1:]), "/stages/0/operating_point"),
+        ("three spline radii for two stages", dict(base, couplings={"spline_radius_mm": [1, 2, 3]}), "/couplings/spline_radius_mm"),
+        ("no stages", dict(base, stages=[]), "/stages"),
+        ("a stage without geometry", dict(base, stages=[{"name": "x"}] + base["stages"][1:]), "/stages/0/geometry"),
+        ("locking couplings", dict(base, couplings={"spline_friction": 0.9, "thrust_bearing_friction": 0.9,
+                                                     "spline_radius_mm": [1], "thrust_bearing_radius_mm": [100]}), "/couplings"),
+    ]:
+        rc, vdoc = validate_cli(f"{name}: {bad_name}", write_doc(bad))
+        found = [p_.get("pointer") for p_ in (vdoc or {}).get("errors", [])]
+        check(f"{name}: {bad_name} is refused at {pointer}", rc == 1 and pointer in found, f"exit {rc}: {found}")
 
 if known_seen:
     print(f"known disagreements: {len(known_seen)} still reproduce (see KNOWN in {os.path.basename(__file__)})")
