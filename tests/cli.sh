@@ -46,6 +46,37 @@ ok "--out same as stdout" cmp -s "$tmp/a.json" "$tmp/c.json"
 # text summary
 "$prsm" analyze "$src/studies/case-a.json" --format text > "$tmp/t.txt"; check "analyze text" 0 $?
 ok "text mentions carrier ratio" grep -q "carrier ratio 0.3756" "$tmp/t.txt"
+ok "text has the efficiency split" grep -q "input torque .* = ideal .* + sliding .* + spin" "$tmp/t.txt"
+ok "text has stiffness and thread compliance" grep -q "thread compliance: Yamamoto, width share" "$tmp/t.txt"
+ok "text has capacity and life" grep -q "C_0a .* C_a .* L10 life\|L10 life" "$tmp/t.txt"
+ok "text fits a page (<= 60 lines)" test "$(wc -l < "$tmp/t.txt")" -le 60
+# settings of issue 4 through the design document: losses, stiffness, life, column
+$py - "$src/studies/case-a.json" "$tmp/full.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+d["losses"] = {"drag_torque_Nm": 0.2, "seal_torque_Nm": 0.05, "gear_friction": 0.08}
+d["stiffness"] = {"thread_compliance": {"width": "given", "width_mm": 3.1, "calibration": 1.7},
+                  "load_entry": "opposite_side", "load_deflection_curve": {"points": 5}}
+d["life"] = {"reliability_percent": 95, "duty_cycle": [{"axial_load_N": 9000, "travel_mm": 100},
+             {"axial_load_N": 2000, "travel_mm": 400}], "preload_N": 500}
+d["column"] = {"free_length_mm": 600, "fixity": "fixed_supported"}
+json.dump(d, open(sys.argv[2], "w"))
+PY
+"$prsm" analyze "$tmp/full.json" > "$tmp/full.out"; check "analyze with every issue-4 setting" 0 $?
+ok "settings echoed and used" $py -c '
+import json, sys
+r = json.load(open(sys.argv[1]))
+tc = r["design"]["stiffness"]["thread_compliance"]
+assert tc["width"] == "given" and tc["width_mm"] == 3.1 and tc["calibration"] == 1.7, tc
+assert r["load_distribution"]["load_entry"] == "opposite_side"
+assert len(r["stiffness"]["load_deflection_curve"]) == 5
+assert abs(r["efficiency"]["torque_Nm"]["drag"] - 0.2) < 1e-12 and r["efficiency"]["torque_Nm"]["seal"] == 0.05
+assert r["life"]["reliability_factor_a1"] == 0.62 and r["life"]["duty_cycle_steps"] == 2
+assert r["life"]["equivalent_load_N"] >= r["life"]["mean_load_N"] > 0
+assert r["column"]["fixity"] == "fixed_supported" and r["column"]["buckling_load_N"] > 0
+' "$tmp/full.out"
+"$prsm" analyze "$src/studies/seed000-two-stage.json" --format text > "$tmp/ms.txt"; check "analyze two-stage text" 0 $?
+ok "two-stage text names the chain" grep -q "chain efficiency" "$tmp/ms.txt"
 
 # invalid request: exit 1, every problem with its pointer on stderr
 cat > "$tmp/bad.json" <<'JSON'
