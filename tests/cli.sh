@@ -336,7 +336,10 @@ d = json.load(open(sys.argv[1]))
 names = {b["name"] for b in d["benchmarks"]}
 assert {"contact_solve_warm", "backlash_load_sharing_linear", "te_curve_64_linear"} <= names, names
 for b in d["benchmarks"]:
-    assert set(b) == {"name", "value", "unit", "threads"} and b["value"] > 0, b
+    assert set(b) == {"name", "value", "unit", "threads"}, b
+    # an overhead measured on a busy machine may come out <= 0; every rate and time is positive
+    assert isinstance(b["value"], (int, float)) and (b["unit"] == "percent" or b["value"] > 0), b
+assert {"load_distribution_case_a", "operating_point_analysis_case_a"} <= names, names
 PY
 
 echo "cli: $pass passed, $fail failed"

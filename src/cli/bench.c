@@ -16,6 +16,8 @@
 #include "model/assembly_report.h"
 #include "model/contact.h"
 #include "model/geometry.h"
+#include "model/loaddist.h"
+#include "model/performance.h"
 #include "util/clock.h"
 
 /* Case A of MODEL.md §2 with Z = 10 and 10 engaged threads, 20 um target clearance. */
@@ -88,6 +90,69 @@ static double bench_analysis(double budget_s)
 		n += 64;
 		t = prsm_clock_seconds();
 	}
+	return (double)n / (t - t0);
+}
+
+/* The operating-point analysis of case A at 7 kN (MODEL.md §5, §6: losses, load distribution,
+ * stiffness, C_0a by bisection, C_a, life) after one nominal analysis; what the optimiser pays
+ * for an efficiency-and-stiffness evaluation. */
+static double bench_performance(double budget_s)
+{
+	prsm_design d;
+	case_a(&d);
+	prsm_analysis a;
+	prsm_problems w;
+	prsm_problems_init(&w);
+	if (prsm_analysis_nominal(&a, &d, &w, NULL))
+		return NAN;
+	long n = 0;
+	double t0 = prsm_clock_seconds(), t = t0;
+	while (t - t0 < budget_s) {
+		for (int i = 0; i < 8; i++) {
+			prsm_performance p;
+			prsm_error err = PRSM_ERROR_INIT;
+			d.axial_load_N = 7000.0 + (double)(i & 3);
+			if (prsm_performance_compute(&p, &d, &a, &err) == 0)
+				sink = p.stiffness_N_per_um;
+			prsm_performance_free(&p);
+		}
+		n += 8;
+		t = prsm_clock_seconds();
+	}
+	return (double)n / (t - t0);
+}
+
+/* One spring-chain solve of case A (n_t = 10, Hertz + Yamamoto threads + bodies). */
+static double bench_loaddist(double budget_s)
+{
+	prsm_design d;
+	case_a(&d);
+	prsm_analysis a;
+	prsm_problems w;
+	prsm_problems_init(&w);
+	prsm_error err = PRSM_ERROR_INIT;
+	prsm_design_compliance tc;
+	prsm_segment_compliance seg;
+	prsm_loaddist_params p;
+	if (prsm_analysis_nominal(&a, &d, &w, NULL) || prsm_compliance_design(&tc, &d, NULL, NULL, &err) ||
+	    prsm_compliance_segments(&seg, &d, NAN, &err) ||
+	    prsm_loaddist_params_from_design(&p, &d, &a.screw, &a.nut, &tc, &seg, PRSM_LOAD_ENTRY_SAME, &err))
+		return NAN;
+	prsm_loaddist_workspace *ws = prsm_loaddist_alloc(d.engaged_threads);
+	if (ws == NULL)
+		return NAN;
+	long n = 0;
+	double t0 = prsm_clock_seconds(), t = t0;
+	while (t - t0 < budget_s) {
+		for (int i = 0; i < 64; i++) {
+			prsm_loaddist_result r;
+			if (prsm_loaddist_solve(&r, ws, &p, 7000.0 + (double)i, &err) == 0)
+				sink = r.stiffness_N_per_mm;
+		}
+		n += 64;
+		t = prsm_clock_seconds();
+	}
+	prsm_loaddist_free(ws);
 	return (double)n / (t - t0);
 }
 
@@ -213,6 +278,8 @@ int prsm_cli_bench(int argc, char **argv)
 	add(list, "contact_solve_warm", bench_contact(budget, 1), "solves/s", 1);
 	add(list, "contact_solve_cold", bench_contact(budget, 0), "solves/s", 1);
 	add(list, "nominal_analysis", bench_analysis(budget), "analyses/s", 1);
+	add(list, "load_distribution_case_a", bench_loaddist(budget), "solves/s", 1);
+	add(list, "operating_point_analysis_case_a", bench_performance(budget), "analyses/s", 1);
 	add(list, "backlash_load_sharing_linear", bench_assembly(budget, PRSM_MODE_LINEAR, 0), "evaluations/s", 1);
 	add(list, "backlash_load_sharing_exact", bench_assembly(budget, PRSM_MODE_EXACT, 0), "evaluations/s", 1);
 	add(list, "te_curve_64_linear", bench_assembly(budget, PRSM_MODE_LINEAR, 1), "curves/s", 1);

@@ -66,27 +66,34 @@ static double peak_pressure(prsm_loaddist_workspace *ws, const prsm_loaddist_par
 }
 
 /* C_0a of one side: the load at which its most loaded contact reaches p_allow (MODEL.md §6).
- * p_max grows like F^(1/3) for equal sharing; start there and bracket, then bisect in log F. */
+ * p_max ~ F^(1/3) at a fixed distribution, so F <- F (p_allow / p_max(F))^3 converges fast (the
+ * max/mean factor changes slowly with F); it starts from the equal-sharing figure and falls
+ * back to bisection in log F if it has not converged in 30 steps. */
 static int static_capacity_side(double *out_N, prsm_loaddist_workspace *ws,
                                 const prsm_loaddist_params *p, const prsm_static_capacity *equal,
                                 double p_allow, int side, prsm_error *err)
 {
-	double lo = equal->C0a_N, hi = lo; /* equal sharing: an upper bound of C_0a */
-	double p_lo = peak_pressure(ws, p, lo, side, err);
-	if (!isfinite(p_lo))
-		return err->code ? err->code : PRSM_ENOCONVERGE;
-	for (int i = 0; i < 60 && p_lo > p_allow; i++) {
-		hi = lo;
-		lo *= 0.5;
-		p_lo = peak_pressure(ws, p, lo, side, err);
-		if (!isfinite(p_lo))
+	double F = equal->C0a_N; /* equal sharing: an upper bound of C_0a */
+	for (int i = 0; i < 30; i++) {
+		const double pm = peak_pressure(ws, p, F, side, err);
+		if (!isfinite(pm))
 			return err->code ? err->code : PRSM_ENOCONVERGE;
+		const double r = p_allow / pm, next = F * r * r * r;
+		if (fabs(next - F) <= 1e-12 * F) {
+			*out_N = next;
+			return 0;
+		}
+		F = next;
 	}
-	if (hi == lo) { /* p_max at the equal-sharing bound is not above p_allow: it is C_0a */
-		*out_N = lo;
-		return 0;
+	double lo = 0.0, hi = equal->C0a_N; /* bisection in log F between a bracket */
+	for (lo = hi; ; lo *= 0.5) {
+		const double pm = peak_pressure(ws, p, lo, side, err);
+		if (!isfinite(pm))
+			return err->code ? err->code : PRSM_ENOCONVERGE;
+		if (pm <= p_allow || lo < 1e-9 * hi)
+			break;
 	}
-	for (int i = 0; i < 60 && hi - lo > 1e-10 * hi; i++) {
+	for (int i = 0; i < 200 && hi - lo > 1e-12 * hi; i++) {
 		const double mid = sqrt(lo * hi);
 		const double pm = peak_pressure(ws, p, mid, side, err);
 		if (!isfinite(pm))
