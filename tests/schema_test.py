@@ -293,6 +293,22 @@ def variant(*changes, base=None):
     return d
 
 
+def mutated_copy(doc, path, value):
+    """A deep copy of doc with the member at path ('/'-separated, list indices as numbers) set
+    to value, or removed when value is DELETE; every parent must exist."""
+    d = copy.deepcopy(doc)
+    o = d
+    keys = path.split("/")
+    for k in keys[:-1]:
+        o = o[int(k)] if isinstance(o, list) else o[k]
+    last = int(keys[-1]) if isinstance(o, list) else keys[-1]
+    if value is DELETE:
+        del o[last]
+    else:
+        o[last] = value
+    return d
+
+
 # (name, document or raw text, pointer the C validator must name)
 INVALID = [
     ("negative pitch", variant(("geometry/pitch_mm", -2)), "/geometry/pitch_mm"),
@@ -630,16 +646,7 @@ if base_result:
         check(f"{label} is refused", bool(schema_errors(validator, doc)), "the schema accepts it")
 
     def mutated(path, value):
-        d = copy.deepcopy(base_result)
-        o = d
-        keys = path.split("/")
-        for k in keys[:-1]:
-            o = o[int(k)] if isinstance(o, list) else o[k]
-        if value is DELETE:
-            del o[keys[-1]]
-        else:
-            o[keys[-1]] = value
-        return d
+        return mutated_copy(base_result, path, value)
     refuses("analysis with an extra top-level member", V_ANALYSIS, mutated("extra", 1))
     refuses("analysis with an extra member in a contact", V_ANALYSIS, mutated("contacts/screw_roller/extra", 1))
     refuses("analysis with an extra member in the design", V_ANALYSIS, mutated("design/geometry/nut_length_mm", 20))
@@ -1056,17 +1063,7 @@ if r:
 r = req_results.get("measured, curve, exact")
 if r:
     def mutated_r(path, value):
-        d = copy.deepcopy(r)
-        o = d
-        keys = path.split("/")
-        for k in keys[:-1]:
-            o = o[int(k)] if isinstance(o, list) else o[k]
-        last = int(keys[-1]) if isinstance(o, list) else keys[-1]
-        if value is DELETE:
-            del o[last]
-        else:
-            o[last] = value
-        return d
+        return mutated_copy(r, path, value)
     for label, path, value in [
         ("errors without assembly", "assembly", DELETE),
         ("assembly without errors", "errors", DELETE),
@@ -1913,17 +1910,7 @@ for ptr in ("/colour", "/tolerances/0/parameter", "/tolerances/1", "/tolerances/
 base_res = run_study("base study for the result checks", reduced(SBASE))
 if base_res:
     def res_mutated(path, value):
-        d = copy.deepcopy(base_res)
-        o = d
-        keys = path.split("/")
-        for k in keys[:-1]:
-            o = o[int(k)] if isinstance(o, list) else o[k]
-        last = int(keys[-1]) if isinstance(o, list) else keys[-1]
-        if value is DELETE:
-            del o[last]
-        else:
-            o[last] = value
-        return d
+        return mutated_copy(base_res, path, value)
     for label, path, value in [
         ("an extra top-level member", "extra", 1),
         ("no outputs", "outputs", DELETE),

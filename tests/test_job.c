@@ -17,31 +17,7 @@
 
 #include "job/jobs.h"
 
-static char db_path[64];
-
-static int setup(void **state)
-{
-	(void)state;
-	snprintf(db_path, sizeof db_path, "/tmp/prsm-test-job-XXXXXX");
-	int fd = mkstemp(db_path);
-	if (fd < 0)
-		return -1;
-	close(fd);
-	unlink(db_path);
-	return 0;
-}
-
-static int teardown(void **state)
-{
-	(void)state;
-	char p[80];
-	unlink(db_path);
-	snprintf(p, sizeof p, "%s-wal", db_path);
-	unlink(p);
-	snprintf(p, sizeof p, "%s-shm", db_path);
-	unlink(p);
-	return 0;
-}
+#include "test_db.h"
 
 /* ---- the test kind ---- */
 

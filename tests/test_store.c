@@ -16,31 +16,7 @@
 
 #include "store/store.h"
 
-static char db_path[64];
-
-static int setup(void **state)
-{
-	(void)state;
-	snprintf(db_path, sizeof db_path, "/tmp/prsm-test-store-XXXXXX");
-	int fd = mkstemp(db_path);
-	if (fd < 0)
-		return -1;
-	close(fd);
-	unlink(db_path);
-	return 0;
-}
-
-static int teardown(void **state)
-{
-	(void)state;
-	char p[80];
-	unlink(db_path);
-	snprintf(p, sizeof p, "%s-wal", db_path);
-	unlink(p);
-	snprintf(p, sizeof p, "%s-shm", db_path);
-	unlink(p);
-	return 0;
-}
+#include "test_db.h"
 
 static prsm_store *open_store(void)
 {

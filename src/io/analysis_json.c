@@ -6,6 +6,7 @@
 
 #include <math.h>
 
+#include "io/design_json.h"
 #include "io/json_util.h"
 
 #include "model/geometry.h"
@@ -129,9 +130,8 @@ static cJSON *design_json(const prsm_design *d)
 	cJSON_AddNumberToObject(g, "rollers", d->rollers);
 	cJSON_AddNumberToObject(g, "engaged_threads", d->engaged_threads);
 	prsm_json_add_number(g, "running_clearance_mm", d->running_clearance_mm);
-	prsm_json_add_number(g, "nut_outer_radius_mm", isnan(d->nut_outer_radius_mm)
-	                                                   ? PRSM_NUT_OUTER_PER_PITCH_RADIUS * d->nut_radius_mm
-	                                                   : d->nut_outer_radius_mm);
+	prsm_json_add_number(g, "nut_outer_radius_mm",
+	                     prsm_compliance_nut_outer_radius_mm(d->nut_outer_radius_mm, d));
 	cJSON *t = cJSON_AddObjectToObject(o, "thinning");
 	prsm_json_add_number(t, "screw_um", 2e3 * d->flank_shift_screw_mm);
 	prsm_json_add_number(t, "roller_um", 2e3 * d->flank_shift_roller_mm);
@@ -163,10 +163,9 @@ static cJSON *design_json(const prsm_design *d)
 	const prsm_design_stiffness *st = &d->stiffness;
 	cJSON *so = cJSON_AddObjectToObject(o, "stiffness");
 	cJSON *tc = cJSON_AddObjectToObject(so, "thread_compliance");
-	static const char *const widths[] = {"share", "given", "ellipse"};
 	cJSON_AddStringToObject(tc, "model", st->width_rule == PRSM_THREAD_COMPLIANCE_NONE ? "none" : "yamamoto");
 	if (st->width_rule != PRSM_THREAD_COMPLIANCE_NONE)
-		cJSON_AddStringToObject(tc, "width", widths[st->width_rule - PRSM_THREAD_WIDTH_SHARE]);
+		cJSON_AddStringToObject(tc, "width", prsm_io_width_names[st->width_rule - PRSM_THREAD_WIDTH_SHARE]);
 	if (st->width_rule == PRSM_THREAD_WIDTH_SHARE)
 		prsm_json_add_number(tc, "width_fraction", st->width_fraction);
 	if (st->width_rule == PRSM_THREAD_WIDTH_GIVEN)
@@ -174,8 +173,8 @@ static cJSON *design_json(const prsm_design *d)
 	if (st->width_rule == PRSM_THREAD_WIDTH_ELLIPSE)
 		prsm_json_add_number(tc, "ellipse_factor", st->ellipse_factor);
 	prsm_json_add_number(tc, "calibration", st->calibration);
-	cJSON_AddStringToObject(tc, "negative_terms", st->negative_terms == PRSM_YAMAMOTO_KEEP ? "keep" : "clamp");
-	cJSON_AddStringToObject(so, "load_entry", st->load_entry == PRSM_ENTRY_OPPOSITE_SIDE ? "opposite_side" : "same_side");
+	cJSON_AddStringToObject(tc, "negative_terms", prsm_io_negative_terms_names[st->negative_terms]);
+	cJSON_AddStringToObject(so, "load_entry", prsm_io_load_entry_names[st->load_entry]);
 	if (st->curve_points > 0) {
 		cJSON *cu = cJSON_AddObjectToObject(so, "load_deflection_curve");
 		cJSON_AddNumberToObject(cu, "points", st->curve_points);
@@ -198,10 +197,9 @@ static cJSON *design_json(const prsm_design *d)
 	prsm_json_add_number(li, "preload_N", lf->preload_N);
 	prsm_json_add_number(li, "lp_material_factor", lf->lp_material_factor);
 	if (lf->column) {
-		static const char *const fix[] = {"fixed_free", "supported_supported", "fixed_supported", "fixed_fixed"};
 		cJSON *co = cJSON_AddObjectToObject(o, "column");
 		prsm_json_add_number(co, "free_length_mm", lf->free_length_mm);
-		cJSON_AddStringToObject(co, "fixity", fix[lf->fixity]);
+		cJSON_AddStringToObject(co, "fixity", prsm_io_fixity_names[lf->fixity]);
 	}
 	return o;
 }
@@ -304,7 +302,7 @@ static void performance_json(cJSON *root, const prsm_performance *p, const prsm_
 	cJSON_AddStringToObject(tc, "rule", rules[c->options.width_rule]);
 	cJSON_AddStringToObject(tc, "caution", "thread stiffness is uncertain by a factor of about 3 between the width rules (MODEL.md §6): compare them before trusting a stiffness");
 	prsm_json_add_number(tc, "calibration", c->options.calibration);
-	cJSON_AddStringToObject(tc, "negative_terms", c->options.negative_terms == PRSM_YAMAMOTO_KEEP ? "keep" : "clamp");
+	cJSON_AddStringToObject(tc, "negative_terms", prsm_io_negative_terms_names[c->options.negative_terms]);
 	prsm_json_add_number(tc, "nut_outer_radius_mm", c->nut_outer_radius_mm);
 	if (!none) {
 		cJSON_AddItemToObject(tc, "screw", tooth_json(&c->screw));
@@ -322,7 +320,7 @@ static void performance_json(cJSON *root, const prsm_performance *p, const prsm_
 	const double F = fabs(d->axial_load_N);
 	cJSON *ld = cJSON_AddObjectToObject(root, "load_distribution");
 	cJSON_AddStringToObject(ld, "model", "spring chain per roller (MODEL.md §6): Hertz + thread compliance per contact, screw core, roller core and nut body stretch between threads; rollers share the load equally");
-	cJSON_AddStringToObject(ld, "load_entry", d->stiffness.load_entry == PRSM_ENTRY_OPPOSITE_SIDE ? "opposite_side" : "same_side");
+	cJSON_AddStringToObject(ld, "load_entry", prsm_io_load_entry_names[d->stiffness.load_entry]);
 	prsm_json_add_number(ld, "axial_load_N", F);
 	cJSON_AddNumberToObject(ld, "rollers", d->rollers);
 	cJSON_AddNumberToObject(ld, "threads", p->threads);
@@ -400,8 +398,7 @@ static void performance_json(cJSON *root, const prsm_performance *p, const prsm_
 	if (p->has_column) {
 		const prsm_column *co = &p->column;
 		cJSON *cl = cJSON_AddObjectToObject(root, "column");
-		static const char *const fix[] = {"fixed_free", "supported_supported", "fixed_supported", "fixed_fixed"};
-		cJSON_AddStringToObject(cl, "fixity", fix[co->fixity]);
+		cJSON_AddStringToObject(cl, "fixity", prsm_io_fixity_names[co->fixity]);
 		prsm_json_add_number(cl, "free_length_mm", co->free_length_mm);
 		prsm_json_add_number(cl, "root_diameter_mm", co->root_diameter_mm);
 		prsm_json_add_number(cl, "critical_speed_rpm", co->critical_speed_rpm);

@@ -40,13 +40,13 @@ static const char *const life_keys[] = {
 	"p_allow_MPa", "reliability_percent", "duty_cycle", "preload_N", "lp_material_factor", NULL};
 static const char *const duty_keys[] = {"axial_load_N", "travel_mm", NULL};
 static const char *const column_keys[] = {"free_length_mm", "fixity", NULL};
-/* enum names, in the order of the model's constants */
+/* enum names, in the order of the model's constants (design_json.h) */
 static const char *const compliance_model_names[] = {"yamamoto", "none", NULL};
-static const char *const width_names[] = {"share", "given", "ellipse", NULL}; /* PRSM_THREAD_WIDTH_* - 1 */
-static const char *const negative_names[] = {"clamp", "keep", NULL};        /* PRSM_YAMAMOTO_CLAMP, KEEP */
-static const char *const entry_names[] = {"same_side", "opposite_side", NULL}; /* PRSM_ENTRY_* */
-static const char *const fixity_names[] = {"fixed_free", "supported_supported", "fixed_supported",
-                                           "fixed_fixed", NULL};              /* PRSM_FIXITY_* */
+const char *const prsm_io_width_names[] = {"share", "given", "ellipse", NULL};
+const char *const prsm_io_negative_terms_names[] = {"clamp", "keep", NULL};
+const char *const prsm_io_load_entry_names[] = {"same_side", "opposite_side", NULL};
+const char *const prsm_io_fixity_names[] = {"fixed_free", "supported_supported", "fixed_supported",
+                                            "fixed_fixed", NULL};
 static const char *const hand_names[] = {"right", "left", NULL}; /* index 0, 1 */
 
 static prsm_json_range range(double min, int min_exclusive, double max, int max_exclusive)
@@ -291,13 +291,13 @@ static void read_stiffness(prsm_design *d, const cJSON *doc, const char *base, p
 	                          stiffness_keys, problems) != PRSM_JSON_PRESENT)
 		return;
 	prsm_design_stiffness *o = &d->stiffness;
-	prsm_json_get_enum(&o->load_entry, s, sp, "load_entry", PRSM_JSON_OPTIONAL, entry_names, problems);
+	prsm_json_get_enum(&o->load_entry, s, sp, "load_entry", PRSM_JSON_OPTIONAL, prsm_io_load_entry_names, problems);
 	if (prsm_json_get_section(&c, cp, sizeof cp, s, sp, "thread_compliance", PRSM_JSON_OPTIONAL,
 	                          compliance_keys, problems) == PRSM_JSON_PRESENT) {
 		int model = 0, width = 0, neg;
 		int has_model = prsm_json_get_enum(&model, c, cp, "model", PRSM_JSON_OPTIONAL,
 		                                   compliance_model_names, problems) == PRSM_JSON_PRESENT;
-		if (prsm_json_get_enum(&width, c, cp, "width", PRSM_JSON_OPTIONAL, width_names, problems) ==
+		if (prsm_json_get_enum(&width, c, cp, "width", PRSM_JSON_OPTIONAL, prsm_io_width_names, problems) ==
 		    PRSM_JSON_PRESENT)
 			o->width_rule = PRSM_THREAD_WIDTH_SHARE + width;
 		if (has_model && model == 1) {
@@ -322,7 +322,7 @@ static void read_stiffness(prsm_design *d, const cJSON *doc, const char *base, p
 		                     range(0.0, 1, 100.0, 0), problems);
 		prsm_json_get_number(&o->calibration, c, cp, "calibration", PRSM_JSON_OPTIONAL,
 		                     range(0.0, 1, 100.0, 0), problems);
-		if (prsm_json_get_enum(&neg, c, cp, "negative_terms", PRSM_JSON_OPTIONAL, negative_names,
+		if (prsm_json_get_enum(&neg, c, cp, "negative_terms", PRSM_JSON_OPTIONAL, prsm_io_negative_terms_names,
 		                       problems) == PRSM_JSON_PRESENT)
 			o->negative_terms = neg == 0 ? PRSM_YAMAMOTO_CLAMP : PRSM_YAMAMOTO_KEEP;
 	}
@@ -400,7 +400,7 @@ static void read_column(prsm_design *d, const cJSON *doc, const char *base, prsm
 		return;
 	int ok = prsm_json_get_number(&d->life.free_length_mm, c, cp, "free_length_mm", PRSM_JSON_REQUIRED,
 	                              range(0.0, 1, 1e6, 0), problems) == PRSM_JSON_PRESENT;
-	ok &= prsm_json_get_enum(&d->life.fixity, c, cp, "fixity", PRSM_JSON_REQUIRED, fixity_names,
+	ok &= prsm_json_get_enum(&d->life.fixity, c, cp, "fixity", PRSM_JSON_REQUIRED, prsm_io_fixity_names,
 	                         problems) == PRSM_JSON_PRESENT;
 	d->life.column = ok;
 }

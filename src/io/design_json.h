@@ -36,6 +36,15 @@
 #define PRSM_DESIGN_TORQUE_MAX_NM 1e6
 #define PRSM_DESIGN_CURVE_POINTS_MAX 1000
 
+/* Names of the design's enumerations, NULL-terminated, indexed by the model's constants:
+ * width rules by PRSM_THREAD_WIDTH_* - PRSM_THREAD_WIDTH_SHARE, negative terms by
+ * PRSM_YAMAMOTO_*, load entry by PRSM_ENTRY_*, fixity by PRSM_FIXITY_*. The reader and the
+ * result writers share them. */
+extern const char *const prsm_io_width_names[];
+extern const char *const prsm_io_negative_terms_names[];
+extern const char *const prsm_io_load_entry_names[];
+extern const char *const prsm_io_fixity_names[];
+
 /*
  * Read the design document doc into out (initialised here with prsm_design_init(); optional
  * geometry fields the document leaves out stay NaN for prsm_design_resolve()). Checks types,

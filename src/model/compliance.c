@@ -214,9 +214,7 @@ int prsm_compliance_design(prsm_design_compliance *out, const prsm_design *d,
 	const prsm_compliance_options *o = opt ? opt : &defaults;
 	memset(out, 0, sizeof *out);
 	out->options = *o;
-	out->nut_outer_radius_mm = isnan(o->nut_outer_radius_mm)
-	                               ? PRSM_NUT_OUTER_PER_PITCH_RADIUS * d->nut_radius_mm
-	                               : o->nut_outer_radius_mm;
+	out->nut_outer_radius_mm = prsm_compliance_nut_outer_radius_mm(o->nut_outer_radius_mm, d);
 	out->options.nut_outer_radius_mm = out->nut_outer_radius_mm;
 	if (o->width_rule == PRSM_THREAD_WIDTH_ELLIPSE && !ellipse_a_mm)
 		return prsm_error_set(err, PRSM_EINVAL, "/thread_compliance/width_rule",
@@ -255,12 +253,16 @@ double prsm_compliance_stretch(double length_mm, double E_MPa, double area_mm2)
 	return length_mm / (E_MPa * area_mm2);
 }
 
+double prsm_compliance_nut_outer_radius_mm(double given_mm, const prsm_design *d)
+{
+	return isnan(given_mm) ? PRSM_NUT_OUTER_PER_PITCH_RADIUS * d->nut_radius_mm : given_mm;
+}
+
 int prsm_compliance_segments(prsm_segment_compliance *out, const prsm_design *d,
                              double nut_outer_radius_mm, prsm_error *err)
 {
 	memset(out, 0, sizeof *out);
-	const double Ro = isnan(nut_outer_radius_mm) ? PRSM_NUT_OUTER_PER_PITCH_RADIUS * d->nut_radius_mm
-	                                             : nut_outer_radius_mm;
+	const double Ro = prsm_compliance_nut_outer_radius_mm(nut_outer_radius_mm, d);
 	const double rs = d->screw_root_radius_mm, rr = d->roller_root_radius_mm;
 	const double rn = d->nut_root_radius_mm;
 	out->screw_area_mm2 = M_PI * rs * rs;

@@ -187,6 +187,9 @@ int prsm_compliance_design(prsm_design_compliance *out, const prsm_design *d,
                            const prsm_compliance_options *opt, const double ellipse_a_mm[2],
                            prsm_error *err);
 
+/* The nut outer radius used: given_mm, or 1.3 r_n when it is NaN, mm. */
+double prsm_compliance_nut_outer_radius_mm(double given_mm, const prsm_design *d);
+
 /* Axial stretch compliance of a uniform bar: length / (E A), mm/N. */
 double prsm_compliance_stretch(double length_mm, double E_MPa, double area_mm2);
 

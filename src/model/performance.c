@@ -55,7 +55,7 @@ static int torque_with_losses(prsm_losses_result *out, const prsm_design *d, con
 	                           &o, err);
 }
 
-/* Largest p_max of the two sides at total load F, MPa; side_out gets which side. */
+/* p_max of the most loaded contact of one side at total load F, MPa; NaN when the solve fails. */
 static double peak_pressure(prsm_loaddist_workspace *ws, const prsm_loaddist_params *p, double F,
                             int side, prsm_error *err)
 {
@@ -85,12 +85,13 @@ static int static_capacity_side(double *out_N, prsm_loaddist_workspace *ws,
 		}
 		F = next;
 	}
-	double lo = 0.0, hi = equal->C0a_N; /* bisection in log F between a bracket */
-	for (lo = hi; ; lo *= 0.5) {
+	const double hi0 = equal->C0a_N; /* bisection in log F between a bracket */
+	double lo = hi0, hi = hi0;
+	for (;; lo *= 0.5) {
 		const double pm = peak_pressure(ws, p, lo, side, err);
 		if (!isfinite(pm))
 			return err->code ? err->code : PRSM_ENOCONVERGE;
-		if (pm <= p_allow || lo < 1e-9 * hi)
+		if (pm <= p_allow || lo < 1e-9 * hi0)
 			break;
 	}
 	for (int i = 0; i < 200 && hi - lo > 1e-12 * hi; i++) {
@@ -107,7 +108,7 @@ static int static_capacity_side(double *out_N, prsm_loaddist_workspace *ws,
 	return 0;
 }
 
-static int capacity_and_life(prsm_performance *out, const prsm_design *d, const prsm_analysis *a,
+static int capacity_and_life(prsm_performance *out, const prsm_design *d,
                              prsm_loaddist_workspace *ws, const prsm_loaddist_params *p,
                              prsm_error *err)
 {
@@ -174,7 +175,6 @@ static int capacity_and_life(prsm_performance *out, const prsm_design *d, const 
 		                           d->screw_material.density_kg_m3, err)))
 			return rc;
 	}
-	(void)a;
 	return 0;
 }
 
@@ -212,7 +212,7 @@ int prsm_performance_compute(prsm_performance *out, const prsm_design *d, const 
 	out->dist.normal_screw_N = out->dist.normal_nut_N = NULL;
 	if (rc)
 		goto cleanup;
-	if ((rc = capacity_and_life(out, d, a, ws, &p, err)))
+	if ((rc = capacity_and_life(out, d, ws, &p, err)))
 		goto cleanup;
 
 	/* the load-deflection curve, on request */
