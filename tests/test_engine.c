@@ -289,6 +289,13 @@ static void test_failure_policy(void **state)
 	assert_null(r.x);
 }
 
+/* The last progress report a run made. */
+static void keep_progress(void *ctx, const prsm_progress *p)
+{
+	prsm_progress *last = ctx;
+	*last = *p;
+}
+
 /* A stop target ends the run at the first block where it holds, whatever the thread count. */
 static void test_target_stop(void **state)
 {
@@ -311,6 +318,9 @@ static void test_target_stop(void **state)
 		o.targets[0].kind = PRSM_TARGET_SE;
 		o.targets[0].output = 0;
 		o.targets[0].value = 0.05; /* sd 3.72: about 5500 samples */
+		prsm_progress last = PRSM_PROGRESS_INIT;
+		o.progress = keep_progress;
+		o.progress_ctx = &last;
 		assert_int_equal(prsm_mc_run(&r, &mdl, v, 3, NULL, 0, &o, &err), 0);
 		assert_int_equal(r.stop, PRSM_STOP_TARGET);
 		assert_true(r.converged);
@@ -327,6 +337,12 @@ static void test_target_stop(void **state)
 		}
 		assert_true(prsm_moments_sd(&m) / sqrt((double)m.n) <= 0.05 * (1 + 1e-12));
 		assert_true(prsm_moments_sd(&m2) / sqrt((double)m2.n) > 0.05 * (1 - 1e-12));
+		/* the final progress report: every kept sample, the standard error they give */
+		assert_int_equal(last.done, r.n);
+		assert_int_equal(last.planned, 1000000);
+		assert_float_equal(last.interval_width, prsm_moments_sd(&m) / sqrt((double)m.n), 1e-9);
+		assert_float_equal(last.interval_goal, 0.05, 0.0);
+		assert_true(isnan(last.best));
 		if (t == 1)
 			n_first = r.n;
 		else

@@ -50,7 +50,12 @@ static int sleepy_run(prsm_job_output *out, const char *request, const prsm_job_
 			return prsm_error_set(err, PRSM_ECANCELLED, NULL, "cancelled");
 		struct timespec ts = {0, 5000000L};
 		nanosleep(&ts, NULL);
-		ctx->progress(ctx->progress_ctx, (size_t)i + 1, (size_t)steps);
+		prsm_progress p = PRSM_PROGRESS_INIT;
+		p.done = (size_t)i + 1;
+		p.planned = (size_t)steps;
+		p.interval_width = 1.0 / (i + 1);
+		p.interval_goal = 0.125;
+		ctx->progress(ctx->progress_ctx, &p);
 	}
 	if (fail)
 		return prsm_error_set(err, PRSM_ENOCONVERGE, "/fail", "it was asked to fail");
@@ -242,6 +247,17 @@ static void test_cancel_and_queue_cap(void **state)
 	assert_true(v.live);
 	assert_int_equal(v.samples_planned, 4000);
 	assert_true(v.samples_done > 0);
+	/* the stop rule's figure as the run reported it last (sleepy: 1 / steps done) */
+	assert_true(v.interval_width > 0.0 && v.interval_width <= 1.0);
+	assert_float_equal(v.interval_goal, 0.125, 0.0);
+	assert_true(isnan(v.best));
+	cJSON *live = prsm_job_view_to_json(&v);
+	const cJSON *lp = cJSON_GetObjectItemCaseSensitive(live, "progress");
+	assert_true(cJSON_IsNumber(cJSON_GetObjectItemCaseSensitive(lp, "interval_width")));
+	assert_float_equal(cJSON_GetObjectItemCaseSensitive(lp, "interval_goal")->valuedouble, 0.125, 0.0);
+	assert_true(cJSON_IsNull(cJSON_GetObjectItemCaseSensitive(lp, "best_objective")));
+	assert_string_equal(cJSON_GetObjectItemCaseSensitive(lp, "unit")->valuestring, "samples");
+	cJSON_Delete(live);
 	prsm_job_view_clear(&v);
 
 	assert_int_equal(prsm_jobs_cancel(j, &v, &sleepy, a.row.id, &err), 0);

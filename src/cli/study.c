@@ -54,14 +54,16 @@ static int parse(study_options *o, int argc, char **argv)
 	return 0;
 }
 
-static void progress(void *ctx, size_t done, size_t cap)
+static void progress(void *ctx, const prsm_progress *p)
 {
 	(void)ctx;
-	int width = 40, filled = cap ? (int)((double)done / (double)cap * width) : width;
+	int width = 40, filled = p->planned ? (int)((double)p->done / (double)p->planned * width) : width;
 	fprintf(stderr, "\r[");
 	for (int i = 0; i < width; i++)
 		fputc(i < filled ? '#' : '.', stderr);
-	fprintf(stderr, "] %zu / %zu samples", done, cap);
+	fprintf(stderr, "] %zu / %zu samples", p->done, p->planned);
+	if (!isnan(p->interval_width))
+		fprintf(stderr, ", interval %.4g (goal %.4g)", p->interval_width, p->interval_goal);
 	fflush(stderr);
 }
 

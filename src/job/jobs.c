@@ -27,7 +27,7 @@ typedef struct {
 	int started;
 	char id[PRSM_STORE_ID_MAX];          /* the job running here, "" when idle */
 	volatile int cancel;                 /* raised by a cancel or by closing */
-	size_t done, planned;                /* progress of the running job */
+	prsm_progress progress;              /* of the running job */
 	double started_clock_s;              /* prsm_clock_seconds() at its start */
 } worker;
 
@@ -46,12 +46,11 @@ void prsm_job_view_clear(prsm_job_view *v)
 	prsm_store_job_clear(&v->row);
 }
 
-static void progress_cb(void *ctx, size_t done, size_t planned)
+static void progress_cb(void *ctx, const prsm_progress *p)
 {
 	worker *w = ctx;
 	pthread_mutex_lock(&w->jobs->mu);
-	w->done = done;
-	w->planned = planned;
+	w->progress = *p;
 	pthread_mutex_unlock(&w->jobs->mu);
 }
 
@@ -119,7 +118,7 @@ static void *worker_main(void *arg)
 		if (rc == 0) {
 			snprintf(w->id, sizeof w->id, "%s", job.id);
 			w->cancel = 0;
-			w->done = w->planned = 0;
+			w->progress = (prsm_progress)PRSM_PROGRESS_INIT;
 			w->started_clock_s = prsm_clock_seconds();
 			pthread_mutex_unlock(&j->mu);
 			run_one(w, &job);
@@ -208,6 +207,9 @@ void prsm_jobs_close(prsm_jobs *j)
 static void add_live(prsm_jobs *j, prsm_job_view *v)
 {
 	v->eta_s = NAN;
+	v->interval_width = NAN;
+	v->interval_goal = NAN;
+	v->best = NAN;
 	v->samples_done = v->row.samples_done;
 	v->samples_planned = v->row.samples_planned;
 	if (v->row.state != PRSM_JOB_RUNNING)
@@ -217,11 +219,15 @@ static void add_live(prsm_jobs *j, prsm_job_view *v)
 		worker *w = &j->w[i];
 		if (w->id[0] && strcmp(w->id, v->row.id) == 0) {
 			v->live = 1;
-			v->samples_done = (long long)w->done;
-			v->samples_planned = (long long)w->planned;
+			const prsm_progress *p = &w->progress;
+			v->samples_done = (long long)p->done;
+			v->samples_planned = (long long)p->planned;
+			v->interval_width = p->interval_width;
+			v->interval_goal = p->interval_goal;
+			v->best = p->best;
 			double elapsed = prsm_clock_seconds() - w->started_clock_s;
-			if (w->done > 0 && w->planned >= w->done)
-				v->eta_s = elapsed * (double)(w->planned - w->done) / (double)w->done;
+			if (p->done > 0 && p->planned >= p->done)
+				v->eta_s = elapsed * (double)(p->planned - p->done) / (double)p->done;
 			break;
 		}
 	}
@@ -233,7 +239,7 @@ int prsm_jobs_submit(prsm_jobs *j, prsm_job_view *out, prsm_submit_outcome *outc
 {
 	memset(out, 0, sizeof *out);
 	out->kind = k;
-	out->eta_s = NAN;
+	out->eta_s = out->interval_width = out->interval_goal = out->best = NAN;
 	cJSON *norm = NULL;
 	int rc = k->normalise(&norm, doc, &j->opt.limits, problems);
 	if (rc)
@@ -302,7 +308,7 @@ int prsm_jobs_cancel(prsm_jobs *j, prsm_job_view *out, const prsm_job_kind *k, c
 	prsm_job_view_clear(out);
 	memset(out, 0, sizeof *out);
 	out->kind = k;
-	out->eta_s = NAN;
+	out->eta_s = out->interval_width = out->interval_goal = out->best = NAN;
 	pthread_mutex_lock(&j->mu);
 	rc = prsm_store_cancel(j->store, &out->row, id, err);
 	if (rc == 0)
@@ -385,6 +391,14 @@ static void add_time(cJSON *o, const char *name, double unix_s)
 	cJSON_AddStringToObject(o, name, out);
 }
 
+static void add_number_or_null(cJSON *o, const char *name, double x)
+{
+	if (isfinite(x))
+		cJSON_AddNumberToObject(o, name, x);
+	else
+		cJSON_AddNullToObject(o, name);
+}
+
 cJSON *prsm_job_view_to_json(const prsm_job_view *v)
 {
 	const prsm_store_job *r = &v->row;
@@ -405,8 +419,10 @@ cJSON *prsm_job_view_to_json(const prsm_job_view *v)
 		cJSON_AddNumberToObject(p, "fraction", (double)v->samples_done / (double)v->samples_planned);
 	else
 		cJSON_AddNullToObject(p, "fraction");
-	/* the engine does not report its stop-rule statistics while it runs */
-	cJSON_AddNullToObject(p, "interval_width");
+	cJSON_AddStringToObject(p, "unit", v->kind->progress_unit ? v->kind->progress_unit : "samples");
+	add_number_or_null(p, "interval_width", v->interval_width);
+	add_number_or_null(p, "interval_goal", v->interval_goal);
+	add_number_or_null(p, "best_objective", v->best);
 	if (isfinite(v->eta_s))
 		cJSON_AddNumberToObject(p, "eta_s", v->eta_s);
 	else

@@ -46,6 +46,9 @@ typedef struct {
 	int live;                        /* progress figures below are from the running worker */
 	long long samples_done, samples_planned;
 	double eta_s;                    /* NAN when unknown */
+	double interval_width;           /* the running stop rule's figure (prsm_progress), NAN: none */
+	double interval_goal;            /* its goal, NAN: none */
+	double best;                     /* best objective so far (optimisation), NAN: none */
 	int cache_hit;                   /* the submission was answered from the cache */
 } prsm_job_view;
 

@@ -24,6 +24,7 @@
 
 #include "util/error.h"
 #include "util/problems.h"
+#include "util/progress.h"
 
 /* The service's limits on one job (prsm serve options). */
 typedef struct {
@@ -32,8 +33,9 @@ typedef struct {
 	int threads;          /* engine threads per job */
 } prsm_job_limits;
 
-/* Progress: samples done and planned so far (called from the running worker's thread). */
-typedef void (*prsm_job_progress_fn)(void *ctx, size_t done, size_t planned);
+/* Progress (util/progress.h): samples or evaluations done and planned so far, the stop rule's
+ * interval width, the best objective; called from the running worker's thread. */
+typedef prsm_progress_fn prsm_job_progress_fn;
 
 typedef struct {
 	volatile int *cancel;              /* nonzero: stop as soon as possible (PRSM_ECANCELLED) */
@@ -60,6 +62,7 @@ typedef struct prsm_job_kind {
 	const char *request_schema;  /* e.g. "study.schema.json" */
 	const char *result_schema;   /* e.g. "study-result.schema.json" */
 	int has_samples_csv;         /* GET /v1/<collection>/{id}/samples.csv exists */
+	const char *progress_unit;   /* what progress counts: "samples" or "evaluations" */
 	/* Engine and model versions of the results (a static string, computed once). */
 	const char *(*version)(void);
 	/* Validate doc (not taken over) against the document's rules and lim; on success *out is

@@ -106,17 +106,6 @@ static int study_normalise(cJSON **out, const cJSON *doc, const prsm_job_limits 
 	return 0;
 }
 
-typedef struct {
-	prsm_job_progress_fn fn;
-	void *ctx;
-} progress_relay;
-
-static void relay(void *ctx, size_t done, size_t cap)
-{
-	const progress_relay *r = ctx;
-	r->fn(r->ctx, done, cap);
-}
-
 /* Every sample as CSV into a malloc'd buffer (*csv, the caller's), or NULL when it would be
  * larger than STUDY_CSV_MAX_BYTES. Returns 0 or PRSM_EIO / PRSM_ENOMEM. */
 static int samples_csv(char **csv, size_t *len, const prsm_io_study *s, const prsm_study_result *r)
@@ -170,11 +159,8 @@ static int study_run(prsm_job_output *out, const char *request, const prsm_job_r
 	if (ctx->limits.max_time_s > 0 && (mc->time_cap_s <= 0 || mc->time_cap_s > ctx->limits.max_time_s))
 		mc->time_cap_s = ctx->limits.max_time_s;
 	mc->cancel = ctx->cancel;
-	progress_relay pr = {ctx->progress, ctx->progress_ctx};
-	if (ctx->progress) {
-		mc->progress = relay;
-		mc->progress_ctx = &pr;
-	}
+	mc->progress = ctx->progress;
+	mc->progress_ctx = ctx->progress_ctx;
 	rc = prsm_study_run(r, &s->study, err);
 	if (rc)
 		goto done;
@@ -215,6 +201,7 @@ const prsm_job_kind prsm_job_kind_study = {
 	.request_schema = "study.schema.json",
 	.result_schema = "study-result.schema.json",
 	.has_samples_csv = 1,
+	.progress_unit = "samples",
 	.version = study_version,
 	.normalise = study_normalise,
 	.run = study_run,

@@ -495,23 +495,54 @@ static int check_options(const prsm_mc_options *o, size_t d, size_t m, prsm_erro
 	return 0;
 }
 
-static int target_met(const prsm_mc_target *tg, const prsm_moments *mom, size_t in)
+/* The figure a target's stop rule compares with its value: the standard error of the mean
+ * (output unit), that over |mean|, or the width of the yield's 95 % Wilson interval; NAN
+ * before two samples (or a zero mean for CV). */
+static double target_figure(const prsm_mc_target *tg, const prsm_moments *mom, size_t in)
 {
 	if (mom->n < 2)
-		return 0;
+		return NAN;
 	double se = prsm_moments_sd(mom) / sqrt((double)mom->n);
 	switch (tg->kind) {
 	case PRSM_TARGET_SE:
-		return se <= tg->value;
+		return se;
 	case PRSM_TARGET_CV:
-		return mom->mean != 0.0 && se / fabs(mom->mean) <= tg->value;
+		return mom->mean != 0.0 ? se / fabs(mom->mean) : NAN;
 	case PRSM_TARGET_YIELD_WIDTH: {
 		double lo, hi;
 		prsm_stats_wilson(in, mom->n, 1.959963984540054, &lo, &hi);
-		return hi - lo <= tg->value;
+		return hi - lo;
 	}
 	}
-	return 0;
+	return NAN;
+}
+
+static int target_met(const prsm_mc_target *tg, const prsm_moments *mom, size_t in)
+{
+	double f = target_figure(tg, mom, in);
+	return !isnan(f) && f <= tg->value;
+}
+
+/* Progress of a run: prefix samples of the cap and, with targets, the figure of the target
+ * furthest from its goal (the largest figure / goal; a target without a figure yet counts as
+ * furthest). */
+static void report_progress(const prsm_mc_options *o, size_t done, size_t cap, const prsm_moments *mom,
+                            const size_t *in, size_t nt)
+{
+	prsm_progress p = PRSM_PROGRESS_INIT;
+	p.done = done;
+	p.planned = cap;
+	double worst = -1.0;
+	for (size_t t = 0; t < nt; t++) {
+		double f = target_figure(&o->targets[t], &mom[t], in[t]);
+		double ratio = isnan(f) ? INFINITY : f / o->targets[t].value;
+		if (ratio > worst) {
+			worst = ratio;
+			p.interval_width = f;
+			p.interval_goal = o->targets[t].value;
+		}
+	}
+	o->progress(o->progress_ctx, &p);
 }
 
 /* Shared body of the two runs. */
@@ -742,7 +773,7 @@ static int run(prsm_mc_result *out, const prsm_mc_model *model, const prsm_mc_va
 		if (o->progress && now - last_progress >= 0.2) {
 			last_progress = now;
 			pthread_mutex_unlock(&c->mu);
-			o->progress(o->progress_ctx, prefix_rows, c->n_rows);
+			report_progress(o, prefix_rows, c->n_rows, mom, in, split ? 0 : nt);
 			pthread_mutex_lock(&c->mu);
 		}
 	}
@@ -751,7 +782,7 @@ static int run(prsm_mc_result *out, const prsm_mc_model *model, const prsm_mc_va
 		if (ws[t].started)
 			pthread_join(ws[t].thread, NULL);
 	if (o->progress)
-		o->progress(o->progress_ctx, prefix_rows, c->n_rows);
+		report_progress(o, prefix_rows, c->n_rows, mom, in, split ? 0 : nt);
 
 	/* keep the prefix */
 	out->n = prefix_rows;

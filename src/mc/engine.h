@@ -34,6 +34,7 @@
 
 #include "mc/dist.h"
 #include "util/error.h"
+#include "util/progress.h"
 
 /* Limits (also what the request validation enforces). */
 #define PRSM_MC_MAX_VARIABLES 1024    /* sampled scalar variables */
@@ -99,8 +100,6 @@ typedef enum {
 	PRSM_STOP_FAILURES = 4            /* failed samples beyond policy */
 } prsm_stop_reason;
 
-typedef void (*prsm_mc_progress_fn)(void *ctx, size_t done, size_t cap);
-
 typedef struct {
 	uint64_t seed;
 	size_t samples;                   /* cap (plain) or base rows (Saltelli) */
@@ -119,7 +118,9 @@ typedef struct {
 	size_t first_block, block_count;
 	uint64_t stream_offset;           /* added to block indices as stream keys (distinct runs of one seed) */
 	volatile int *cancel;             /* may be NULL; nonzero cancels */
-	prsm_mc_progress_fn progress;     /* may be NULL; called from the calling thread */
+	prsm_progress_fn progress;        /* may be NULL; called from the calling thread about every
+	                                     0.2 s and once at the end: samples done of the cap, and with
+	                                     targets the stop rule's current figure (util/progress.h) */
 	void *progress_ctx;
 } prsm_mc_options;
 

@@ -519,6 +519,8 @@ def suite_studies(client, contract, source):
 
     # cancel
     long = long_study(source, random.randrange(1, 2**31), 200000)
+    # a stop target too small to be met: progress reports its standard error as it runs
+    long["monte_carlo"]["targets"] = [{"output": "backlash_um", "standard_error": 1e-9}]
     r = client.post("/v1/studies", long)
     check("long study: 202", r.status == 202, r.body[:200])
     if r.status == 202:
@@ -527,6 +529,12 @@ def suite_studies(client, contract, source):
         check("long study runs with progress", running is not None and running["state"] == "running"
               and running["progress"]["samples_planned"] == 200000 and running["progress"]["eta_s"] is not None,
               str(running and running["progress"]))
+        running = wait_job(client, loc, states=("running",), timeout=60,
+                           pred=lambda d: d["progress"]["interval_width"] is not None)
+        p = running and running["progress"]
+        check("a running study with a target reports its interval width and goal",
+              p is not None and p["interval_width"] > 1e-9 and p["interval_goal"] == 1e-9
+              and p["unit"] == "samples" and p["best_objective"] is None, str(p))
         r = client.delete(loc)
         check("DELETE a running study: 200 cancelled", r.status == 200 and r.json()["state"] == "cancelled")
         r = client.delete(loc)
