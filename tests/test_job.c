@@ -44,10 +44,18 @@ static int sleepy_run(prsm_job_output *out, const char *request, const prsm_job_
 	cJSON *doc = cJSON_Parse(request);
 	int steps = cJSON_GetObjectItemCaseSensitive(doc, "steps")->valueint;
 	int fail = cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(doc, "fail"));
+	int keep = cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(doc, "keep"));
 	cJSON_Delete(doc);
 	for (int i = 0; i < steps; i++) {
-		if (*ctx->cancel)
+		if (*ctx->cancel) {
+			if (keep) { /* like an optimisation: the best point so far */
+				char best[64];
+				snprintf(best, sizeof best, "{\"best_step\":%d}", i);
+				out->result = strdup(best);
+				out->result_len = strlen(best);
+			}
 			return prsm_error_set(err, PRSM_ECANCELLED, NULL, "cancelled");
+		}
 		struct timespec ts = {0, 5000000L};
 		nanosleep(&ts, NULL);
 		prsm_progress p = PRSM_PROGRESS_INIT;
@@ -299,6 +307,42 @@ static void test_cancel_and_queue_cap(void **state)
 	prsm_jobs_close(j);
 }
 
+/* A kind that hands back its best point when cancelled (an optimisation) keeps it: the job
+ * stays cancelled and shows that result; a cancelled job without one has none. */
+static void test_cancel_keeps_best(void **state)
+{
+	(void)state;
+	prsm_jobs *j = open_jobs(1, 8, 1, NULL);
+	prsm_submit_outcome oc;
+	prsm_job_view a = submit(j, &sleepy, "{\"steps\": 4000, \"keep\": true}", &oc);
+	wait_state(j, &sleepy, a.row.id, PRSM_JOB_RUNNING);
+	prsm_job_view v;
+	prsm_error err = PRSM_ERROR_INIT;
+	assert_int_equal(prsm_jobs_cancel(j, &v, &sleepy, a.row.id, &err), 0);
+	prsm_job_view_clear(&v);
+	int have = 0;
+	for (int i = 0; i < 500 && !have; i++) {
+		assert_int_equal(prsm_jobs_get(j, &v, &sleepy, a.row.id, PRSM_STORE_WITH_RESULT, &err), 0);
+		assert_int_equal(v.row.state, PRSM_JOB_CANCELLED);
+		have = v.row.result != NULL;
+		prsm_job_view_clear(&v);
+		struct timespec ts = {0, 10000000L};
+		nanosleep(&ts, NULL);
+	}
+	assert_true(have);
+	char *text = job_text(j, &sleepy, a.row.id, 0);
+	cJSON *doc = parse(text);
+	assert_string_equal(cJSON_GetObjectItem(doc, "state")->valuestring, "cancelled");
+	assert_true(cJSON_GetObjectItem(cJSON_GetObjectItem(doc, "result"), "best_step")->valueint >= 0);
+	cJSON_Delete(doc);
+	free(text);
+	/* a second cancel is refused and the result stays */
+	assert_int_equal(prsm_jobs_cancel(j, &v, &sleepy, a.row.id, &err), PRSM_ECANCELLED);
+	prsm_job_view_clear(&v);
+	prsm_job_view_clear(&a);
+	prsm_jobs_close(j);
+}
+
 static void test_shutdown_resume(void **state)
 {
 	(void)state;
@@ -391,6 +435,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test_setup_teardown(test_run_and_cache, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_cancel_and_queue_cap, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_cancel_keeps_best, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_shutdown_resume, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_study_kind, setup, teardown),
 	};

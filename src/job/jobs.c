@@ -93,9 +93,16 @@ static void run_one(worker *w, prsm_store_job *job)
 		                      out.samples_done, out.samples_planned, NULL, &serr))
 			fprintf(stderr, "prsm serve: job %s: %s\n", job->id, serr.message);
 	} else if (cancelled || rc == PRSM_ECANCELLED) {
-		/* a cancel left the store's row cancelled already; a shutdown queues it again */
-		if (stopping && prsm_store_requeue(j->store, job->id, &serr))
+		/* a cancel left the store's row cancelled already: it keeps the best point so far of a
+		 * kind that hands one back; a shutdown queues it again */
+		if (stopping) {
+			if (prsm_store_requeue(j->store, job->id, &serr))
+				fprintf(stderr, "prsm serve: job %s: %s\n", job->id, serr.message);
+		} else if (out.result &&
+		           prsm_store_finish(j->store, job->id, PRSM_JOB_CANCELLED, out.result, NULL, NULL, 0,
+		                             out.samples_done, out.samples_planned, NULL, &serr)) {
 			fprintf(stderr, "prsm serve: job %s: %s\n", job->id, serr.message);
+		}
 	} else {
 		char *problem = failure_problem(&err);
 		if (prsm_store_finish(j->store, job->id, PRSM_JOB_FAILED, NULL, problem ? problem : "{}", NULL, 0, 0, 0,
@@ -459,7 +466,7 @@ int prsm_job_view_to_text(char **out, size_t *len, const prsm_job_view *v)
 	if (!env)
 		return PRSM_ENOMEM;
 	size_t elen = strlen(env);
-	const char *result = v->row.state == PRSM_JOB_DONE ? v->row.result : NULL;
+	const char *result = v->row.state == PRSM_JOB_DONE || v->row.state == PRSM_JOB_CANCELLED ? v->row.result : NULL;
 	char *marked = NULL; /* the result with cache_hit set, freed below */
 	if (result && v->cache_hit) {
 		cJSON *res = cJSON_Parse(result);

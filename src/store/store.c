@@ -85,7 +85,7 @@ static const char *const sql_text[ST_COUNT] = {
 	[ST_OLDEST_QUEUED] = "SELECT " JOB_COLUMNS " FROM jobs WHERE state = 0 ORDER BY seq LIMIT 1",
 	[ST_START] = "UPDATE jobs SET state = 1, attempts = attempts + 1, started_s = ?2 WHERE id = ?1",
 	[ST_FINISH] = "UPDATE jobs SET state = ?2, finished_s = ?3, result = ?4, problem = ?5, samples_done = ?6,"
-	              " samples_planned = ?7 WHERE id = ?1 AND state = 1",
+	              " samples_planned = ?7 WHERE id = ?1 AND (state = 1 OR (state = 4 AND ?2 = 4 AND result IS NULL))",
 	[ST_INSERT_CSV] = "INSERT OR REPLACE INTO job_samples (id, csv) VALUES (?1, ?2)",
 	[ST_REQUEUE] = "UPDATE jobs SET state = 0 WHERE id = ?1 AND state = 1",
 	[ST_CANCEL] = "UPDATE jobs SET state = 4, finished_s = ?2 WHERE id = ?1 AND state IN (0, 1)",

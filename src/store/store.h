@@ -96,8 +96,9 @@ int prsm_store_get_csv(prsm_store *s, char **csv, size_t *len, const char *id, p
 int prsm_store_claim(prsm_store *s, prsm_store_job *out, prsm_error *err);
 
 /* Record the end of a running job: state done (result, optional csv) or failed (problem).
- * A job that is no longer running (cancelled meanwhile) is left as it is; *applied (may be
- * NULL) says whether the row changed. */
+ * A job that is no longer running (cancelled meanwhile) is left as it is, except that state
+ * cancelled with a result attaches the best-so-far result of a cancelled job once; *applied
+ * (may be NULL) says whether the row changed. */
 int prsm_store_finish(prsm_store *s, const char *id, prsm_job_state state, const char *result,
                       const char *problem, const char *csv, size_t csv_len,
                       long long samples_done, long long samples_planned, int *applied,
