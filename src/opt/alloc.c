@@ -1,0 +1,554 @@
+/*
+ * alloc.c: tolerance allocation with a linear stack model, exactly (KKT, one Brent root per
+ * multiplier) or with NLopt (issue 7, item 4; benchmarks.md "Tolerance allocation, closed
+ * form"). See alloc.h for the problem and the method.
+ *
+ * Numerics. Multipliers span many decades, so every root is taken on u = ln lambda; the closed
+ * forms are evaluated in logarithms (ln T = (ln(k B / 2) - ln a) / (k + 2) for RSS with a
+ * reciprocal-power cost, W0 of exp(L) by Newton on w + ln w = L when exp(L) would overflow), so
+ * no multiplier, however large or small, overflows. For one constraint the result is the closed
+ * form of benchmarks.md to rounding: the root function ln h(u) - ln L is linear in u there.
+ */
+#include "opt/alloc.h"
+
+#include <assert.h>
+#include <math.h>
+#include <string.h>
+
+#include <gsl/gsl_cdf.h>
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_roots.h>
+#include <gsl/gsl_sf_lambert.h>
+#include <nlopt.h>
+
+/* Root on u = ln lambda: Brent to this absolute / relative width. */
+#define U_EPSABS 1e-14
+#define U_EPSREL 1e-15
+#define U_MAX 700.0                /* |ln lambda| searched */
+#define ROOT_MAX_ITER 400
+/* Several constraints: coordinate-ascent sweeps and the relative residual that ends them. */
+#define MAX_SWEEPS 5000
+#define KKT_RTOL 1e-12
+
+const char *prsm_alloc_cost_name(prsm_alloc_cost_kind k)
+{
+	switch (k) {
+	case PRSM_ALLOC_COST_RECIPROCAL: return "reciprocal";
+	case PRSM_ALLOC_COST_RECIPROCAL_SQUARED: return "reciprocal_squared";
+	case PRSM_ALLOC_COST_RECIPROCAL_POWER: return "reciprocal_power";
+	case PRSM_ALLOC_COST_EXPONENTIAL: return "exponential";
+	}
+	return "unknown";
+}
+
+const char *prsm_alloc_stack_name(prsm_alloc_stack s)
+{
+	return s == PRSM_ALLOC_RSS ? "rss" : s == PRSM_ALLOC_WORST_CASE ? "worst_case" : "unknown";
+}
+
+const char *prsm_alloc_solver_name(prsm_alloc_solver s)
+{
+	switch (s) {
+	case PRSM_ALLOC_SOLVER_EXACT: return "exact";
+	case PRSM_ALLOC_SOLVER_SLSQP: return "slsqp";
+	case PRSM_ALLOC_SOLVER_COBYLA: return "cobyla";
+	}
+	return "unknown";
+}
+
+static double cost_power(const prsm_alloc_cost *c)
+{
+	switch (c->kind) {
+	case PRSM_ALLOC_COST_RECIPROCAL: return 1.0;
+	case PRSM_ALLOC_COST_RECIPROCAL_SQUARED: return 2.0;
+	default: return c->power;
+	}
+}
+
+double prsm_alloc_cost_eval(const prsm_alloc_cost *c, double t)
+{
+	if (c->kind == PRSM_ALLOC_COST_EXPONENTIAL)
+		return c->fixed + c->coefficient * exp(-c->rate * t);
+	if (!(t > 0.0))
+		return INFINITY;
+	return c->fixed + c->coefficient * pow(t, -cost_power(c));
+}
+
+/* d cost / d T (cost units per tolerance unit). */
+static double cost_slope(const prsm_alloc_cost *c, double t)
+{
+	if (c->kind == PRSM_ALLOC_COST_EXPONENTIAL)
+		return -c->rate * c->coefficient * exp(-c->rate * t);
+	const double k = cost_power(c);
+	return -k * c->coefficient * pow(t, -k - 1.0);
+}
+
+/* The weight of tolerance i in constraint o: c^2 (RSS) or |c| (worst case). */
+static double weight(const prsm_alloc_problem *p, size_t o, size_t i)
+{
+	const double c = p->c[o][i];
+	return p->stack == PRSM_ALLOC_RSS ? c * c : fabs(c);
+}
+
+double prsm_alloc_stack_value(const prsm_alloc_problem *p, size_t o, const double *t)
+{
+	double s = 0.0;
+	for (size_t i = 0; i < p->n; i++)
+		s += p->stack == PRSM_ALLOC_RSS ? (p->c[o][i] * t[i]) * (p->c[o][i] * t[i]) : fabs(p->c[o][i]) * t[i];
+	return p->stack == PRSM_ALLOC_RSS ? sqrt(s) : s;
+}
+
+/* W0(exp(L)) for any L (Lambert W of a number that may overflow). */
+static double lambert_w0_exp(double L)
+{
+	if (L < 600.0)
+		return gsl_sf_lambert_W0(exp(L));
+	double w = L - log(L);
+	for (int it = 0; it < 50; it++) {
+		double f = w + log(w) - L, dw = f / (1.0 + 1.0 / w);
+		w -= dw;
+		if (fabs(dw) <= 1e-16 * w)
+			break;
+	}
+	return w;
+}
+
+/* The tolerance that minimises cost(T) + a T^2 (RSS) or cost(T) + a T (worst case) on
+ * [t_min, t_max], with ln a given (a = 0: ln_a = -inf). *bound: -1, 0, +1. */
+static double t_opt(const prsm_alloc_problem *p, size_t i, double ln_a, int *bound)
+{
+	const prsm_alloc_cost *c = &p->cost[i];
+	double t;
+	if (ln_a == -INFINITY) {
+		t = INFINITY;
+	} else if (c->kind == PRSM_ALLOC_COST_EXPONENTIAL) {
+		const double m = c->rate, B = c->coefficient;
+		if (p->stack == PRSM_ALLOC_RSS) /* m B e^{-mT} = 2 a T: m T = W0(m^2 B / (2 a)) */
+			t = lambert_w0_exp(log(m * m * B / 2.0) - ln_a) / m;
+		else /* m B e^{-mT} = a */
+			t = (log(m * B) - ln_a) / m;
+	} else {
+		const double k = cost_power(c), B = c->coefficient;
+		if (p->stack == PRSM_ALLOC_RSS) /* k B T^{-k-1} = 2 a T */
+			t = exp((log(k * B / 2.0) - ln_a) / (k + 2.0));
+		else /* k B T^{-k-1} = a */
+			t = exp((log(k * B) - ln_a) / (k + 1.0));
+	}
+	*bound = 0;
+	if (!(t > p->t_min[i])) { /* also NaN */
+		t = p->t_min[i];
+		*bound = -1;
+	} else if (t >= p->t_max[i]) {
+		t = p->t_max[i];
+		*bound = 1;
+	}
+	return t;
+}
+
+typedef struct {
+	const prsm_alloc_problem *p;
+	const double *lambda;      /* current multipliers */
+	size_t o;                  /* the one being solved for */
+	double *t;                 /* out: the allocation at the trial multiplier */
+	int *bound;
+	size_t *evaluations;
+} root_ctx;
+
+/* Allocation for multipliers lambda, with lambda_o replaced by exp(u) (u = -inf: 0). */
+static void allocate(const root_ctx *rc, double u)
+{
+	const prsm_alloc_problem *p = rc->p;
+	for (size_t i = 0; i < p->n; i++) {
+		double a = 0.0;
+		for (size_t o = 0; o < p->m; o++)
+			a += (o == rc->o ? exp(u) : rc->lambda[o]) * weight(p, o, i);
+		rc->t[i] = t_opt(p, i, a > 0.0 ? log(a) : -INFINITY, &rc->bound[i]);
+	}
+	(*rc->evaluations)++;
+}
+
+static double root_fn(double u, void *params)
+{
+	const root_ctx *rc = params;
+	allocate(rc, u);
+	double h = prsm_alloc_stack_value(rc->p, rc->o, rc->t);
+	return log(fmax(h, 1e-300)) - log(rc->p->limit[rc->o]);
+}
+
+/* lambda_o with the others fixed: 0 when the constraint is slack at lambda_o = 0, else the root
+ * of h_o = L_o. */
+static int solve_one(double *lambda, size_t o, const prsm_alloc_problem *p, double *t, int *bound,
+                     size_t *evaluations, prsm_error *err)
+{
+	root_ctx rc = {p, lambda, o, t, bound, evaluations};
+	int has = 0;
+	for (size_t i = 0; i < p->n; i++)
+		has |= p->c[o][i] != 0.0;
+	if (!has) {
+		lambda[o] = 0.0;
+		return 0;
+	}
+	allocate(&rc, -INFINITY);
+	if (prsm_alloc_stack_value(p, o, t) <= p->limit[o]) {
+		lambda[o] = 0.0;
+		return 0;
+	}
+	double u0 = lambda[o] > 0.0 ? log(lambda[o]) : 0.0;
+	double f0 = root_fn(u0, &rc);
+	double lo = u0, hi = u0, flo = f0, fhi = f0;
+	for (double step = 1.0; f0 > 0.0 ? fhi > 0.0 : flo < 0.0; step *= 2.0) {
+		if (f0 > 0.0) {
+			lo = hi, flo = fhi;
+			hi = fmin(u0 + step, U_MAX);
+			fhi = root_fn(hi, &rc);
+			if (hi >= U_MAX && fhi > 0.0)
+				return prsm_error_set(err, PRSM_EINVAL, NULL,
+				                      "constraint %zu cannot be met within the lower bounds", o);
+		} else {
+			hi = lo, fhi = flo;
+			lo = fmax(u0 - step, -U_MAX);
+			flo = root_fn(lo, &rc);
+			if (lo <= -U_MAX && flo < 0.0) {
+				lambda[o] = exp(lo);
+				return 0;
+			}
+		}
+	}
+	double u = flo == 0.0 ? lo : hi;
+	if (flo != 0.0 && fhi != 0.0) {
+		gsl_function F = {root_fn, &rc};
+		gsl_root_fsolver *s = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
+		if (!s)
+			return prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
+		gsl_root_fsolver_set(s, &F, lo, hi);
+		for (int it = 0; it < ROOT_MAX_ITER; it++) {
+			if (gsl_root_fsolver_iterate(s))
+				break;
+			u = gsl_root_fsolver_root(s);
+			if (gsl_root_test_interval(gsl_root_fsolver_x_lower(s), gsl_root_fsolver_x_upper(s),
+			                           U_EPSABS, U_EPSREL) == GSL_SUCCESS)
+				break;
+		}
+		gsl_root_fsolver_free(s);
+	}
+	lambda[o] = exp(u);
+	return 0;
+}
+
+int prsm_alloc_check(const prsm_alloc_problem *p, prsm_error *err)
+{
+	if (p->n < 1 || p->n > PRSM_ALLOC_MAX_TOLERANCES)
+		return prsm_error_set(err, PRSM_EINVAL, NULL, "1 to %d tolerances", PRSM_ALLOC_MAX_TOLERANCES);
+	if (p->m < 1 || p->m > PRSM_ALLOC_MAX_CONSTRAINTS)
+		return prsm_error_set(err, PRSM_EINVAL, NULL, "1 to %d constraints", PRSM_ALLOC_MAX_CONSTRAINTS);
+	if (p->stack != PRSM_ALLOC_RSS && p->stack != PRSM_ALLOC_WORST_CASE)
+		return prsm_error_set(err, PRSM_EINVAL, NULL, "unknown stack model");
+	for (size_t i = 0; i < p->n; i++) {
+		const prsm_alloc_cost *c = &p->cost[i];
+		if (!(isfinite(c->fixed) && c->fixed >= 0.0) || !(isfinite(c->coefficient) && c->coefficient > 0.0))
+			return prsm_error_set(err, PRSM_EINVAL, NULL, "tolerance %zu: the cost needs A >= 0 and B > 0", i);
+		if (c->kind == PRSM_ALLOC_COST_RECIPROCAL_POWER && !(isfinite(c->power) && c->power > 0.0))
+			return prsm_error_set(err, PRSM_EINVAL, NULL, "tolerance %zu: the power k must be > 0", i);
+		if (c->kind == PRSM_ALLOC_COST_EXPONENTIAL && !(isfinite(c->rate) && c->rate > 0.0))
+			return prsm_error_set(err, PRSM_EINVAL, NULL, "tolerance %zu: the rate m must be > 0", i);
+		if ((int)c->kind < 0 || c->kind > PRSM_ALLOC_COST_EXPONENTIAL)
+			return prsm_error_set(err, PRSM_EINVAL, NULL, "tolerance %zu: unknown cost model", i);
+		if (!(isfinite(p->t_min[i]) && p->t_min[i] >= 0.0) || !(p->t_max[i] > p->t_min[i]))
+			return prsm_error_set(err, PRSM_EINVAL, NULL,
+			                      "tolerance %zu: bounds need 0 <= min < max (min %g, max %g)", i,
+			                      p->t_min[i], p->t_max[i]);
+		int used = 0;
+		for (size_t o = 0; o < p->m; o++) {
+			if (!isfinite(p->c[o][i]))
+				return prsm_error_set(err, PRSM_EINVAL, NULL, "constraint %zu: sensitivity %zu is not finite", o, i);
+			used |= p->c[o][i] != 0.0;
+		}
+		if (!used && !isfinite(p->t_max[i]))
+			return prsm_error_set(err, PRSM_EINVAL, NULL,
+			                      "tolerance %zu moves no constrained output and has no upper bound: "
+			                      "its cheapest half-width is infinite", i);
+	}
+	for (size_t o = 0; o < p->m; o++) {
+		if (!(isfinite(p->limit[o]) && p->limit[o] > 0.0))
+			return prsm_error_set(err, PRSM_EINVAL, NULL, "constraint %zu: the assembly tolerance must be > 0", o);
+		double h = prsm_alloc_stack_value(p, o, p->t_min);
+		if (!(h < p->limit[o]))
+			return prsm_error_set(err, PRSM_EINVAL, NULL,
+			                      "constraint %zu cannot be met: with every tolerance at its lower bound "
+			                      "the stack is %.6g, the limit %.6g", o, h, p->limit[o]);
+	}
+	return 0;
+}
+
+static void finish(prsm_alloc_solution *out, const prsm_alloc_problem *p)
+{
+	out->total_cost = 0.0;
+	for (size_t i = 0; i < p->n; i++) {
+		out->cost[i] = prsm_alloc_cost_eval(&p->cost[i], out->t[i]);
+		out->total_cost += out->cost[i];
+	}
+	for (size_t o = 0; o < p->m; o++)
+		out->stack[o] = prsm_alloc_stack_value(p, o, out->t);
+}
+
+/* KKT residual: the worst relative violation of h_o <= L_o, or of h_o = L_o where lambda_o > 0. */
+static double kkt_residual(const prsm_alloc_problem *p, const double *lambda, const double *t)
+{
+	double r = 0.0;
+	for (size_t o = 0; o < p->m; o++) {
+		double e = prsm_alloc_stack_value(p, o, t) / p->limit[o] - 1.0;
+		r = fmax(r, lambda[o] > 0.0 ? fabs(e) : fmax(e, 0.0));
+	}
+	return r;
+}
+
+static int solve_exact(prsm_alloc_solution *out, const prsm_alloc_problem *p, prsm_error *err)
+{
+	double lambda[PRSM_ALLOC_MAX_CONSTRAINTS] = {0};
+	int rc = 0;
+	for (int sweep = 1; sweep <= MAX_SWEEPS; sweep++) {
+		for (size_t o = 0; o < p->m; o++) {
+			rc = solve_one(lambda, o, p, out->t, out->at_bound, &out->evaluations, err);
+			if (rc)
+				return rc;
+		}
+		out->sweeps = sweep;
+		root_ctx rc0 = {p, lambda, 0, out->t, out->at_bound, &out->evaluations};
+		allocate(&rc0, lambda[0] > 0.0 ? log(lambda[0]) : -INFINITY);
+		if (p->m == 1 || kkt_residual(p, lambda, out->t) <= KKT_RTOL)
+			break;
+	}
+	for (size_t o = 0; o < p->m; o++)
+		out->multiplier[o] = lambda[o];
+	double r = kkt_residual(p, lambda, out->t);
+	if (r > 1e-9)
+		return prsm_error_set(err, PRSM_ENOCONVERGE, NULL,
+		                      "the multipliers did not settle in %d sweeps (constraint residual %.3g)",
+		                      MAX_SWEEPS, r);
+	return 0;
+}
+
+/* ---- NLopt ------------------------------------------------------------------------------- */
+
+typedef struct {
+	const prsm_alloc_problem *p;
+	double cost_scale;         /* objective divided by this (the start point's cost) */
+	size_t o;
+	size_t *evaluations;
+} nl_ctx;
+
+static double nl_objective(unsigned n, const double *x, double *grad, void *data)
+{
+	nl_ctx *c = data;
+	double f = 0.0;
+	(*c->evaluations)++;
+	for (unsigned i = 0; i < n; i++) {
+		double t = exp(x[i]);
+		f += prsm_alloc_cost_eval(&c->p->cost[i], t);
+		if (grad)
+			grad[i] = cost_slope(&c->p->cost[i], t) * t / c->cost_scale;
+	}
+	return f / c->cost_scale;
+}
+
+static double nl_constraint(unsigned n, const double *x, double *grad, void *data)
+{
+	const nl_ctx *c = data;
+	const prsm_alloc_problem *p = c->p;
+	const double L = p->limit[c->o];
+	double s = 0.0;
+	for (unsigned i = 0; i < n; i++) {
+		double t = exp(x[i]), ct = p->c[c->o][i] * t;
+		if (p->stack == PRSM_ALLOC_RSS) {
+			s += ct * ct / (L * L);
+			if (grad)
+				grad[i] = 2.0 * ct * ct / (L * L);
+		} else {
+			s += fabs(ct) / L;
+			if (grad)
+				grad[i] = fabs(ct) / L;
+		}
+	}
+	return s - 1.0;
+}
+
+static int solve_nlopt(prsm_alloc_solution *out, const prsm_alloc_problem *p, prsm_alloc_solver solver,
+                       prsm_error *err)
+{
+	const unsigned n = (unsigned)p->n;
+	double x[PRSM_ALLOC_MAX_TOLERANCES], lb[PRSM_ALLOC_MAX_TOLERANCES], ub[PRSM_ALLOC_MAX_TOLERANCES];
+	nl_ctx ctx[PRSM_ALLOC_MAX_CONSTRAINTS + 1];
+	int rc = 0;
+	/* start: every constraint's share split equally, within the bounds */
+	for (size_t i = 0; i < p->n; i++) {
+		double t = p->t_max[i];
+		for (size_t o = 0; o < p->m; o++) {
+			size_t used = 0;
+			for (size_t j = 0; j < p->n; j++)
+				used += p->c[o][j] != 0.0;
+			if (p->c[o][i] != 0.0) {
+				double share = p->stack == PRSM_ALLOC_RSS ? p->limit[o] / sqrt((double)used)
+				                                          : p->limit[o] / (double)used;
+				t = fmin(t, share / fabs(p->c[o][i]));
+			}
+		}
+		t = fmax(t, p->t_min[i]);
+		if (!(t > 0.0))
+			t = 1e-6 * p->t_max[i];
+		x[i] = log(t);
+		lb[i] = p->t_min[i] > 0.0 ? log(p->t_min[i]) : x[i] - 60.0;
+		ub[i] = isfinite(p->t_max[i]) ? log(p->t_max[i]) : x[i] + 60.0;
+		x[i] = fmin(fmax(x[i], lb[i]), ub[i]);
+	}
+	double cost0 = 0.0;
+	for (size_t i = 0; i < p->n; i++)
+		cost0 += prsm_alloc_cost_eval(&p->cost[i], exp(x[i]));
+	nlopt_opt opt = nlopt_create(solver == PRSM_ALLOC_SOLVER_COBYLA ? NLOPT_LN_COBYLA : NLOPT_LD_SLSQP, n);
+	if (!opt)
+		return prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
+	ctx[0] = (nl_ctx){p, cost0 > 0.0 && isfinite(cost0) ? cost0 : 1.0, 0, &out->evaluations};
+	nlopt_set_min_objective(opt, nl_objective, &ctx[0]);
+	for (size_t o = 0; o < p->m; o++) {
+		ctx[o + 1] = ctx[0];
+		ctx[o + 1].o = o;
+		nlopt_add_inequality_constraint(opt, nl_constraint, &ctx[o + 1], 1e-14);
+	}
+	nlopt_set_lower_bounds(opt, lb);
+	nlopt_set_upper_bounds(opt, ub);
+	nlopt_set_xtol_abs1(opt, 1e-13);
+	nlopt_set_ftol_rel(opt, 1e-15);
+	nlopt_set_maxeval(opt, 200000);
+	if (solver == PRSM_ALLOC_SOLVER_COBYLA)
+		nlopt_set_initial_step1(opt, 0.1);
+	double f;
+	nlopt_result r = nlopt_optimize(opt, x, &f);
+	nlopt_destroy(opt);
+	if (r < 0) {
+		rc = prsm_error_set(err, PRSM_ENOCONVERGE, NULL, "NLopt %s failed (%s)",
+		                    prsm_alloc_solver_name(solver), nlopt_result_to_string(r));
+		goto cleanup;
+	}
+	for (size_t i = 0; i < p->n; i++) {
+		out->t[i] = exp(x[i]);
+		out->at_bound[i] = x[i] <= lb[i] + 1e-9 && p->t_min[i] > 0.0 ? -1
+		                   : x[i] >= ub[i] - 1e-9 && isfinite(p->t_max[i]) ? 1 : 0;
+	}
+	for (size_t o = 0; o < p->m; o++)
+		out->multiplier[o] = NAN;
+cleanup:
+	return rc;
+}
+
+int prsm_alloc_solve(prsm_alloc_solution *out, const prsm_alloc_problem *p, prsm_alloc_solver solver,
+                     prsm_error *err)
+{
+	memset(out, 0, sizeof *out);
+	int rc = prsm_alloc_check(p, err);
+	if (rc)
+		return rc;
+	out->solver = solver;
+	if (solver == PRSM_ALLOC_SOLVER_EXACT) {
+		rc = solve_exact(out, p, err);
+		if (rc == PRSM_ENOCONVERGE) {
+			/* polish where the coordinate ascent stalls (nearly parallel constraints) */
+			prsm_error_clear(err);
+			rc = solve_nlopt(out, p, PRSM_ALLOC_SOLVER_SLSQP, err);
+			out->solver = PRSM_ALLOC_SOLVER_SLSQP;
+		}
+	} else {
+		rc = solve_nlopt(out, p, solver, err);
+	}
+	if (rc == 0)
+		finish(out, p);
+	return rc;
+}
+
+/* ---- yield ------------------------------------------------------------------------------- */
+
+double prsm_alloc_normal_out_fraction(const prsm_spec *spec, double mean, double sigma)
+{
+	double q = 0.0;
+	if (spec->has_lower)
+		q += sigma > 0.0 ? gsl_cdf_ugaussian_P((spec->lower - mean) / sigma) : (mean < spec->lower);
+	if (spec->has_upper)
+		q += sigma > 0.0 ? gsl_cdf_ugaussian_Q((spec->upper - mean) / sigma) : (mean > spec->upper);
+	return q;
+}
+
+static int inside(const prsm_spec *spec, double mean, prsm_error *err)
+{
+	if (!spec->has_lower && !spec->has_upper)
+		return prsm_error_set(err, PRSM_EINVAL, NULL, "the spec has no limit");
+	if (!isfinite(mean) || (spec->has_lower && !(mean > spec->lower)) ||
+	    (spec->has_upper && !(mean < spec->upper)))
+		return prsm_error_set(err, PRSM_EINVAL, NULL,
+		                      "the nominal %.6g is not strictly inside the spec: no tolerance can meet it", mean);
+	return 0;
+}
+
+typedef struct {
+	const prsm_spec *spec;
+	double mean, ln_q;
+} sigma_ctx;
+
+static double sigma_fn(double v, void *params)
+{
+	const sigma_ctx *c = params;
+	return log(prsm_alloc_normal_out_fraction(c->spec, c->mean, exp(v))) - c->ln_q;
+}
+
+int prsm_alloc_sigma_for_out_fraction(double *sigma, const prsm_spec *spec, double mean,
+                                      double out_fraction, prsm_error *err)
+{
+	int rc = inside(spec, mean, err);
+	if (rc)
+		return rc;
+	if (!(out_fraction > 0.0 && out_fraction < 0.5))
+		return prsm_error_set(err, PRSM_EINVAL, NULL,
+		                      "the fraction out of spec must be in (0, 0.5): target yield above 50 %%");
+	const double du = spec->has_upper ? spec->upper - mean : INFINITY;
+	const double dl = spec->has_lower ? mean - spec->lower : INFINITY;
+	if (!spec->has_lower || !spec->has_upper) {
+		*sigma = fmin(du, dl) / gsl_cdf_ugaussian_Qinv(out_fraction);
+		return 0;
+	}
+	const double d = fmin(du, dl);
+	if (du == dl) { /* symmetric: both tails q/2 */
+		*sigma = d / gsl_cdf_ugaussian_Qinv(0.5 * out_fraction);
+		return 0;
+	}
+	double lo = log(d / gsl_cdf_ugaussian_Qinv(0.5 * out_fraction));
+	double hi = log(d / gsl_cdf_ugaussian_Qinv(out_fraction));
+	sigma_ctx c = {spec, mean, log(out_fraction)};
+	double flo = sigma_fn(lo, &c), fhi = sigma_fn(hi, &c), v = hi;
+	if (flo >= 0.0) {
+		v = lo;
+	} else if (fhi > 0.0) {
+		gsl_function F = {sigma_fn, &c};
+		gsl_root_fsolver *s = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
+		if (!s)
+			return prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
+		gsl_root_fsolver_set(s, &F, lo, hi);
+		for (int it = 0; it < ROOT_MAX_ITER; it++) {
+			if (gsl_root_fsolver_iterate(s))
+				break;
+			v = gsl_root_fsolver_root(s);
+			if (gsl_root_test_interval(gsl_root_fsolver_x_lower(s), gsl_root_fsolver_x_upper(s), 1e-15,
+			                           1e-15) == GSL_SUCCESS)
+				break;
+		}
+		gsl_root_fsolver_free(s);
+	}
+	*sigma = exp(v);
+	return 0;
+}
+
+int prsm_alloc_worst_case_limit(double *limit, const prsm_spec *spec, double mean, prsm_error *err)
+{
+	int rc = inside(spec, mean, err);
+	if (rc)
+		return rc;
+	*limit = fmin(spec->has_upper ? spec->upper - mean : INFINITY,
+	              spec->has_lower ? mean - spec->lower : INFINITY);
+	return 0;
+}
