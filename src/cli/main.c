@@ -21,6 +21,8 @@ static void usage(FILE *out)
 	        "                   --format json|text, --out FILE\n"
 	        "  study FILE|-     Monte Carlo tolerance study (JSON result on stdout)\n"
 	        "                   --out FILE, --csv FILE (every sample), --threads N, --quiet\n"
+	        "  allocate FILE|-  tolerance allocation at a target yield, verified by Monte Carlo (JSON)\n"
+	        "                   --out FILE, --threads N, --quiet\n"
 	        "  validate FILE|-  check a design, analyze request or study document, print every problem\n"
 	        "                   --format text|json\n"
 	        "  serve            the HTTP/JSON service (default 127.0.0.1:8080, database ./prsm.db)\n"
@@ -47,6 +49,8 @@ int main(int argc, char **argv)
 		return prsm_cli_validate(argc - 1, argv + 1);
 	if (strcmp(cmd, "study") == 0)
 		return prsm_cli_study(argc - 1, argv + 1);
+	if (strcmp(cmd, "allocate") == 0)
+		return prsm_cli_allocate(argc - 1, argv + 1);
 	if (strcmp(cmd, "serve") == 0)
 		return prsm_cli_serve(argc - 1, argv + 1);
 	if (strcmp(cmd, "bench") == 0)
