@@ -1,0 +1,359 @@
+/*
+ * test_alloc_io.c: the allocation document end to end (io/allocation_json.h): analytic
+ * documents reproduce the closed forms of benchmarks.md (LS-1 at 99.73 % with a reciprocal
+ * cost, worst case with k = 2.7, exponential cost with RSS by its stationarity) to 1e-6; the
+ * Monte Carlo-corrected case-A allocation (studies/allocate-case-a.json with fewer samples)
+ * meets its target within its Wilson interval and the next wider step did not; results are
+ * identical on 1 and 2 threads; cancellation before and during the run; and the document's
+ * error paths, each at its JSON pointer.
+ */
+#include "test_support.h"
+
+#include <gsl/gsl_errno.h>
+#include <libgen.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "io/allocation_json.h"
+#include "util/file.h"
+
+static cJSON *parse(const char *text)
+{
+	cJSON *doc = cJSON_Parse(text);
+	assert_non_null(doc);
+	return doc;
+}
+
+static cJSON *run_ok(const cJSON *doc, int threads)
+{
+	prsm_problems pr;
+	prsm_problems_init(&pr);
+	prsm_error err = PRSM_ERROR_INIT;
+	cJSON *res = NULL;
+	int rc = prsm_io_allocation_execute(&res, doc, NULL, NULL, NULL, 0.0, threads, &pr, &err);
+	if (rc) {
+		for (int i = 0; i < pr.count; i++)
+			print_error("%s: %s\n", pr.items[i].pointer, pr.items[i].message);
+		print_error("%s\n", err.message);
+	}
+	assert_int_equal(rc, 0);
+	assert_non_null(res);
+	return res;
+}
+
+static double num(const cJSON *o, const char *key)
+{
+	const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, key);
+	assert_true(cJSON_IsNumber(v));
+	return v->valuedouble;
+}
+
+static const cJSON *item(const cJSON *o, const char *key)
+{
+	const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, key);
+	assert_non_null(v);
+	return v;
+}
+
+static void assert_rel(double a, double e, double rel)
+{
+	assert_close(a, e, rel * fabs(e));
+}
+
+static const char *LS1 =
+	"{\"analytic\": {\"outputs\": [{\"name\": \"y\", \"nominal\": 0.1}]},"
+	" \"tolerances\": ["
+	"  {\"parameter\": \"x1\", \"sensitivities\": {\"y\": 1}, \"cost\": {\"model\": \"reciprocal\", \"coefficient\": 0.5}},"
+	"  {\"parameter\": \"x2\", \"sensitivities\": {\"y\": 1}, \"cost\": {\"model\": \"reciprocal\", \"coefficient\": 0.4}},"
+	"  {\"parameter\": \"x3\", \"sensitivities\": {\"y\": -1}, \"cost\": {\"model\": \"reciprocal\", \"coefficient\": 0.3}},"
+	"  {\"parameter\": \"x4\", \"sensitivities\": {\"y\": -1}, \"cost\": {\"model\": \"reciprocal\", \"coefficient\": 0.2}}],"
+	" \"constraints\": [{\"output\": \"y\", \"spec\": {\"lower\": 0, \"upper\": 0.2}, \"target_ppm\": 44.557090604135930}]}";
+
+/* LS-1 at its own 44.557 ppm: sigma_Y = 0.0244948974278318, T_asm = 3 sigma; reciprocal cost,
+ * RSS: T_i = mu B_i^{1/3} (c_i^2 = 1). */
+static void test_ls1(void **state)
+{
+	(void)state;
+	cJSON *doc = parse(LS1);
+	cJSON *res = run_ok(doc, 0);
+	const double B[4] = {0.5, 0.4, 0.3, 0.2}, tasm = 3.0 * 0.024494897427831785;
+	double s = 0.0;
+	for (int i = 0; i < 4; i++)
+		s += pow(B[i], 2.0 / 3.0);
+	const cJSON *tols = item(res, "tolerances");
+	for (int i = 0; i < 4; i++)
+		assert_rel(num(cJSON_GetArrayItem(tols, i), "half_width"), tasm / sqrt(s) * cbrt(B[i]), 1e-6);
+	const cJSON *c = cJSON_GetArrayItem(item(res, "constraints"), 0);
+	assert_rel(num(c, "assembly_tolerance"), tasm, 1e-9);
+	assert_close(num(c, "predicted_yield"), 1.0 - 44.557090604135930e-6, 1e-9);
+	assert_true(cJSON_IsTrue(item(c, "meets_target")));
+	assert_true(cJSON_IsNull(item(c, "monte_carlo")));
+	cJSON_Delete(res);
+	cJSON_Delete(doc);
+}
+
+/* Worst case, reciprocal power k = 2.7: T_i = T_asm (B_i/|c_i|)^{1/(k+1)} / sum |c_j| (B_j/|c_j|)^{1/(k+1)}. */
+static void test_worst_case_power(void **state)
+{
+	(void)state;
+	cJSON *doc = parse(
+		"{\"analytic\": {\"outputs\": [{\"name\": \"gap_um\", \"nominal\": 21.7}]},"
+		" \"tolerances\": ["
+		"  {\"parameter\": \"a_um\", \"sensitivities\": {\"gap_um\": 1.2}, \"cost\": {\"model\": \"reciprocal_power\", \"coefficient\": 2.385, \"power\": 2.7}},"
+		"  {\"parameter\": \"b_um\", \"sensitivities\": {\"gap_um\": -0.8}, \"cost\": {\"model\": \"reciprocal_power\", \"coefficient\": 1.3, \"power\": 2.7}},"
+		"  {\"parameter\": \"c_um\", \"sensitivities\": {\"gap_um\": 2.5}, \"cost\": {\"model\": \"reciprocal_power\", \"coefficient\": 0.71, \"power\": 2.7}}],"
+		" \"constraints\": [{\"output\": \"gap_um\", \"spec\": {\"lower\": 5, \"upper\": 35}, \"target_yield_percent\": 99}],"
+		" \"stack\": \"worst_case\"}");
+	cJSON *res = run_ok(doc, 0);
+	const double B[3] = {2.385, 1.3, 0.71}, C[3] = {1.2, 0.8, 2.5}, k = 2.7, tasm = 13.3;
+	double s = 0.0;
+	for (int i = 0; i < 3; i++)
+		s += C[i] * pow(B[i] / C[i], 1.0 / (k + 1.0));
+	const cJSON *tols = item(res, "tolerances");
+	for (int i = 0; i < 3; i++)
+		assert_rel(num(cJSON_GetArrayItem(tols, i), "half_width"), tasm / s * pow(B[i] / C[i], 1.0 / (k + 1.0)), 1e-6);
+	assert_rel(num(cJSON_GetArrayItem(item(res, "constraints"), 0), "assembly_tolerance"), tasm, 1e-12);
+	cJSON_Delete(res);
+	cJSON_Delete(doc);
+}
+
+/* Exponential cost with RSS, an assembly tolerance given: m B e^{-mT} = 2 lambda c^2 T. */
+static void test_exponential(void **state)
+{
+	(void)state;
+	cJSON *doc = parse(
+		"{\"analytic\": {\"outputs\": [{\"name\": \"y\", \"nominal\": 0}]},"
+		" \"tolerances\": ["
+		"  {\"parameter\": \"x1\", \"sensitivities\": {\"y\": 1.2}, \"cost\": {\"model\": \"exponential\", \"coefficient\": 2.385, \"rate\": 31.7, \"fixed\": 1}},"
+		"  {\"parameter\": \"x2\", \"sensitivities\": {\"y\": -0.8}, \"cost\": {\"model\": \"exponential\", \"coefficient\": 1.3, \"rate\": 12.2}}],"
+		" \"constraints\": [{\"output\": \"y\", \"assembly_tolerance\": 0.0735}]}");
+	cJSON *res = run_ok(doc, 0);
+	const double B[2] = {2.385, 1.3}, C[2] = {1.2, -0.8}, m[2] = {31.7, 12.2};
+	const cJSON *c = cJSON_GetArrayItem(item(res, "constraints"), 0);
+	double lambda = num(c, "multiplier"), stack = 0.0;
+	for (int i = 0; i < 2; i++) {
+		double t = num(cJSON_GetArrayItem(item(res, "tolerances"), i), "half_width");
+		assert_rel(m[i] * B[i] * exp(-m[i] * t), 2.0 * lambda * C[i] * C[i] * t, 1e-9);
+		stack += C[i] * C[i] * t * t;
+	}
+	assert_rel(sqrt(stack), 0.0735, 1e-12);
+	assert_true(cJSON_IsNull(item(c, "spec")));
+	assert_true(cJSON_IsNull(item(c, "predicted_yield")));
+	cJSON_Delete(res);
+	cJSON_Delete(doc);
+}
+
+/* studies/allocate-case-a.json with samples cut to n. */
+static cJSON *alloc_case_a(size_t samples)
+{
+	char path[4096];
+	snprintf(path, sizeof path, "%s", __FILE__);
+	char *dir = dirname(path);
+	char file[4200];
+	snprintf(file, sizeof file, "%s/../studies/allocate-case-a.json", dir);
+	FILE *f = fopen(file, "rb");
+	assert_non_null(f);
+	static char buf[1 << 16];
+	size_t n = fread(buf, 1, sizeof buf - 1, f);
+	fclose(f);
+	buf[n] = 0;
+	cJSON *doc = parse(buf);
+	cJSON *mc = cJSON_GetObjectItemCaseSensitive(doc, "monte_carlo");
+	cJSON_ReplaceItemInObject(mc, "samples", cJSON_CreateNumber((double)samples));
+	return doc;
+}
+
+static void test_case_a_corrected(void **state)
+{
+	(void)state;
+	cJSON *doc = alloc_case_a(2048);
+	cJSON *res = run_ok(doc, 1);
+	const cJSON *c = cJSON_GetArrayItem(item(res, "constraints"), 0);
+	const double target = num(c, "target_yield");
+	const cJSON *mc = item(c, "monte_carlo");
+	const double y = num(mc, "fraction");
+	const cJSON *iv = item(mc, "interval95");
+	assert_true(y >= target);
+	assert_true(cJSON_GetArrayItem(iv, 0)->valuedouble <= target + 0.01);
+	assert_true(cJSON_GetArrayItem(iv, 1)->valuedouble >= target);
+	assert_true(cJSON_IsTrue(item(c, "meets_target")));
+	const cJSON *cor = item(res, "correction");
+	assert_true(cJSON_IsTrue(item(cor, "converged")));
+	/* a step with a larger scale failed, and it is within the bracket's tolerance */
+	const double f = num(cor, "scale");
+	double f_fail = INFINITY;
+	const cJSON *st;
+	cJSON_ArrayForEach(st, item(cor, "steps")) {
+		if (!cJSON_IsTrue(item(st, "meets_target")))
+			f_fail = fmin(f_fail, num(st, "scale"));
+		else
+			assert_true(num(st, "scale") <= f);
+	}
+	assert_true(f_fail > f && f_fail <= f * 1.0101);
+	/* the cost at the reported allocation sums its tolerances' costs */
+	double total = 0.0;
+	const cJSON *t;
+	cJSON_ArrayForEach(t, item(res, "tolerances"))
+		total += num(t, "cost");
+	assert_rel(num(res, "total_cost"), total, 1e-12);
+	cJSON_Delete(res);
+	cJSON_Delete(doc);
+}
+
+static void strip(cJSON *res)
+{
+	cJSON_DeleteItemFromObject(res, "elapsed_s");
+	cJSON_DeleteItemFromObject(cJSON_GetObjectItemCaseSensitive(res, "monte_carlo"), "threads");
+}
+
+static void test_threads(void **state)
+{
+	(void)state;
+	cJSON *doc = alloc_case_a(1024);
+	cJSON *a = run_ok(doc, 1), *b = run_ok(doc, 2);
+	strip(a);
+	strip(b);
+	char *ta = cJSON_PrintUnformatted(a), *tb = cJSON_PrintUnformatted(b);
+	assert_string_equal(ta, tb);
+	free(ta);
+	free(tb);
+	cJSON_Delete(a);
+	cJSON_Delete(b);
+	cJSON_Delete(doc);
+}
+
+typedef struct {
+	volatile int *cancel;
+	size_t cancel_at;      /* samples done at which to cancel */
+	size_t calls;
+} cancel_ctx;
+
+static void cancel_progress(void *ctx, const prsm_progress *p)
+{
+	cancel_ctx *c = ctx;
+	c->calls++;
+	assert_true(p->done <= p->planned);
+	if (p->done >= c->cancel_at)
+		*c->cancel = 1;
+}
+
+static void test_cancel(void **state)
+{
+	(void)state;
+	cJSON *doc = alloc_case_a(1024);
+	prsm_problems pr;
+	prsm_error err = PRSM_ERROR_INIT;
+	cJSON *res = NULL;
+	volatile int cancel = 1;
+	prsm_problems_init(&pr);
+	assert_int_equal(prsm_io_allocation_execute(&res, doc, &cancel, NULL, NULL, 0.0, 1, &pr, &err),
+	                 PRSM_ECANCELLED);
+	assert_null(res);
+	/* cancelled after the first run met the target at some scale: best so far comes back */
+	cancel = 0;
+	cancel_ctx cc = {&cancel, 2048, 0};
+	assert_int_equal(prsm_io_allocation_execute(&res, doc, &cancel, cancel_progress, &cc, 0.0, 1, &pr, &err),
+	                 PRSM_ECANCELLED);
+	assert_true(cc.calls > 0);
+	assert_non_null(res);
+	assert_true(cJSON_IsTrue(item(res, "cancelled")));
+	assert_string_equal(item(item(res, "correction"), "stop_reason")->valuestring, "cancelled");
+	cJSON_Delete(res);
+	cJSON_Delete(doc);
+}
+
+/* The document with one member replaced (JSON text), checked: the problem at pointer. */
+static void expect_problem(const char *base, const char *path_key, const char *value_json, const char *pointer,
+                           size_t max_samples)
+{
+	cJSON *doc = parse(base);
+	cJSON *parent = doc;
+	char keys[256];
+	snprintf(keys, sizeof keys, "%s", path_key);
+	char *tok = keys;
+	for (char *slash = strchr(tok, '/'); slash; slash = strchr(tok, '/')) {
+		*slash = 0;
+		cJSON *child = cJSON_IsArray(parent) ? cJSON_GetArrayItem(parent, (int)strtol(tok, NULL, 10))
+		                                     : cJSON_GetObjectItemCaseSensitive(parent, tok);
+		assert_non_null(child);
+		parent = child;
+		tok = slash + 1;
+	}
+	if (cJSON_IsArray(parent)) {
+		assert_non_null(value_json);
+		cJSON_ReplaceItemInArray(parent, (int)strtol(tok, NULL, 10), parse(value_json));
+	} else {
+		if (cJSON_GetObjectItemCaseSensitive(parent, tok))
+			cJSON_DeleteItemFromObject(parent, tok);
+		if (value_json)
+			cJSON_AddItemToObject(parent, tok, parse(value_json));
+	}
+	prsm_problems pr;
+	prsm_problems_init(&pr);
+	int rc = prsm_io_allocation_check(doc, max_samples, NULL, &pr);
+	int found = 0;
+	for (int i = 0; i < pr.count; i++)
+		found |= strcmp(pr.items[i].pointer, pointer) == 0;
+	if (!found || rc != PRSM_EINVAL) {
+		print_error("%s = %s: rc %d, expected a problem at %s; got:\n", path_key, value_json ? value_json : "(deleted)",
+		            rc, pointer);
+		for (int i = 0; i < pr.count; i++)
+			print_error("  %s: %s\n", pr.items[i].pointer, pr.items[i].message);
+		fail();
+	}
+	cJSON_Delete(doc);
+}
+
+static void test_errors(void **state)
+{
+	(void)state;
+	expect_problem(LS1, "tolerances/0/cost/coefficient", "-1", "/tolerances/0/cost/coefficient", 0);
+	expect_problem(LS1, "tolerances/0/cost/model", "\"quadratic\"", "/tolerances/0/cost/model", 0);
+	expect_problem(LS1, "tolerances/0/cost/power", "2", "/tolerances/0/cost/power", 0);
+	expect_problem(LS1, "tolerances/1/bounds", "{\"lower\": 0.3, \"upper\": 0.2}", "/tolerances/1/bounds/upper", 0);
+	expect_problem(LS1, "tolerances/1/bounds", "{\"lower\": -0.1}", "/tolerances/1/bounds/lower", 0);
+	expect_problem(LS1, "tolerances/2/sensitivities", "{\"z\": 1}", "/tolerances/2/sensitivities/z", 0);
+	expect_problem(LS1, "tolerances/2/sd_ratio", "0", "/tolerances/2/sd_ratio", 0);
+	expect_problem(LS1, "constraints/0/target_ppm", "0", "/constraints/0/target_ppm", 0);
+	expect_problem(LS1, "constraints/0/target_yield_percent", "99", "/constraints/0", 0);
+	expect_problem(LS1, "constraints/0/target_ppm", NULL, "/constraints/0", 0);
+	expect_problem(LS1, "constraints/0/output", "\"q\"", "/constraints/0/output", 0);
+	expect_problem(LS1, "constraints/0/spec", "{\"lower\": 0.3, \"upper\": 0.2}", "/constraints/0/spec/upper", 0);
+	/* the nominal outside the spec: no allocation meets it */
+	expect_problem(LS1, "constraints/0/spec", "{\"lower\": 0.15, \"upper\": 0.2}", "/constraints", 0);
+	/* the lower bounds alone break the limit */
+	expect_problem(LS1, "tolerances/0/bounds", "{\"lower\": 0.09}", "/constraints", 0);
+	expect_problem(LS1, "monte_carlo", "{\"samples\": 100}", "/monte_carlo", 0);
+	expect_problem(LS1, "stack", "\"sum\"", "/stack", 0);
+	expect_problem(LS1, "study", "{}", "/analytic", 0);
+	expect_problem(LS1, "extra", "1", "/extra", 0);
+	expect_problem(LS1, "tolerances", "[]", "/tolerances", 0);
+	/* a study */
+	cJSON *ca = alloc_case_a(1024);
+	char *a = cJSON_PrintUnformatted(ca);
+	cJSON_Delete(ca);
+	expect_problem(a, "monte_carlo/samples", "1000000", "/monte_carlo/samples", 200000);
+	expect_problem(a, "monte_carlo/max_corrections", "31", "/monte_carlo/max_corrections", 0);
+	expect_problem(a, "tolerances/0/parameter", "\"screw.tilt_mrad\"", "/tolerances/0/parameter", 0);
+	expect_problem(a, "tolerances/1/parameter", "\"screw.pitch_radius_um\"", "/tolerances/1/parameter", 0);
+	expect_problem(a, "constraints/0/output", "\"te_pp_um\"", "/constraints/0/output", 0);
+	expect_problem(a, "study/monte_carlo/samples", "-5", "/study/monte_carlo/samples", 0);
+	expect_problem(a, "study/tolerances/5", "{\"parameter\": \"nut.runout_um\", \"distribution\": \"lognormal\", "
+	               "\"mu\": 0.5, \"sigma\": 0.3}", "/tolerances/8/parameter", 0);
+	free(a);
+}
+
+int main(void)
+{
+	gsl_set_error_handler_off();
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_ls1),
+		cmocka_unit_test(test_worst_case_power),
+		cmocka_unit_test(test_exponential),
+		cmocka_unit_test(test_case_a_corrected),
+		cmocka_unit_test(test_threads),
+		cmocka_unit_test(test_cancel),
+		cmocka_unit_test(test_errors),
+	};
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}
