@@ -8,7 +8,10 @@ packages=(
   libgsl-dev libnlopt-dev libmicrohttpd-dev libcjson-dev libsqlite3-dev nettle-dev
   librandom123-dev libcmocka-dev
   python3 python3-jsonschema python3-yaml
+  chromium nodejs
 )
+# npm comes with NodeSource's nodejs; Debian packages it apart (the browser test runs npm ci)
+if ! command -v npm >/dev/null 2>&1; then packages+=(npm); fi
 
 missing=()
 for p in "${packages[@]}"; do

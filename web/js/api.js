@@ -1,0 +1,76 @@
+// The page's only way to the server: same-origin requests to prsm serve's API.
+// Every failure becomes an ApiError carrying the RFC 7807 problem document (schemas/problem.schema.json)
+// so callers can put each problem next to the field its JSON pointer names.
+
+export class ApiError extends Error {
+  constructor(status, problem) {
+    super(problem && problem.detail ? problem.detail : `HTTP ${status}`);
+    this.status = status;
+    this.problem = problem || { title: `HTTP ${status}`, status, detail: `HTTP ${status}`, errors: [] };
+  }
+  get errors() { return Array.isArray(this.problem.errors) ? this.problem.errors : []; }
+}
+
+async function parse(response) {
+  const type = response.headers.get('content-type') || '';
+  if (type.includes('json')) {
+    try { return await response.json(); } catch { return null; }
+  }
+  return null;
+}
+
+// method, path ("/v1/..."), optional JSON body and AbortSignal. Resolves {status, body, headers}.
+export async function request(method, path, body, signal) {
+  const init = { method, headers: { Accept: 'application/json, application/problem+json' }, signal };
+  if (body !== undefined) {
+    init.headers['Content-Type'] = 'application/json';
+    init.body = JSON.stringify(body);
+  }
+  let response;
+  try {
+    response = await fetch(path, init);
+  } catch (e) {
+    if (e.name === 'AbortError') throw e;
+    throw new ApiError(0, { title: 'Network error', status: 0, detail: `the service did not answer (${e.message})`, errors: [] });
+  }
+  const doc = await parse(response);
+  if (!response.ok) {
+    let problem = doc;
+    if (!problem || typeof problem !== 'object') problem = { title: response.statusText, status: response.status, detail: `HTTP ${response.status}`, errors: [] };
+    const retry = response.headers.get('retry-after');
+    if (retry) problem.retry_after_s = Number(retry);
+    throw new ApiError(response.status, problem);
+  }
+  return { status: response.status, body: doc, headers: response.headers };
+}
+
+export const api = {
+  openapi: () => request('GET', '/v1/openapi.json').then(r => r.body),
+  schema: name => request('GET', `/v1/schemas/${encodeURIComponent(name)}`).then(r => r.body),
+  version: () => request('GET', '/v1/version').then(r => r.body),
+  analyze: (doc, signal) => request('POST', '/v1/designs/analyze', doc, signal).then(r => r.body),
+  // collection: "studies" (later "optimizations", "allocations"): same job machinery for each kind
+  submit: (collection, doc) => request('POST', `/v1/${collection}`, doc),
+  job: path => request('GET', path).then(r => r.body),
+  cancel: path => request('DELETE', path).then(r => r.body),
+  list: (collection, limit) => request('GET', `/v1/${collection}?limit=${limit}`).then(r => r.body),
+  async text(path) {
+    const r = await fetch(path);
+    if (!r.ok) throw new ApiError(r.status, await parse(r));
+    return r.text();
+  },
+  async example(name) {
+    const r = await fetch(`examples/${encodeURIComponent(name)}`);
+    if (!r.ok) throw new ApiError(r.status, await parse(r));
+    return r.json();
+  },
+};
+
+// One line for a problem list: "pointer: message" items joined, for places without a field.
+export function describe(err) {
+  if (!(err instanceof ApiError)) return String(err && err.message ? err.message : err);
+  const p = err.problem;
+  const list = err.errors.map(e => (e.pointer ? `${e.pointer}: ` : '') + e.message);
+  const head = `${p.title || 'Error'} (${err.status || 'no answer'})`;
+  return list.length ? `${head}: ${list.join('; ')}` : `${head}: ${p.detail || ''}`;
+}

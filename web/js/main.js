@@ -1,0 +1,391 @@
+// The page: examples, the study form with live derived values, submit, the job view with progress
+// and cancel, and the results. Uses only prsm serve's API (same origin).
+
+import { api, ApiError, describe } from './api.js';
+import { StudyForm, schemaInfo } from './form.js';
+import { renderStudyResult } from './results.js';
+import { fmt } from './plots.js';
+import { setupOptimization } from './optimization.js';
+
+const $ = sel => document.querySelector(sel);
+const REQUESTS_KEY = 'prsm.requests';
+
+// ---- requests remembered by job id (for replaying samples after a reload) ------------------
+function rememberRequest(id, doc) {
+  try {
+    const all = JSON.parse(localStorage.getItem(REQUESTS_KEY) || '{}');
+    all[id] = { t: Date.now(), doc };
+    const ids = Object.keys(all).sort((a, b) => all[b].t - all[a].t);
+    for (const old of ids.slice(20)) delete all[old];
+    localStorage.setItem(REQUESTS_KEY, JSON.stringify(all));
+  } catch { /* storage full or off: the replay then says it lacks the request */ }
+}
+function recalledRequest(id) {
+  try { return (JSON.parse(localStorage.getItem(REQUESTS_KEY) || '{}')[id] || {}).doc; } catch { return undefined; }
+}
+
+function duration(s) {
+  if (s === null || s === undefined) return '—';
+  if (s < 60) return `${Math.round(s)} s`;
+  const m = Math.floor(s / 60);
+  return m < 60 ? `${m} min ${Math.round(s - 60 * m)} s` : `${Math.floor(m / 60)} h ${m % 60} min`;
+}
+const count = n => (typeof n === 'number' ? n.toLocaleString('en-US') : '—');
+
+// ---- derived values (POST /v1/designs/analyze, debounced) ---------------------------------
+function derivedView(form) {
+  const list = $('#derived-list'), status = $('#derived-status'), warn = $('#derived-warnings');
+  let timer = null, controller = null, seq = 0;
+  const row = (key, label, value, unit = '') => {
+    const dt = document.createElement('dt');
+    dt.textContent = label;
+    const dd = document.createElement('dd');
+    dd.dataset.key = key;
+    if (typeof value === 'number') dd.dataset.value = String(value);
+    dd.textContent = typeof value === 'number' ? `${fmt(value)}${unit ? ` ${unit}` : ''}` : value === undefined || value === null ? '—' : String(value);
+    list.append(dt, dd);
+  };
+  const show = a => {
+    list.textContent = '';
+    const g = a.geometry || {}, dg = (a.design && a.design.geometry) || {};
+    row('screw_radius_mm', 'Screw radius r_s', dg.screw_radius_mm, 'mm');
+    row('nut_radius_mm', 'Nut radius r_n', dg.nut_radius_mm, 'mm');
+    row('lead_mm', 'Lead', g.lead_mm, 'mm');
+    row('helix_angle_screw_deg', 'Helix angle, screw', g.helix_angle_screw_deg, '°');
+    row('helix_angle_roller_deg', 'Helix angle, roller', g.helix_angle_roller_deg, '°');
+    row('helix_angle_nut_deg', 'Helix angle, nut', g.helix_angle_nut_deg, '°');
+    row('z_max', 'Z_max (rollers that fit)', g.z_max);
+    row('orbit_radius_mm', 'Roller orbit radius', g.orbit_radius_mm, 'mm');
+    row('ring_gear_ratio', 'Ring-gear ratio', g.ring_gear_ratio);
+    row('standard_rules', 'Standard rules', g.standard_rules === undefined ? undefined : g.standard_rules ? 'yes' : 'no');
+    row('backlash_um', 'Nominal backlash', a.backlash_um, 'µm');
+    if (a.efficiency) row('eta', 'Efficiency η (forward)', a.efficiency.eta);
+    if (a.stiffness) row('stiffness', 'Axial stiffness', a.stiffness.axial_N_per_um, 'N/µm');
+    if (a.hertz && a.hertz.screw_roller) row('p_max', 'p_max screw side (equal share)', a.hertz.screw_roller.p_max_MPa, 'MPa');
+    if (a.capacity && a.capacity.dynamic) row('C_a', 'Dynamic rating C_a', a.capacity.dynamic.C_a_N, 'N');
+    if (a.life) row('L10_h', 'L10 life', a.life.hours, 'h');
+    warn.textContent = '';
+    const ws = a.warnings || [];
+    if (ws.length) {
+      const h = document.createElement('h3');
+      h.className = 'h4';
+      h.textContent = `Warnings (${ws.length})`;
+      const ul = document.createElement('ul');
+      ul.className = 'warnings';
+      ul.id = 'derived-warning-list';
+      for (const w of ws) {
+        const li = document.createElement('li');
+        li.textContent = `${w.pointer ? `${w.pointer}: ` : ''}${w.message}`;
+        ul.appendChild(li);
+      }
+      warn.append(h, ul);
+    }
+    form.showProblems(ws, { prefix: '/design', source: 'analyze', kind: 'warning' });
+  };
+  const run = async () => {
+    const my = ++seq;
+    if (controller) controller.abort();
+    controller = new AbortController();
+    status.textContent = 'Analysing…';
+    try {
+      const a = await api.analyze(form.designDoc(), controller.signal);
+      if (my !== seq) return;
+      form.clearProblems('analyze');
+      show(a);
+      list.classList.remove('stale');
+      status.textContent = `Design analysed${a.warnings && a.warnings.length ? `, ${a.warnings.length} warning${a.warnings.length > 1 ? 's' : ''}` : ''}.`;
+    } catch (e) {
+      if (e.name === 'AbortError' || my !== seq) return;
+      form.clearProblems('analyze');
+      list.classList.add('stale');
+      warn.textContent = '';
+      if (e instanceof ApiError && e.errors.length) {
+        const placed = form.showProblems(e.errors, { prefix: '/design', source: 'analyze' });
+        status.textContent = `The design is invalid: ${placed.map(p => `${p.pointer}: ${p.message}`).join('; ')}`;
+      } else {
+        status.textContent = `No analysis: ${describe(e)}`;
+      }
+    }
+  };
+  return { schedule() { clearTimeout(timer); timer = setTimeout(run, 350); }, now: run };
+}
+
+// ---- error summary -------------------------------------------------------------------------
+function showSummary(placed, headline) {
+  const box = $('#error-summary');
+  box.textContent = '';
+  const h = document.createElement('h3');
+  h.className = 'h4';
+  h.textContent = headline;
+  box.appendChild(h);
+  const ul = document.createElement('ul');
+  for (const p of placed) {
+    const li = document.createElement('li');
+    const text = `${p.pointer ? `${p.pointer}: ` : ''}${p.message}`;
+    const field = p.element && (/^(INPUT|SELECT)$/.test(p.element.tagName) ? p.element : p.element.querySelector('input, select'));
+    if (field) {
+      const a = document.createElement('a');
+      a.href = '#';
+      a.textContent = text;
+      a.addEventListener('click', e => { e.preventDefault(); field.focus(); });
+      li.appendChild(a);
+    } else li.textContent = text;
+    ul.appendChild(li);
+  }
+  box.appendChild(ul);
+  box.hidden = false;
+  box.focus();
+}
+
+// ---- the job view ----------------------------------------------------------------------------
+class JobView {
+  constructor(onRecent) {
+    this.section = $('#job');
+    this.timer = null;
+    this.path = null;
+    this.onRecent = onRecent;
+    this.lastAnnounced = '';
+    $('#job-cancel').addEventListener('click', () => this.cancel());
+  }
+
+  announce(text) {
+    if (text !== this.lastAnnounced) $('#job-status').textContent = text;
+    this.lastAnnounced = text;
+  }
+
+  async open(path, study, collection = 'studies') {
+    clearTimeout(this.timer);
+    this.path = path;
+    this.study = study;
+    this.collection = collection;
+    this.section.hidden = false;
+    $('#job-problem').hidden = true;
+    $('#results').hidden = true;
+    $('#job-link').href = path;
+    $('#job-link').textContent = path.split('/').pop();
+    this.announce('Loading the job…');
+    await this.poll();
+  }
+
+  async poll() {
+    const path = this.path;
+    let job;
+    try {
+      job = await api.job(path);
+    } catch (e) {
+      if (path !== this.path) return;
+      this.announce(`Cannot read the job: ${describe(e)}`);
+      if (!(e instanceof ApiError) || e.status === 0 || e.status >= 500) this.timer = setTimeout(() => this.poll(), 2000);
+      return;
+    }
+    if (path !== this.path) return;
+    this.render(job);
+    if (job.state === 'queued' || job.state === 'running') this.timer = setTimeout(() => this.poll(), 500);
+    else this.finish(job);
+  }
+
+  render(job) {
+    const p = job.progress || {};
+    const bar = $('#job-progress');
+    if (typeof p.fraction === 'number') bar.value = Math.min(1, Math.max(0, p.fraction));
+    else if (job.state === 'done') bar.value = 1;
+    else bar.removeAttribute('value'); // indeterminate while queued
+    const pct = typeof p.fraction === 'number' ? `${(100 * p.fraction).toFixed(1)} %` : '';
+    bar.setAttribute('aria-valuetext', `${job.state} ${pct} ${count(p.samples_done)} of ${count(p.samples_planned)} samples`);
+    $('#job-state').textContent = job.state;
+    $('#job-state').dataset.state = job.state;
+    $('#job-samples').textContent = `${count(p.samples_done)} of ${count(p.samples_planned)}${pct ? ` (${pct})` : ''}`;
+    $('#job-interval').textContent = p.interval_width === null || p.interval_width === undefined ? '— (not reported)' : fmt(p.interval_width);
+    $('#job-eta').textContent = job.state === 'running' ? duration(p.eta_s) : '—';
+    $('#job-cancel').disabled = !(job.state === 'queued' || job.state === 'running');
+    const step = typeof p.fraction === 'number' ? Math.floor(p.fraction * 4) * 25 : -1;
+    this.announce(job.state === 'running' ? `Running${step >= 0 ? `, at least ${step} % done` : ''}.` : job.state === 'queued' ? 'Queued: waiting for a worker.' : this.lastAnnounced);
+  }
+
+  finish(job) {
+    this.onRecent();
+    if (job.state === 'done') {
+      this.announce(`Done${job.cache_hit ? ' (from the cache)' : ''}: ${job.result && job.result.stop_reason ? `stopped on ${job.result.stop_reason}` : 'result below'}.`);
+      this.showResult(job);
+    } else if (job.state === 'failed') {
+      this.announce('The job failed.');
+      const box = $('#job-problem');
+      box.hidden = false;
+      box.textContent = job.problem ? describe(new ApiError(job.problem.status, job.problem)) : 'no problem document';
+    } else if (job.state === 'cancelled') {
+      this.announce('Cancelled.');
+    }
+  }
+
+  showResult(job) {
+    const res = $('#results');
+    res.hidden = false;
+    const body = $('#results-body');
+    if (this.collection === 'studies') renderStudyResult(body, job, this.study);
+    else if (this.renderOther) this.renderOther(body, job);
+  }
+
+  async cancel() {
+    if (!this.path) return;
+    $('#job-cancel').disabled = true;
+    try {
+      const job = await api.cancel(this.path);
+      clearTimeout(this.timer);
+      this.render(job);
+      this.finish(job);
+    } catch (e) {
+      this.announce(`Cancel refused: ${describe(e)}`);
+      this.poll();
+    }
+  }
+}
+
+// ---- export ----------------------------------------------------------------------------------
+function shellQuote(s) { return `'${s.replace(/'/g, `'\\''`)}'`; }
+let exportUrl = null;
+function showExport(kind, doc, collection = 'studies') {
+  const box = $('#export');
+  const json = JSON.stringify(doc, null, 2);
+  const text = kind === 'json' ? json
+    : `curl -si -H 'Content-Type: application/json' --data ${shellQuote(JSON.stringify(doc))} ${location.origin}/v1/${collection}`;
+  $('#export-text').value = text;
+  $('#export-label').textContent = kind === 'json' ? 'Request as JSON' : 'Request as a curl command';
+  if (exportUrl) URL.revokeObjectURL(exportUrl);
+  exportUrl = URL.createObjectURL(new Blob([kind === 'json' ? json + '\n' : text + '\n'], { type: kind === 'json' ? 'application/json' : 'text/plain' }));
+  const a = $('#export-download');
+  a.href = exportUrl;
+  a.download = kind === 'json' ? 'study.json' : 'study-curl.sh';
+  box.hidden = false;
+  box.dataset.kind = kind;
+  $('#export-text').focus();
+}
+
+// ---- recent studies --------------------------------------------------------------------------
+async function refreshRecent() {
+  const ul = $('#recent-list');
+  try {
+    const list = await api.list('studies', 8);
+    ul.textContent = '';
+    for (const j of list.items || []) {
+      const li = document.createElement('li');
+      const a = document.createElement('a');
+      a.href = `#${j.links.self}`;
+      a.textContent = j.id.slice(0, 12);
+      li.append(a, ` ${j.state}, ${j.created_at.replace('T', ' ').slice(0, 19)} UTC`);
+      ul.appendChild(li);
+    }
+    if (!ul.children.length) ul.innerHTML = '<li>None yet.</li>';
+  } catch (e) {
+    ul.textContent = `Cannot list studies: ${describe(e)}`;
+  }
+}
+
+// ---- start -----------------------------------------------------------------------------------
+async function main() {
+  const [studySchema, openapi, examples] = await Promise.all([
+    api.schema('study.schema.json'),
+    api.openapi(),
+    api.example('index.json').catch(() => ({ examples: [] })),
+  ]);
+  const form = new StudyForm($('#study-form'), schemaInfo(studySchema));
+  const derived = derivedView(form);
+  form.on('design', () => derived.schedule());
+  const jobs = new JobView(refreshRecent);
+  window.prsm = { form, jobs, api }; // for the console and the browser test
+
+  // examples: one click each
+  const bar = $('#examples');
+  for (const ex of examples.examples.filter(e => ['study', 'design', 'errors'].includes(e.kind))) {
+    const b = document.createElement('button');
+    b.type = 'button';
+    b.textContent = ex.label;
+    b.dataset.example = ex.file;
+    b.addEventListener('click', async () => {
+      try {
+        const doc = await api.example(ex.file);
+        const current = form.toRequest();
+        if (ex.kind === 'study') form.load(doc);
+        else if (ex.kind === 'design') form.load({ ...current, design: doc });
+        else form.load({ ...current, design: doc.design, errors: doc.errors, assembly: doc.assembly });
+        $('#examples-note').textContent = `Loaded ${ex.file} (${ex.kind === 'study' ? 'the whole study' : ex.kind === 'design' ? 'the design; tolerances and settings kept' : 'its design, error set and assembly options'}).`;
+      } catch (e) {
+        $('#examples-note').textContent = `Cannot load ${ex.file}: ${describe(e)}`;
+      }
+    });
+    bar.appendChild(b);
+  }
+
+  $('#study-form').addEventListener('submit', async e => {
+    e.preventDefault();
+    form.clearProblems('submit');
+    $('#error-summary').hidden = true;
+    const doc = form.toRequest();
+    const btn = $('#submit');
+    btn.disabled = true;
+    try {
+      const r = await api.submit('studies', doc);
+      const job = r.body;
+      rememberRequest(job.id, doc);
+      history.replaceState(null, '', `#${job.links.self}`);
+      if (r.status === 200 && job.state === 'done') {
+        jobs.path = job.links.self;
+        jobs.study = doc;
+        jobs.collection = 'studies';
+        jobs.section.hidden = false;
+        $('#job-link').href = job.links.self;
+        $('#job-link').textContent = job.id;
+        jobs.render(job);
+        jobs.finish(job);
+      } else {
+        await jobs.open(job.links.self, doc);
+      }
+      $('#job').scrollIntoView({ block: 'start' });
+    } catch (err) {
+      if (err instanceof ApiError && err.errors.length) {
+        const placed = form.showProblems(err.errors, { source: 'submit' });
+        showSummary(placed, `${err.problem.title} (${err.status}): ${err.errors.length === 1 ? 'a problem' : `${err.errors.length} problems`} in the request`);
+      } else {
+        showSummary([{ pointer: '', message: describe(err) }], err.status === 503 ? `The service is busy${err.problem.retry_after_s ? `: retry in ${err.problem.retry_after_s} s` : ''}` : 'The request was not accepted');
+      }
+    } finally {
+      btn.disabled = false;
+    }
+  });
+
+  $('#export-json').addEventListener('click', () => showExport('json', form.toRequest()));
+  $('#export-curl').addEventListener('click', () => showExport('curl', form.toRequest()));
+  $('#export-close').addEventListener('click', () => { $('#export').hidden = true; $('#export-json').focus(); });
+  $('#export-copy').addEventListener('click', async () => {
+    const t = $('#export-text');
+    try { await navigator.clipboard.writeText(t.value); } catch { t.select(); document.execCommand('copy'); }
+  });
+
+  // #/v1/studies/ID opens that job
+  const route = () => {
+    const m = /^#(\/v1\/([a-z]+)\/[0-9a-f]{32})$/.exec(location.hash);
+    if (m) jobs.open(m[1], recalledRequest(m[1].split('/').pop()), m[2]);
+  };
+  window.addEventListener('hashchange', route);
+
+  setupOptimization(openapi, { jobs, form, examples: examples.examples, rememberRequest });
+  api.version().then(v => { $('#version').textContent = `prsm ${v.prsm || v.version || ''}`.trim(); }).catch(() => {});
+  refreshRecent();
+
+  if (location.hash.startsWith('#/v1/')) route();
+  const first = examples.examples.find(e => e.kind === 'study');
+  if (first) {
+    form.load(await api.example(first.file));
+    $('#examples-note').textContent = `Loaded ${first.file}; pick another example or edit the fields.`;
+  } else {
+    form.load({ design: { geometry: {} }, tolerances: [] });
+  }
+  document.body.dataset.ready = 'true';
+}
+
+main().catch(e => {
+  const p = document.createElement('p');
+  p.className = 'notice';
+  p.setAttribute('role', 'alert');
+  p.textContent = `The form could not start: ${describe(e)}`;
+  document.querySelector('main').prepend(p);
+});

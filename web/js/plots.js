@@ -1,0 +1,220 @@
+// Small SVG charts drawn from the API's JSON: histogram with spec limits, line, tornado, bars and a
+// clickable scatter. No library: each returns an <svg role="img"> with a <title> and <desc>.
+
+const NS = 'http://www.w3.org/2000/svg';
+let uid = 0;
+
+export function el(name, attrs = {}, parent) {
+  const e = document.createElementNS(NS, name);
+  for (const [k, v] of Object.entries(attrs)) if (v !== undefined && v !== null) e.setAttribute(k, String(v));
+  if (parent) parent.appendChild(e);
+  return e;
+}
+
+function text(parent, x, y, s, attrs = {}) {
+  const t = el('text', { x, y, ...attrs }, parent);
+  t.textContent = s;
+  return t;
+}
+
+// Significant-digit formatting for tables and labels; null/undefined/NaN as an em dash.
+export function fmt(v, digits = 4) {
+  if (v === null || v === undefined || Number.isNaN(v)) return '—';
+  if (typeof v !== 'number') return String(v);
+  if (!Number.isFinite(v)) return v > 0 ? '∞' : '−∞';
+  if (v === 0) return '0';
+  const a = Math.abs(v);
+  let s;
+  if (a >= 1e6 || a < 1e-4) s = v.toExponential(digits - 1).replace(/\.?0+e/, 'e');
+  else if (a >= 10 ** digits) s = v.toFixed(0);
+  else s = String(Number(v.toPrecision(digits)));
+  return s.replace(/^-/, '−');
+}
+
+export function percent(f, digits = 2) {
+  if (f === null || f === undefined) return '—';
+  return `${(100 * f).toFixed(digits)} %`;
+}
+
+// Ticks at 1, 2, 5 x 10^k covering [lo, hi].
+export function ticks(lo, hi, count = 5) {
+  if (!(hi > lo)) return [lo];
+  const raw = (hi - lo) / count;
+  const mag = 10 ** Math.floor(Math.log10(raw));
+  const step = [1, 2, 5, 10].map(m => m * mag).find(s => s >= raw) || 10 * mag;
+  const out = [];
+  for (let t = Math.ceil(lo / step) * step; t <= hi + step * 1e-9; t += step) out.push(Math.abs(t) < step * 1e-9 ? 0 : t);
+  return out;
+}
+
+function scale(d0, d1, r0, r1) {
+  const k = d1 === d0 ? 0 : (r1 - r0) / (d1 - d0);
+  return v => r0 + (v - d0) * k;
+}
+
+function frame(w, h, title, desc, cls) {
+  const id = `plot${++uid}`;
+  const svg = el('svg', { viewBox: `0 0 ${w} ${h}`, width: '100%', role: 'img', 'aria-labelledby': `${id}t ${id}d`, class: `plot ${cls}` });
+  el('title', { id: `${id}t` }, svg).textContent = title;
+  el('desc', { id: `${id}d` }, svg).textContent = desc;
+  return svg;
+}
+
+// A tick's label with the decimals its step needs (0.8965, 0.897, 0.8975 stay distinct).
+function tickLabel(t, list) {
+  const step = list.length > 1 ? Math.abs(list[1] - list[0]) : 0;
+  if (!step || Math.abs(t) >= 1e6 || (Math.abs(t) < 1e-4 && t !== 0)) return fmt(t, 3);
+  const d = Math.max(0, Math.min(10, -Math.floor(Math.log10(step) + 1e-9)));
+  return t.toFixed(d).replace(/^-/, '−');
+}
+
+function axes(svg, m, w, h, xs, ys, xt, yt, xLabel, yLabel) {
+  const g = el('g', { class: 'axes' }, svg);
+  el('line', { x1: m.l, y1: h - m.b, x2: w - m.r, y2: h - m.b }, g);
+  el('line', { x1: m.l, y1: m.t, x2: m.l, y2: h - m.b }, g);
+  for (const t of xt) {
+    const x = xs(t);
+    el('line', { x1: x, y1: h - m.b, x2: x, y2: h - m.b + 4 }, g);
+    text(g, x, h - m.b + 16, tickLabel(t, xt), { 'text-anchor': 'middle' });
+  }
+  for (const t of yt) {
+    const y = ys(t);
+    el('line', { x1: m.l - 4, y1: y, x2: m.l, y2: y }, g);
+    el('line', { x1: m.l, y1: y, x2: w - m.r, y2: y, class: 'grid' }, g);
+    text(g, m.l - 6, y + 4, tickLabel(t, yt), { 'text-anchor': 'end' });
+  }
+  if (xLabel) text(g, (m.l + w - m.r) / 2, h - 4, xLabel, { 'text-anchor': 'middle', class: 'label' });
+  if (yLabel) text(g, 12, (m.t + h - m.b) / 2, yLabel, { 'text-anchor': 'middle', class: 'label', transform: `rotate(-90 12 ${(m.t + h - m.b) / 2})` });
+}
+
+// hist: {lower, upper, counts[]} of the result; spec: {lower?, upper?}; the x range is widened to
+// show the spec limits. Bars outside the spec are marked "out".
+export function histogram({ hist, spec, label, unit, title, desc }) {
+  const w = 520, h = 260, m = { l: 52, r: 14, t: 14, b: 40 };
+  const svg = frame(w, h, title, desc, 'histogram');
+  const n = hist.counts.length;
+  const binW = (hist.upper - hist.lower) / n || 1;
+  let lo = hist.lower, hi = hist.upper > hist.lower ? hist.upper : hist.lower + 1;
+  const limits = [spec && spec.lower, spec && spec.upper].filter(v => typeof v === 'number');
+  for (const v of limits) { lo = Math.min(lo, v); hi = Math.max(hi, v); }
+  const pad = 0.04 * (hi - lo);
+  lo -= pad; hi += pad;
+  const maxC = Math.max(1, ...hist.counts);
+  const xs = scale(lo, hi, m.l, w - m.r), ys = scale(0, maxC * 1.08, h - m.b, m.t);
+  axes(svg, m, w, h, xs, ys, ticks(lo, hi, 6), ticks(0, maxC * 1.08, 4), `${label}${unit ? ` (${unit})` : ''}`, 'samples');
+  const g = el('g', { class: 'bars' }, svg);
+  hist.counts.forEach((c, i) => {
+    const a = hist.lower + i * binW, b = a + binW, mid = (a + b) / 2;
+    const out = spec && ((typeof spec.lower === 'number' && mid < spec.lower) || (typeof spec.upper === 'number' && mid > spec.upper));
+    const r = el('rect', { x: xs(a), y: ys(c), width: Math.max(0.5, xs(b) - xs(a) - 0.5), height: Math.max(0, ys(0) - ys(c)), class: out ? 'bar out' : 'bar', 'data-count': c }, g);
+    el('title', {}, r).textContent = `${fmt(a)} to ${fmt(b)}: ${c} samples`;
+  });
+  for (const [k, v] of [['lower', spec && spec.lower], ['upper', spec && spec.upper]]) {
+    if (typeof v !== 'number') continue;
+    const x = xs(v);
+    el('line', { x1: x, y1: m.t, x2: x, y2: h - m.b, class: `spec spec-${k}`, 'data-value': v }, svg);
+    text(svg, x + (k === 'lower' ? 4 : -4), m.t + 12, `${k === 'lower' ? 'L' : 'U'} = ${fmt(v)}`, { 'text-anchor': k === 'lower' ? 'start' : 'end', class: 'spec-label' });
+  }
+  return svg;
+}
+
+// A polyline y(x) with optional zero line.
+export function lineChart({ x, y, xLabel, yLabel, title, desc, xTicks }) {
+  const w = 520, h = 240, m = { l: 52, r: 14, t: 14, b: 40 };
+  const svg = frame(w, h, title, desc, 'line-chart');
+  let ylo = Math.min(0, ...y), yhi = Math.max(0, ...y);
+  if (yhi - ylo < 1e-9) { ylo -= 1; yhi += 1; }
+  const pad = 0.08 * (yhi - ylo);
+  const xs = scale(x[0], x[x.length - 1], m.l, w - m.r), ys = scale(ylo - pad, yhi + pad, h - m.b, m.t);
+  axes(svg, m, w, h, xs, ys, xTicks || ticks(x[0], x[x.length - 1], 6), ticks(ylo - pad, yhi + pad, 5), xLabel, yLabel);
+  el('line', { x1: m.l, x2: w - m.r, y1: ys(0), y2: ys(0), class: 'zero' }, svg);
+  const pts = x.map((xi, i) => `${xs(xi).toFixed(2)},${ys(y[i]).toFixed(2)}`).join(' ');
+  el('polyline', { points: pts, class: 'curve', 'data-points': x.length }, svg);
+  const g = el('g', { class: 'markers' }, svg);
+  x.forEach((xi, i) => {
+    const c = el('circle', { cx: xs(xi), cy: ys(y[i]), r: 2.5, class: 'marker' }, g);
+    el('title', {}, c).textContent = `${fmt(xi)}: ${fmt(y[i])}`;
+  });
+  return svg;
+}
+
+// items: [{label, value, lo?, hi?}] sorted by the caller; signed: bars grow both ways from 0.
+export function tornado({ items, xLabel, title, desc, signed }) {
+  const rowH = 22, w = 560, m = { l: 230, r: 20, t: 10, b: 40 };
+  const h = m.t + m.b + rowH * Math.max(1, items.length);
+  const svg = frame(w, h, title, desc, 'tornado');
+  const vals = items.flatMap(it => [it.value, it.lo, it.hi]).filter(v => typeof v === 'number' && Number.isFinite(v));
+  let lo = signed ? Math.min(0, ...vals) : 0, hi = Math.max(0, ...vals);
+  if (hi - lo < 1e-12) hi = lo + 1;
+  const xs = scale(lo, hi, m.l, w - m.r);
+  const xt = ticks(lo, hi, 5);
+  const g = el('g', { class: 'axes' }, svg);
+  el('line', { x1: xs(0), y1: m.t, x2: xs(0), y2: h - m.b }, g);
+  el('line', { x1: m.l, y1: h - m.b, x2: w - m.r, y2: h - m.b }, g);
+  for (const t of xt) {
+    el('line', { x1: xs(t), y1: h - m.b, x2: xs(t), y2: h - m.b + 4 }, g);
+    text(g, xs(t), h - m.b + 16, tickLabel(t, xt), { 'text-anchor': 'middle' });
+  }
+  text(g, (m.l + w - m.r) / 2, h - 4, xLabel, { 'text-anchor': 'middle', class: 'label' });
+  const bars = el('g', { class: 'bars' }, svg);
+  items.forEach((it, i) => {
+    const y = m.t + i * rowH;
+    text(bars, m.l - 6, y + rowH * 0.68, it.label, { 'text-anchor': 'end', class: 'row-label' });
+    const v = Number.isFinite(it.value) ? it.value : 0;
+    const x0 = xs(Math.min(0, v)), x1 = xs(Math.max(0, v));
+    const r = el('rect', { x: x0, y: y + 3, width: Math.max(0.5, x1 - x0), height: rowH - 6, class: v < 0 ? 'bar neg' : 'bar', 'data-value': it.value, 'data-label': it.label }, bars);
+    el('title', {}, r).textContent = `${it.label}: ${fmt(it.value)}${typeof it.lo === 'number' ? ` (95 % ${fmt(it.lo)} to ${fmt(it.hi)})` : ''}`;
+    if (typeof it.lo === 'number' && typeof it.hi === 'number') {
+      const yc = y + rowH / 2;
+      el('line', { x1: xs(it.lo), x2: xs(it.hi), y1: yc, y2: yc, class: 'whisker' }, bars);
+      el('line', { x1: xs(it.lo), x2: xs(it.lo), y1: yc - 4, y2: yc + 4, class: 'whisker' }, bars);
+      el('line', { x1: xs(it.hi), x2: xs(it.hi), y1: yc - 4, y2: yc + 4, class: 'whisker' }, bars);
+    }
+  });
+  return svg;
+}
+
+// Vertical bars with a reference line (e.g. the equal share F/Z).
+export function barChart({ labels, values, ref, refLabel, xLabel, yLabel, title, desc }) {
+  const w = 520, h = 240, m = { l: 56, r: 14, t: 14, b: 40 };
+  const svg = frame(w, h, title, desc, 'bar-chart');
+  const hi = Math.max(1e-12, ...values, ref || 0) * 1.1;
+  const xs = scale(0, values.length, m.l, w - m.r), ys = scale(0, hi, h - m.b, m.t);
+  axes(svg, m, w, h, xs, ys, [], ticks(0, hi, 5), xLabel, yLabel);
+  const g = el('g', { class: 'bars' }, svg);
+  const bw = (w - m.l - m.r) / values.length;
+  values.forEach((v, i) => {
+    const r = el('rect', { x: xs(i) + bw * 0.15, y: ys(v), width: bw * 0.7, height: ys(0) - ys(v), class: 'bar', 'data-value': v }, g);
+    el('title', {}, r).textContent = `${labels[i]}: ${fmt(v)}`;
+    text(g, xs(i) + bw / 2, h - m.b + 16, labels[i], { 'text-anchor': 'middle' });
+  });
+  if (typeof ref === 'number') {
+    el('line', { x1: m.l, x2: w - m.r, y1: ys(ref), y2: ys(ref), class: 'ref' }, svg);
+    text(svg, w - m.r - 4, ys(ref) - 4, refLabel || fmt(ref), { 'text-anchor': 'end', class: 'ref-label' });
+  }
+  return svg;
+}
+
+// points: [{x, y, label, feasible?}]; onSelect(index) on click, Enter or Space (each point focusable).
+export function scatter({ points, xLabel, yLabel, title, desc, onSelect }) {
+  const w = 520, h = 300, m = { l: 60, r: 16, t: 14, b: 40 };
+  const svg = frame(w, h, title, desc, 'scatter');
+  const xsV = points.map(p => p.x), ysV = points.map(p => p.y);
+  let xlo = Math.min(...xsV), xhi = Math.max(...xsV), ylo = Math.min(...ysV), yhi = Math.max(...ysV);
+  if (xhi - xlo < 1e-12) { xlo -= 1; xhi += 1; }
+  if (yhi - ylo < 1e-12) { ylo -= 1; yhi += 1; }
+  const px = 0.06 * (xhi - xlo), py = 0.08 * (yhi - ylo);
+  const xs = scale(xlo - px, xhi + px, m.l, w - m.r), ys = scale(ylo - py, yhi + py, h - m.b, m.t);
+  axes(svg, m, w, h, xs, ys, ticks(xlo - px, xhi + px, 5), ticks(ylo - py, yhi + py, 5), xLabel, yLabel);
+  const order = points.map((p, i) => i).sort((a, b) => points[a].x - points[b].x);
+  el('polyline', { points: order.map(i => `${xs(points[i].x)},${ys(points[i].y)}`).join(' '), class: 'front' }, svg);
+  const g = el('g', { class: 'points' }, svg);
+  points.forEach((p, i) => {
+    const c = el('circle', { cx: xs(p.x), cy: ys(p.y), r: 6, class: p.feasible === false ? 'point infeasible' : 'point', tabindex: 0, role: 'button', 'aria-label': p.label, 'data-index': i }, g);
+    el('title', {}, c).textContent = p.label;
+    const pick = () => { g.querySelectorAll('.point').forEach(q => q.classList.remove('selected')); c.classList.add('selected'); onSelect && onSelect(i); };
+    c.addEventListener('click', pick);
+    c.addEventListener('keydown', e => { if (e.key === 'Enter' || e.key === ' ') { e.preventDefault(); pick(); } });
+  });
+  return svg;
+}
