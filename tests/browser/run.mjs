@@ -316,6 +316,11 @@ async function run(page) {
   await page.waitForSelector('#job-state[data-state=running]', { timeout: 20000 });
   await page.waitForFunction(() => document.querySelector('#job-progress').value > 0, null, { timeout: 20000 }).catch(() => {});
   const longPath = await page.evaluate(() => location.hash.slice(1));
+  // the stop target (backlash_um standard error <= 0.05) is reported while it runs
+  const widthShown = await page.waitForSelector('#job-interval[data-value]', { timeout: 30000 }).then(() => true, () => false);
+  const live = (await apiJson('GET', longPath)).json.progress;
+  check('progress shows the stop target\'s interval width and its goal', widthShown && live.interval_goal === 0.05
+    && (await page.textContent('#job-interval')).includes('goal 0.05'), `${await page.textContent('#job-interval')} api ${JSON.stringify(live)}`);
   check('a second job was started', longPath !== jobPath && /^\/v1\/studies\//.test(longPath));
   await shot('02-running.png');
   await (await page.$('#job')).screenshot({ path: path.join(artifacts, '02b-progress.png') });

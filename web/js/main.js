@@ -191,15 +191,22 @@ class JobView {
     else if (job.state === 'done') bar.value = 1;
     else bar.removeAttribute('value'); // indeterminate while queued
     const pct = typeof p.fraction === 'number' ? `${(100 * p.fraction).toFixed(1)} %` : '';
-    bar.setAttribute('aria-valuetext', `${job.state} ${pct} ${count(p.samples_done)} of ${count(p.samples_planned)} samples`);
+    const unit = p.unit || 'samples';
+    bar.setAttribute('aria-valuetext', `${job.state} ${pct} ${count(p.samples_done)} of ${count(p.samples_planned)} ${unit}`);
     $('#job-state').textContent = job.state;
     $('#job-state').dataset.state = job.state;
+    $('#job-unit').textContent = unit === 'evaluations' ? 'Evaluations' : 'Samples';
     $('#job-samples').textContent = `${count(p.samples_done)} of ${count(p.samples_planned)}${pct ? ` (${pct})` : ''}`;
-    $('#job-interval').textContent = p.interval_width === null || p.interval_width === undefined ? '— (not reported)' : fmt(p.interval_width);
+    const w = p.interval_width, goal = p.interval_goal;
+    const iv = $('#job-interval');
+    iv.textContent = typeof w === 'number' ? `${fmt(w)}${typeof goal === 'number' ? ` (goal ${fmt(goal)})` : ''}` : job.state === 'running' ? '— (no target, or too few samples yet)' : '—';
+    if (typeof w === 'number') iv.dataset.value = String(w); else delete iv.dataset.value;
+    $('#job-best-row').hidden = typeof p.best_objective !== 'number';
+    $('#job-best').textContent = fmt(p.best_objective);
     $('#job-eta').textContent = job.state === 'running' ? duration(p.eta_s) : '—';
     $('#job-cancel').disabled = !(job.state === 'queued' || job.state === 'running');
     const step = typeof p.fraction === 'number' ? Math.floor(p.fraction * 4) * 25 : -1;
-    this.announce(job.state === 'running' ? `Running${step >= 0 ? `, at least ${step} % done` : ''}.` : job.state === 'queued' ? 'Queued: waiting for a worker.' : this.lastAnnounced);
+    this.announce(job.state === 'running' ? (step > 0 ? `Running: ${step} % done.` : 'Running.') : job.state === 'queued' ? 'Queued: waiting for a worker.' : this.lastAnnounced);
   }
 
   finish(job) {
@@ -213,7 +220,8 @@ class JobView {
       box.hidden = false;
       box.textContent = job.problem ? describe(new ApiError(job.problem.status, job.problem)) : 'no problem document';
     } else if (job.state === 'cancelled') {
-      this.announce('Cancelled.');
+      this.announce(job.result ? 'Cancelled: the best result so far is below.' : 'Cancelled.');
+      if (job.result) this.showResult(job);
     }
   }
 
