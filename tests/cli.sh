@@ -328,6 +328,71 @@ ok "validate invalid study: the same 5 problems" test "$(grep -c ': /' "$tmp/v.t
 "$prsm" study "$tmp/study.json" "$tmp/study.json" > /dev/null 2>&1; check "study two files" 64 $?
 "$prsm" study "$tmp/does-not-exist.json" > /dev/null 2>&1; check "study missing file" 64 $?
 
+# batch: lines of any kind through the cache, in order, invalid lines reported, run again from
+# the cache; a batch killed with -9 finishes when run again, with the results of a clean run
+$py - "$src" "$tmp" <<'PY'
+import json, sys
+src, tmp = sys.argv[1], sys.argv[2]
+d = json.load(open(src + "/studies/case-a-tolerances.json"))
+d["monte_carlo"] = {"samples": 512, "seed": 7, "block_size": 256}
+d["sensitivity"] = {"src": False, "stack": False}
+d2 = json.loads(json.dumps(d)); d2["monte_carlo"]["seed"] = 8
+with open(tmp + "/batch.jsonl", "w") as f:
+    f.write(json.dumps({"kind": "study", "request": d, "id": "a"}) + "\n\n")
+    f.write('{"kind": "study", "request": {"design": {}}}\n{not json\n')
+    f.write(json.dumps({"kind": "study", "request": d2, "id": 2}) + "\n")
+    f.write(json.dumps({"kind": "study", "request": d, "id": "a-again"}) + "\n")
+    f.write(json.dumps({"kind": "nope", "request": d, "extra": 1}) + "\n")
+long = json.loads(json.dumps(d))
+long["monte_carlo"] = {"samples": 6000, "seed": 11, "block_size": 256}
+with open(tmp + "/long.jsonl", "w") as f:
+    for seed in (11, 12):
+        long["monte_carlo"]["seed"] = seed
+        f.write(json.dumps({"kind": "study", "request": long}) + "\n")
+PY
+"$prsm" batch "$tmp/batch.jsonl" --db "$tmp/batch.db" --out "$tmp/batch1.jsonl" --quiet; check "batch with invalid lines" 1 $?
+"$prsm" batch "$tmp/batch.jsonl" --db "$tmp/batch.db" --workers 1 --quiet > "$tmp/batch2.jsonl"; check "batch again" 1 $?
+ok "batch results: in order, invalid lines with pointers, the second run from the cache" $py - "$tmp" <<'PY'
+import json, sys
+tmp = sys.argv[1]
+a = [json.loads(l) for l in open(tmp + "/batch1.jsonl")]
+b = [json.loads(l) for l in open(tmp + "/batch2.jsonl")]
+assert [x["line"] for x in a] == [1, 2, 3, 4, 5, 6], a
+assert [x["state"] for x in a] == ["done", "invalid", "invalid", "done", "done", "invalid"], a
+assert [x["id"] for x in a] == ["a", None, None, 2, "a-again", None]
+assert a[0]["job_id"] == a[4]["job_id"] and a[0]["job_id"] != a[3]["job_id"]
+assert a[1]["problem"]["status"] == 422 and "/design/geometry" in [e["pointer"] for e in a[1]["problem"]["errors"]]
+assert a[2]["problem"]["status"] == 400
+assert {e["pointer"] for e in a[5]["problem"]["errors"]} == {"/kind", ""}
+assert [x["cache_hit"] for x in b] == [True, False, False, True, True, False], b
+def strip(r):
+    r = dict(r); r.pop("cache_hit"); r.pop("timing_s", None); return r
+for x, y in zip(a, b):
+    if x["state"] == "done":
+        assert strip(x["result"]) == strip(y["result"])
+        assert y["result"]["cache_hit"] is True
+PY
+"$prsm" batch "$tmp/long.jsonl" --db "$tmp/clean.db" --workers 2 --quiet > "$tmp/long-clean.jsonl"; check "batch long" 0 $?
+"$prsm" batch "$tmp/long.jsonl" --db "$tmp/killed.db" --workers 2 --quiet > "$tmp/long-killed.jsonl" &
+bpid=$!
+sleep 0.5
+kill -9 $bpid 2>/dev/null; wait $bpid 2>/dev/null
+"$prsm" batch "$tmp/long.jsonl" --db "$tmp/killed.db" --workers 2 > "$tmp/long-resumed.jsonl" 2> "$tmp/resume.err"; check "batch after kill -9" 0 $?
+ok "batch resumed after kill -9: same results as a clean run" $py - "$tmp" <<'PY'
+import json, sys
+tmp = sys.argv[1]
+a = [json.loads(l) for l in open(tmp + "/long-clean.jsonl")]
+b = [json.loads(l) for l in open(tmp + "/long-resumed.jsonl")]
+def strip(r):
+    r = dict(r); r.pop("cache_hit"); r.pop("timing_s", None); return r
+assert len(a) == len(b) == 2
+for x, y in zip(a, b):
+    assert x["state"] == y["state"] == "done"
+    assert strip(x["result"]) == strip(y["result"])
+PY
+"$prsm" batch > /dev/null 2>&1; check "batch without file" 64 $?
+"$prsm" batch "$tmp/batch.jsonl" --workers 0 > /dev/null 2>&1; check "batch --workers 0" 64 $?
+
 # bench: the documented JSON shape
 "$prsm" bench --seconds 0.05 > "$tmp/bench.json"; check "bench" 0 $?
 ok "bench shape" $py - "$tmp/bench.json" <<'PY'

@@ -22,6 +22,7 @@ int prsm_cli_bench(int argc, char **argv);
 int prsm_cli_version(int argc, char **argv);
 int prsm_cli_study(int argc, char **argv);
 int prsm_cli_serve(int argc, char **argv);
+int prsm_cli_batch(int argc, char **argv);
 int prsm_cli_allocate(int argc, char **argv);
 
 /* One `prsm bench` entry, value rounded to `decimals` (null when not finite). */

@@ -27,6 +27,9 @@ static void usage(FILE *out)
 	        "                   --format text|json\n"
 	        "  serve            the HTTP/JSON service (default 127.0.0.1:8080, database ./prsm.db)\n"
 	        "                   --port N, --db PATH, --workers N; prsm serve --help for all\n"
+	        "  batch FILE.jsonl many requests of any kind, one per line, through the cache in parallel\n"
+	        "                   (one result per line; run again to resume): --out FILE, --db PATH,\n"
+	        "                   --workers N, --threads N\n"
 	        "  bench            throughput of the engine's kernels, as JSON\n"
 	        "                   --seconds S (per kernel, default 0.5)\n"
 	        "  version          engine and model versions\n"
@@ -53,6 +56,8 @@ int main(int argc, char **argv)
 		return prsm_cli_allocate(argc - 1, argv + 1);
 	if (strcmp(cmd, "serve") == 0)
 		return prsm_cli_serve(argc - 1, argv + 1);
+	if (strcmp(cmd, "batch") == 0)
+		return prsm_cli_batch(argc - 1, argv + 1);
 	if (strcmp(cmd, "bench") == 0)
 		return prsm_cli_bench(argc - 1, argv + 1);
 	if (strcmp(cmd, "version") == 0 || strcmp(cmd, "--version") == 0)
