@@ -407,5 +407,43 @@ for b in d["benchmarks"]:
 assert {"load_distribution_case_a", "operating_point_analysis_case_a"} <= names, names
 PY
 
+# allocate: the analytic LS-1 example (closed form), the case-A example with its Monte Carlo
+# correction (target met, threads do not change the result), usage and invalid documents
+"$prsm" allocate "$src/studies/allocate-ls1.json" --out "$tmp/alloc-ls1.json"; check "allocate ls1" 0 $?
+ok "allocate ls1: closed form T_i = mu B_i^(1/3), yield 99.73 %" $py - "$tmp/alloc-ls1.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+B = [0.5, 0.4, 0.3, 0.2]
+c = r["constraints"][0]
+mu = c["assembly_tolerance"] / sum(b ** (2 / 3) for b in B) ** 0.5
+for t, b in zip(r["tolerances"], B):
+    assert abs(t["half_width"] - mu * b ** (1 / 3)) < 1e-12, t
+assert abs(c["predicted_yield"] - 0.9973) < 1e-9, c
+assert r["monte_carlo"] is None and r["correction"]["stop_reason"] == "linear"
+PY
+"$prsm" allocate "$src/studies/allocate-case-a.json" --quiet --threads 1 > "$tmp/alloc-a1.json"; check "allocate case a" 0 $?
+"$prsm" allocate - --quiet --threads 2 < "$src/studies/allocate-case-a.json" > "$tmp/alloc-a2.json"; check "allocate case a from stdin, 2 threads" 0 $?
+ok "allocate case a: Monte Carlo yield meets 99.73 %, same on 1 and 2 threads" $py - "$tmp/alloc-a1.json" "$tmp/alloc-a2.json" <<'PY'
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+for x in (a, b):
+    x.pop("elapsed_s"); x["monte_carlo"].pop("threads")
+assert a == b
+c = a["constraints"][0]
+assert c["monte_carlo"]["fraction"] >= c["target_yield"] and c["meets_target"], c
+assert a["correction"]["converged"] and len(a["correction"]["steps"]) >= 2
+PY
+"$prsm" allocate > /dev/null 2>&1; check "allocate without file" 64 $?
+"$prsm" allocate "$src/studies/allocate-ls1.json" --threads 0 > /dev/null 2>&1; check "allocate --threads 0" 64 $?
+"$prsm" allocate "$tmp/missing.json" > /dev/null 2>&1; check "allocate missing file" 64 $?
+$py -c '
+import json, sys
+d = json.load(open(sys.argv[1])); d["allocate"][0]["cost"]["coefficient"] = -1
+d["constraints"][0]["spec"] = {"lower": 0.3, "upper": 0.2}
+json.dump(d, open(sys.argv[2], "w"))' "$src/studies/allocate-ls1.json" "$tmp/alloc-bad.json"
+"$prsm" allocate "$tmp/alloc-bad.json" > /dev/null 2> "$tmp/alloc-bad.err"; check "allocate invalid" 1 $?
+ok "allocate invalid: every problem with its pointer" grep -q "/allocate/0/cost/coefficient" "$tmp/alloc-bad.err"
+ok "allocate invalid: the spec's order" grep -q "/constraints/0/spec/upper" "$tmp/alloc-bad.err"
+
 echo "cli: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -2026,6 +2026,59 @@ for path in multistage_documents:
         found = [p_.get("pointer") for p_ in (vdoc or {}).get("errors", [])]
         check(f"{name}: {bad_name} is refused at {pointer}", rc == 1 and pointer in found, f"exit {rc}: {found}")
 
+# ---- 11. tolerance allocation (issue 7 item 4) -------------------------------------------------
+# the example allocations validate against allocation.schema.json; what `prsm allocate` prints
+# for them against allocation-result.schema.json, with its figures checked against each other;
+# invalid documents refused by both the schema and the C reader (exit 1, the pointer on stderr)
+
+if "allocation.schema.json" in schemas and "allocation-result.schema.json" in schemas:
+    V_ALLOC = make_validator(schemas["allocation.schema.json"])
+    V_ALLOC_RES = make_validator(schemas["allocation-result.schema.json"])
+    for ex in sorted(glob.glob(os.path.join(SRC, "studies", "allocate-*.json"))):
+        name = os.path.basename(ex)
+        adoc = load_json(ex)
+        errs = schema_errors(V_ALLOC, adoc)
+        check(f"{name} validates against allocation.schema.json", not errs, errs)
+        rc, ares, _, err = prsm("allocate", ex, "--quiet")
+        check(f"{name}: prsm allocate exits 0", rc == 0 and ares is not None, err[-300:])
+        if ares is None:
+            continue
+        errs = schema_errors(V_ALLOC_RES, ares)
+        check(f"{name}: the result validates against allocation-result.schema.json", not errs, errs)
+        check(f"{name}: total cost = sum of the tolerances' costs",
+              close(ares["total_cost"], sum(t["cost"] for t in ares["tolerances"])))
+        check(f"{name}: every half-width within its bounds",
+              all(t["bounds"]["lower"] <= t["half_width"] and (t["bounds"]["upper"] is None or t["half_width"] <= t["bounds"]["upper"])
+                  for t in ares["tolerances"]))
+        reported = [st for st in ares["correction"]["steps"] if st["reported"]]
+        check(f"{name}: one reported step, the document's allocation",
+              len(reported) == 1 and reported[0]["half_widths"] == [t["half_width"] for t in ares["tolerances"]])
+        for c in ares["constraints"]:
+            if c["target_yield"] is None:
+                continue
+            got = c["monte_carlo"]["fraction"] if c["monte_carlo"] else c["predicted_yield"]
+            check(f"{name}: {c['output']} meets its target", c["meets_target"] and got >= c["target_yield"] - 1e-12,
+                  f"{got} vs {c['target_yield']}")
+        if ares["kind"] == "analytic" and adoc["constraints"][0].get("target_yield_percent"):
+            c = ares["constraints"][0]
+            check(f"{name}: the predicted yield is the target", abs(c["predicted_yield"] - c["target_yield"]) < 1e-9)
+    # invalid documents: both refuse
+    base = load_json(os.path.join(SRC, "studies", "allocate-ls1.json"))
+    for bad_name, path_, value, pointer in [
+        ("negative cost coefficient", "allocate/0/cost/coefficient", -1, "/allocate/0/cost/coefficient"),
+        ("power on a reciprocal cost", "allocate/0/cost/power", 2, "/allocate/0/cost/power"),
+        ("target yield 100 %", "constraints/0/target_yield_percent", 100, "/constraints/0/target_yield_percent"),
+        ("unknown stack", "stack", "sum", "/stack"),
+        ("negative lower bound", "allocate/1/bounds/lower", -0.1, "/allocate/1/bounds/lower"),
+        ("monte_carlo on an analytic stack", "monte_carlo", {"samples": 100}, "/monte_carlo"),
+        ("unknown member", "extra", 1, "/extra"),
+    ]:
+        bad = mutated_copy(base, path_, value)
+        errs = schema_errors(V_ALLOC, bad)
+        check(f"allocation: {bad_name} is refused by the schema", bool(errs))
+        rc, _, _, err = prsm("allocate", write_doc(bad), "--quiet")
+        check(f"allocation: {bad_name} is refused by prsm allocate at {pointer}", rc == 1 and pointer in err, f"exit {rc}: {err[-300:]}")
+
 if known_seen:
     print(f"known disagreements: {len(known_seen)} still reproduce (see KNOWN in {os.path.basename(__file__)})")
 print(f"schemas: {passed} passed, {failed} failed")

@@ -62,7 +62,7 @@ static void assert_rel(double a, double e, double rel)
 
 static const char *LS1 =
 	"{\"analytic\": {\"outputs\": [{\"name\": \"y\", \"nominal\": 0.1}]},"
-	" \"tolerances\": ["
+	" \"allocate\": ["
 	"  {\"parameter\": \"x1\", \"sensitivities\": {\"y\": 1}, \"cost\": {\"model\": \"reciprocal\", \"coefficient\": 0.5}},"
 	"  {\"parameter\": \"x2\", \"sensitivities\": {\"y\": 1}, \"cost\": {\"model\": \"reciprocal\", \"coefficient\": 0.4}},"
 	"  {\"parameter\": \"x3\", \"sensitivities\": {\"y\": -1}, \"cost\": {\"model\": \"reciprocal\", \"coefficient\": 0.3}},"
@@ -98,7 +98,7 @@ static void test_worst_case_power(void **state)
 	(void)state;
 	cJSON *doc = parse(
 		"{\"analytic\": {\"outputs\": [{\"name\": \"gap_um\", \"nominal\": 21.7}]},"
-		" \"tolerances\": ["
+		" \"allocate\": ["
 		"  {\"parameter\": \"a_um\", \"sensitivities\": {\"gap_um\": 1.2}, \"cost\": {\"model\": \"reciprocal_power\", \"coefficient\": 2.385, \"power\": 2.7}},"
 		"  {\"parameter\": \"b_um\", \"sensitivities\": {\"gap_um\": -0.8}, \"cost\": {\"model\": \"reciprocal_power\", \"coefficient\": 1.3, \"power\": 2.7}},"
 		"  {\"parameter\": \"c_um\", \"sensitivities\": {\"gap_um\": 2.5}, \"cost\": {\"model\": \"reciprocal_power\", \"coefficient\": 0.71, \"power\": 2.7}}],"
@@ -123,7 +123,7 @@ static void test_exponential(void **state)
 	(void)state;
 	cJSON *doc = parse(
 		"{\"analytic\": {\"outputs\": [{\"name\": \"y\", \"nominal\": 0}]},"
-		" \"tolerances\": ["
+		" \"allocate\": ["
 		"  {\"parameter\": \"x1\", \"sensitivities\": {\"y\": 1.2}, \"cost\": {\"model\": \"exponential\", \"coefficient\": 2.385, \"rate\": 31.7, \"fixed\": 1}},"
 		"  {\"parameter\": \"x2\", \"sensitivities\": {\"y\": -0.8}, \"cost\": {\"model\": \"exponential\", \"coefficient\": 1.3, \"rate\": 12.2}}],"
 		" \"constraints\": [{\"output\": \"y\", \"assembly_tolerance\": 0.0735}]}");
@@ -307,13 +307,13 @@ static void expect_problem(const char *base, const char *path_key, const char *v
 static void test_errors(void **state)
 {
 	(void)state;
-	expect_problem(LS1, "tolerances/0/cost/coefficient", "-1", "/tolerances/0/cost/coefficient", 0);
-	expect_problem(LS1, "tolerances/0/cost/model", "\"quadratic\"", "/tolerances/0/cost/model", 0);
-	expect_problem(LS1, "tolerances/0/cost/power", "2", "/tolerances/0/cost/power", 0);
-	expect_problem(LS1, "tolerances/1/bounds", "{\"lower\": 0.3, \"upper\": 0.2}", "/tolerances/1/bounds/upper", 0);
-	expect_problem(LS1, "tolerances/1/bounds", "{\"lower\": -0.1}", "/tolerances/1/bounds/lower", 0);
-	expect_problem(LS1, "tolerances/2/sensitivities", "{\"z\": 1}", "/tolerances/2/sensitivities/z", 0);
-	expect_problem(LS1, "tolerances/2/sd_ratio", "0", "/tolerances/2/sd_ratio", 0);
+	expect_problem(LS1, "allocate/0/cost/coefficient", "-1", "/allocate/0/cost/coefficient", 0);
+	expect_problem(LS1, "allocate/0/cost/model", "\"quadratic\"", "/allocate/0/cost/model", 0);
+	expect_problem(LS1, "allocate/0/cost/power", "2", "/allocate/0/cost/power", 0);
+	expect_problem(LS1, "allocate/1/bounds", "{\"lower\": 0.3, \"upper\": 0.2}", "/allocate/1/bounds/upper", 0);
+	expect_problem(LS1, "allocate/1/bounds", "{\"lower\": -0.1}", "/allocate/1/bounds/lower", 0);
+	expect_problem(LS1, "allocate/2/sensitivities", "{\"z\": 1}", "/allocate/2/sensitivities/z", 0);
+	expect_problem(LS1, "allocate/2/sd_ratio", "0", "/allocate/2/sd_ratio", 0);
 	expect_problem(LS1, "constraints/0/target_ppm", "0", "/constraints/0/target_ppm", 0);
 	expect_problem(LS1, "constraints/0/target_yield_percent", "99", "/constraints/0", 0);
 	expect_problem(LS1, "constraints/0/target_ppm", NULL, "/constraints/0", 0);
@@ -322,24 +322,24 @@ static void test_errors(void **state)
 	/* the nominal outside the spec: no allocation meets it */
 	expect_problem(LS1, "constraints/0/spec", "{\"lower\": 0.15, \"upper\": 0.2}", "/constraints", 0);
 	/* the lower bounds alone break the limit */
-	expect_problem(LS1, "tolerances/0/bounds", "{\"lower\": 0.09}", "/constraints", 0);
+	expect_problem(LS1, "allocate/0/bounds", "{\"lower\": 0.09}", "/constraints", 0);
 	expect_problem(LS1, "monte_carlo", "{\"samples\": 100}", "/monte_carlo", 0);
 	expect_problem(LS1, "stack", "\"sum\"", "/stack", 0);
 	expect_problem(LS1, "study", "{}", "/analytic", 0);
 	expect_problem(LS1, "extra", "1", "/extra", 0);
-	expect_problem(LS1, "tolerances", "[]", "/tolerances", 0);
+	expect_problem(LS1, "allocate", "[]", "/allocate", 0);
 	/* a study */
 	cJSON *ca = alloc_case_a(1024);
 	char *a = cJSON_PrintUnformatted(ca);
 	cJSON_Delete(ca);
 	expect_problem(a, "monte_carlo/samples", "1000000", "/monte_carlo/samples", 200000);
 	expect_problem(a, "monte_carlo/max_corrections", "31", "/monte_carlo/max_corrections", 0);
-	expect_problem(a, "tolerances/0/parameter", "\"screw.tilt_mrad\"", "/tolerances/0/parameter", 0);
-	expect_problem(a, "tolerances/1/parameter", "\"screw.pitch_radius_um\"", "/tolerances/1/parameter", 0);
+	expect_problem(a, "allocate/0/parameter", "\"screw.tilt_mrad\"", "/allocate/0/parameter", 0);
+	expect_problem(a, "allocate/1/parameter", "\"screw.pitch_radius_um\"", "/allocate/1/parameter", 0);
 	expect_problem(a, "constraints/0/output", "\"te_pp_um\"", "/constraints/0/output", 0);
 	expect_problem(a, "study/monte_carlo/samples", "-5", "/study/monte_carlo/samples", 0);
 	expect_problem(a, "study/tolerances/5", "{\"parameter\": \"nut.runout_um\", \"distribution\": \"lognormal\", "
-	               "\"mu\": 0.5, \"sigma\": 0.3}", "/tolerances/8/parameter", 0);
+	               "\"mu\": 0.5, \"sigma\": 0.3}", "/allocate/8/parameter", 0);
 	free(a);
 }
 

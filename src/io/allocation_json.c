@@ -24,7 +24,7 @@
 #define DEFAULT_MAX_CORRECTIONS 8
 #define DEFAULT_SCALE_RTOL 0.01
 
-static const char *const root_keys[] = {"name", "study", "analytic", "tolerances", "constraints", "stack",
+static const char *const root_keys[] = {"name", "study", "analytic", "allocate", "constraints", "stack",
                                         "solver", "monte_carlo", NULL};
 static const char *const analytic_keys[] = {"outputs", NULL};
 static const char *const aout_keys[] = {"name", "nominal", NULL};
@@ -179,18 +179,18 @@ static void read_analytic(doc_state *d, const cJSON *a, prsm_problems *pr)
 
 static void read_tolerances(doc_state *d, const cJSON *doc, int kind_ok, prsm_problems *pr)
 {
-	const cJSON *tols = cJSON_GetObjectItemCaseSensitive(doc, "tolerances");
+	const cJSON *tols = cJSON_GetObjectItemCaseSensitive(doc, "allocate");
 	int n = cJSON_GetArraySize(tols);
 	if (!cJSON_IsArray(tols) || n < 1 || n > PRSM_IO_ALLOC_MAX_TOLERANCES) {
-		prsm_problems_add(pr, "/tolerances", tols ? "bad_array" : "required",
-		                  "tolerances: an array of 1 to %d tolerances to allocate", PRSM_IO_ALLOC_MAX_TOLERANCES);
+		prsm_problems_add(pr, "/allocate", tols ? "bad_array" : "required",
+		                  "allocate: an array of 1 to %d tolerances to allocate", PRSM_IO_ALLOC_MAX_TOLERANCES);
 		return;
 	}
 	prsm_alloc_model *md = &d->model;
 	int i = 0;
 	for (const cJSON *it = tols->child; it; it = it->next, i++) {
 		char p[PRSM_JSON_POINTER_MAX], pp[PRSM_JSON_POINTER_MAX], cp[PRSM_JSON_POINTER_MAX];
-		prsm_json_pointer_append_index(p, sizeof p, "/tolerances", i);
+		prsm_json_pointer_append_index(p, sizeof p, "/allocate", i);
 		d->ref_given[i] = NAN;
 		if (prsm_json_object_value(it, p, pr))
 			continue;
@@ -202,7 +202,7 @@ static void read_tolerances(doc_state *d, const cJSON *doc, int kind_ok, prsm_pr
 			snprintf(d->tol_name[i], sizeof d->tol_name[i], "%s", name);
 			for (int k = 0; k < i; k++)
 				if (strcmp(d->tol_name[k], name) == 0)
-					prsm_problems_add(pr, pp, "duplicate", "%s is allocated twice (at /tolerances/%d)", name, k);
+					prsm_problems_add(pr, pp, "duplicate", "%s is allocated twice (at /allocate/%d)", name, k);
 			snprintf(d->unit[i], sizeof d->unit[i], "%s", d->is_study ? unit_of(name) : "");
 			if (d->is_study && kind_ok) {
 				const prsm_io_study *s = d->study;
@@ -528,8 +528,8 @@ static cJSON *cost_json(const prsm_alloc_cost *c)
 	cJSON_AddNumberToObject(j, "coefficient", c->coefficient);
 	if (c->kind == PRSM_ALLOC_COST_EXPONENTIAL)
 		cJSON_AddNumberToObject(j, "rate", c->rate);
-	else
-		cJSON_AddNumberToObject(j, "power", c->kind == PRSM_ALLOC_COST_RECIPROCAL ? 1.0 : c->power);
+	else if (c->kind == PRSM_ALLOC_COST_RECIPROCAL_POWER)
+		cJSON_AddNumberToObject(j, "power", c->power);
 	return j;
 }
 
