@@ -445,5 +445,53 @@ json.dump(d, open(sys.argv[2], "w"))' "$src/studies/allocate-ls1.json" "$tmp/all
 ok "allocate invalid: every problem with its pointer" grep -q "/allocate/0/cost/coefficient" "$tmp/alloc-bad.err"
 ok "allocate invalid: the spec's order" grep -q "/constraints/0/spec/upper" "$tmp/alloc-bad.err"
 
+# optimize (issue 7): the example, --out and stdin, the best design analyses, problems with their
+# pointers (exit 1), usage (exit 64)
+"$prsm" optimize "$src/studies/optimize-case-a.json" --quiet > "$tmp/opt.json"; check "optimize case A" 0 $?
+"$prsm" optimize - --quiet --out "$tmp/opt2.json" < "$src/studies/optimize-case-a.json"; check "optimize stdin --out" 0 $?
+ok "optimize: a feasible best design, every constraint held, the same result twice" $py - "$tmp/opt.json" "$tmp/opt2.json" "$tmp/opt-design.json" <<'PY'
+import json, sys
+a, b = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
+assert a["feasible"] and a["status"] == "feasible" and a["violated"] == [], a["violated"]
+assert all(c["satisfied"] for c in a["best"]["constraints"])
+assert a["best"]["figures"]["rollers"] <= a["best"]["figures"]["z_max"]
+assert a["evaluations"] <= a["solver"]["max_evaluations"] + a["search"]["runs"] + 1
+a.pop("elapsed_s"); b.pop("elapsed_s")
+assert a == b
+json.dump(a["best"]["design"], open(sys.argv[3], "w"))
+PY
+"$prsm" analyze "$tmp/opt-design.json" > /dev/null; check "optimize: prsm analyze accepts the best design" 0 $?
+$py - "$src/studies/optimize-case-a.json" "$tmp" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+bad = json.loads(json.dumps(d))
+bad["variables"]["pitch_mm"] = {"min": 3, "max": 1}
+bad["solver"]["max_evaluations"] = 0
+bad["objectives"] = [{"name": "beauty"}]
+json.dump(bad, open(sys.argv[2] + "/opt-bad.json", "w"))
+inf = json.loads(json.dumps(d))
+inf["constraints"]["static_safety_min"] = 1000
+inf["solver"]["max_evaluations"] = 300
+json.dump(inf, open(sys.argv[2] + "/opt-inf.json", "w"))
+PY
+"$prsm" optimize "$tmp/opt-bad.json" > /dev/null 2> "$tmp/opt-bad.txt"; check "optimize invalid" 1 $?
+ok "optimize invalid: every problem with its pointer" test "$(grep -c -e ': /variables/pitch_mm/max:' -e ': /solver/max_evaluations:' -e ': /objectives/0/name:' "$tmp/opt-bad.txt")" = 3
+"$prsm" optimize "$tmp/opt-inf.json" --quiet > "$tmp/opt-inf-res.json"; check "optimize infeasible still reports" 0 $?
+ok "optimize infeasible: reported as such, the violated constraint named" $py - "$tmp/opt-inf-res.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+assert r["feasible"] is False and r["status"] == "infeasible", r["status"]
+assert r["violated"] == ["static_safety"], r["violated"]
+PY
+"$prsm" optimize > /dev/null 2>&1; check "optimize without a file" 64 $?
+"$prsm" optimize "$src/studies/optimize-case-a.json" --frobnicate > /dev/null 2>&1; check "optimize unknown option" 64 $?
+"$prsm" optimize "$tmp/does-not-exist.json" > /dev/null 2>&1; check "optimize missing file" 64 $?
+ok "bench: the design optimisation entry (its time is reported, never asserted)" $py - "$tmp/bench.json" <<'PY'
+import json, sys
+d = {b["name"]: b for b in json.load(open(sys.argv[1]))["benchmarks"]}
+assert d["design_optimization_4var_seconds"]["value"] > 0, d
+assert d["design_optimization_4var_evaluations"]["value"] > 0, d
+PY
+
 echo "cli: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -476,6 +476,7 @@ studies = sorted(glob.glob(os.path.join(SRC, "studies", "*.json")))
 n_designs = 0
 request_studies = []
 study_documents = []
+optimization_documents = []
 for path in studies:
     name = "studies/" + os.path.basename(path)
     try:
@@ -485,6 +486,9 @@ for path in studies:
         continue
     if isinstance(doc, dict) and "tolerances" in doc:
         study_documents.append(path)  # a tolerance study: section 9
+        continue
+    if isinstance(doc, dict) and "objectives" in doc:
+        optimization_documents.append(path)  # a design optimisation: the optimisation section
         continue
     if isinstance(doc, dict) and "design" in doc:
         request_studies.append(path)  # an analyze request {design, errors, assembly}: section 8
@@ -2025,6 +2029,71 @@ for path in multistage_documents:
         rc, vdoc = validate_cli(f"{name}: {bad_name}", write_doc(bad))
         found = [p_.get("pointer") for p_ in (vdoc or {}).get("errors", [])]
         check(f"{name}: {bad_name} is refused at {pointer}", rc == 1 and pointer in found, f"exit {rc}: {found}")
+
+# ---- optimisation (issue 7): documents, results, the best design, the Pareto front ------------
+
+V_OPT = make_validator(schemas["optimization.schema.json"])
+V_OPT_RESULT = make_validator(schemas["optimization-result.schema.json"])
+check("studies/ holds an optimisation example", len(optimization_documents) >= 2)
+for path in optimization_documents:
+    name = "studies/" + os.path.basename(path)
+    doc = load_json(path)
+    e = schema_errors(V_OPT, doc)
+    check(f"{name} matches optimization.schema.json", not e, e)
+    rc, res, out, err = prsm("optimize", path, "--quiet")
+    if not check(f"{name}: prsm optimize exits 0 with JSON", rc == 0 and res is not None, f"exit {rc}: {err[:300]}"):
+        continue
+    e = schema_errors(V_OPT_RESULT, res)
+    check(f"{name}: the result matches optimization-result.schema.json", not e, e)
+    check(f"{name}: a feasible design was found", res["feasible"] and res["status"] == "feasible" and not res["violated"])
+    best = res["best"]
+    check(f"{name}: every constraint of the best design holds", all(c["satisfied"] for c in best["constraints"]))
+    e = schema_errors(V_DESIGN, best["design"])
+    check(f"{name}: the best design matches design.schema.json", not e, e)
+    rc2, ares = analyze_cli(f"{name} (best design)", write_doc(best["design"]))
+    if ares:
+        check(f"{name}: prsm analyze of the best design gives its stiffness",
+              math.isclose(ares["stiffness"]["axial_N_per_um"], best["figures"]["stiffness_N_per_um"], rel_tol=1e-9))
+        check(f"{name}: ... and its efficiency",
+              math.isclose(ares["efficiency"]["eta"], best["figures"]["efficiency"], rel_tol=1e-9))
+    if "pareto" in res:
+        pts = res["pareto"]["points"]
+        check(f"{name}: the front has at least 3 points", len(pts) >= 3, len(pts))
+        fa = [p_["figures"]["efficiency"] for p_ in pts]
+        fb = [p_["figures"]["stiffness_N_per_um"] for p_ in pts]
+        check(f"{name}: the front is sorted by efficiency", fa == sorted(fa))
+        dominated = [i for i in range(len(pts)) for j in range(len(pts))
+                     if j != i and fa[j] >= fa[i] and fb[j] >= fb[i] and (fa[j] > fa[i] or fb[j] > fb[i])]
+        check(f"{name}: no point of the front is dominated", not dominated, dominated)
+        for i, p_ in enumerate(pts):
+            e = schema_errors(V_DESIGN, p_["design"])
+            check(f"{name}: front point {i} carries a design document", not e, e)
+    # the same document and seed give the same result (elapsed time aside)
+    rc3, res2, _, _ = prsm("optimize", path, "--quiet")
+    if res2:
+        for r_ in (res, res2):
+            r_.pop("elapsed_s", None)
+        check(f"{name}: deterministic for its seed", json.dumps(res, sort_keys=True) == json.dumps(res2, sort_keys=True))
+if optimization_documents:
+    base = [d for d in map(load_json, optimization_documents) if "multi_objective" not in d][0]
+    for bad_name, mutate, pointer in [
+        ("an empty pitch range", lambda d: d["variables"].update(pitch_mm={"min": 3, "max": 1}), "/variables/pitch_mm/max"),
+        ("a negative roller radius", lambda d: d["variables"].update(roller_radius_mm={"min": -1, "max": 4}), "/variables/roller_radius_mm/min"),
+        ("pitch and lead", lambda d: d["variables"].update(lead_mm={"min": 4, "max": 12}), "/variables/lead_mm"),
+        ("no evaluations", lambda d: d["solver"].update(max_evaluations=0), "/solver/max_evaluations"),
+        ("an absurd budget", lambda d: d["solver"].update(max_evaluations=10**9), "/solver/max_evaluations"),
+        ("an unknown objective", lambda d: d.update(objectives=[{"name": "beauty"}]), "/objectives/0/name"),
+        ("two objectives without a method", lambda d: d.update(objectives=[{"name": "efficiency"}, {"name": "mass_kg"}]), "/multi_objective"),
+        ("a critical speed without column", lambda d: d["constraints"].update(critical_speed_factor_min=1.5), "/constraints/critical_speed_factor_min"),
+        ("two starts", lambda d: d["variables"].update(starts={"values": [2, 3]}), "/variables/starts/values/0"),
+    ]:
+        bad = copy.deepcopy(base)
+        mutate(bad)
+        bpath = write_doc(bad)
+        rc, res, out, err = prsm("optimize", bpath, "--quiet")
+        check(f"optimisation: {bad_name} is refused (exit 1) at {pointer}", rc == 1 and f": {pointer}:" in err, f"exit {rc}: {err[:300]}")
+        if bad_name not in ("an empty pitch range", "two objectives without a method", "a critical speed without column"):
+            check(f"optimisation: {bad_name} is refused by the schema", bool(schema_errors(V_OPT, bad)))
 
 # ---- 11. tolerance allocation (issue 7 item 4) -------------------------------------------------
 # the example allocations validate against allocation.schema.json; what `prsm allocate` prints

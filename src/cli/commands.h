@@ -22,14 +22,17 @@ int prsm_cli_bench(int argc, char **argv);
 int prsm_cli_version(int argc, char **argv);
 int prsm_cli_study(int argc, char **argv);
 int prsm_cli_serve(int argc, char **argv);
-int prsm_cli_batch(int argc, char **argv);
+int prsm_cli_optimize(int argc, char **argv);
 int prsm_cli_allocate(int argc, char **argv);
+int prsm_cli_batch(int argc, char **argv);
 
 /* One `prsm bench` entry, value rounded to `decimals` (null when not finite). */
 void prsm_cli_bench_add(cJSON *list, const char *name, double value, const char *unit, int threads,
                         int decimals);
 /* The Monte Carlo entries of `prsm bench`, each sized to about budget_s seconds. */
 void prsm_cli_bench_study(cJSON *list, double budget_s);
+/* The design-optimisation entry of `prsm bench` (src/cli/bench_opt.c). */
+void prsm_cli_bench_opt(cJSON *list);
 
 /* Read and parse a request file ("-": stdin) into *doc (the caller frees it); problems of the
  * file or its JSON go to problems. Returns 0 or an exit code. */

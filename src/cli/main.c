@@ -23,7 +23,10 @@ static void usage(FILE *out)
 	        "                   --out FILE, --csv FILE (every sample), --threads N, --quiet\n"
 	        "  allocate FILE|-  tolerance allocation at a target yield, verified by Monte Carlo (JSON)\n"
 	        "                   --out FILE, --threads N, --quiet\n"
-	        "  validate FILE|-  check a design, analyze request or study document, print every problem\n"
+	        "  optimize FILE|-  design optimisation (JSON result on stdout)\n"
+	        "                   --out FILE, --quiet\n"
+	        "  validate FILE|-  check a design, analyze request, study, optimisation or allocation\n"
+	        "                   document, print every problem\n"
 	        "                   --format text|json\n"
 	        "  serve            the HTTP/JSON service (default 127.0.0.1:8080, database ./prsm.db)\n"
 	        "                   --port N, --db PATH, --workers N; prsm serve --help for all\n"
@@ -54,6 +57,8 @@ int main(int argc, char **argv)
 		return prsm_cli_study(argc - 1, argv + 1);
 	if (strcmp(cmd, "allocate") == 0)
 		return prsm_cli_allocate(argc - 1, argv + 1);
+	if (strcmp(cmd, "optimize") == 0)
+		return prsm_cli_optimize(argc - 1, argv + 1);
 	if (strcmp(cmd, "serve") == 0)
 		return prsm_cli_serve(argc - 1, argv + 1);
 	if (strcmp(cmd, "batch") == 0)
