@@ -708,9 +708,19 @@ static void studies_load_without_problems(void **state)
 			loaded++;
 			continue;
 		}
-		/* a study embeds its design under /design; a design file is the design */
+		/* a study or an optimisation embeds its design under /design, an allocation under
+		 * /study/design (an analytic allocation has none: test_alloc_io loads it); a design
+		 * file is the design */
 		const cJSON *design = cJSON_GetObjectItemCaseSensitive(doc, "design");
 		const char *base = design ? "/design" : "";
+		if (cJSON_GetObjectItemCaseSensitive(doc, "allocate")) {
+			design = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(doc, "study"), "design");
+			base = "/study/design";
+			if (!design) {
+				cJSON_Delete(doc);
+				continue;
+			}
+		}
 		prsm_design des;
 		prsm_geometry g;
 		int rc = prsm_io_design_load(&des, &g, &w, design ? design : doc, base, &p);

@@ -7,9 +7,11 @@
 #include <string.h>
 
 #include "cli/commands.h"
+#include "io/allocation_json.h"
 #include "io/analysis_json.h"
 #include "io/analyze_request.h"
 #include "io/json_util.h"
+#include "io/optimization_json.h"
 #include "util/file.h"
 
 typedef struct {
@@ -109,7 +111,14 @@ int prsm_cli_validate(int argc, char **argv)
 	prsm_problems_init(&problems);
 	cJSON *doc;
 	int rc = prsm_cli_read_document(&doc, o.path, &problems);
-	if (rc == 0 && cJSON_IsObject(doc) && cJSON_GetObjectItemCaseSensitive(doc, "tolerances"))
+	/* the document's kind by its members: an allocation (allocate), an optimisation
+	 * (variables, objectives), a study (tolerances), else a design or analyze request */
+	if (rc == 0 && cJSON_IsObject(doc) && cJSON_GetObjectItemCaseSensitive(doc, "allocate"))
+		rc = prsm_error_exit_code(prsm_io_allocation_check(doc, 0, &warnings, &problems));
+	else if (rc == 0 && cJSON_IsObject(doc) && cJSON_GetObjectItemCaseSensitive(doc, "variables") &&
+	         cJSON_GetObjectItemCaseSensitive(doc, "objectives"))
+		rc = prsm_error_exit_code(prsm_io_optimization_check(doc, 0, &warnings, &problems));
+	else if (rc == 0 && cJSON_IsObject(doc) && cJSON_GetObjectItemCaseSensitive(doc, "tolerances"))
 		rc = prsm_cli_study_check(doc, &warnings, &problems);
 	else if (rc == 0)
 		rc = prsm_error_exit_code(prsm_io_analyze_load(rq, doc, &warnings, &problems));

@@ -422,8 +422,8 @@ cJSON *prsm_job_view_to_json(const prsm_job_view *v)
 	cJSON *p = cJSON_AddObjectToObject(o, "progress");
 	cJSON_AddNumberToObject(p, "samples_done", (double)v->samples_done);
 	cJSON_AddNumberToObject(p, "samples_planned", (double)v->samples_planned);
-	if (v->samples_planned > 0)
-		cJSON_AddNumberToObject(p, "fraction", (double)v->samples_done / (double)v->samples_planned);
+	if (v->samples_planned > 0) /* an optimiser's last checks may run a few evaluations past its budget */
+		cJSON_AddNumberToObject(p, "fraction", fmin(1.0, (double)v->samples_done / (double)v->samples_planned));
 	else
 		cJSON_AddNullToObject(p, "fraction");
 	cJSON_AddStringToObject(p, "unit", v->kind->progress_unit ? v->kind->progress_unit : "samples");

@@ -85,5 +85,7 @@ const prsm_job_kind *prsm_job_kind_by_name(const char *name);
 
 /* The kinds, one per file. */
 extern const prsm_job_kind prsm_job_kind_study;
+extern const prsm_job_kind prsm_job_kind_optimization;
+extern const prsm_job_kind prsm_job_kind_allocation;
 
 #endif

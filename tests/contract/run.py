@@ -567,6 +567,72 @@ def suite_studies(client, contract, source):
         check(f"list ?{q}: 400", r.status == 400, str(r.status))
 
 
+def suite_design_jobs(client, contract, source):
+    """/v1/optimizations and /v1/allocations: the same job machinery as studies (submit, poll,
+    cache, list, cancel with the best point so far kept, 422 with pointers)."""
+    opt = load_json(os.path.join(source, "studies", "optimize-case-a.json"))
+    opt["solver"]["max_evaluations"] = 400
+    opt["solver"]["seed"] = random.randrange(1, 2**31)
+    alloc = load_json(os.path.join(source, "studies", "allocate-ls1.json"))
+    for coll, doc, unit in (("optimizations", opt, "evaluations"), ("allocations", alloc, "samples")):
+        r = client.post(f"/v1/{coll}", doc)
+        check(f"submit {coll}: 202 or 200", r.status in (200, 202), f"{r.status} {r.body[:300]!r}")
+        if r.status not in (200, 202):
+            continue
+        job = r.json()
+        loc = f"/v1/{coll}/{job['id']}"
+        if r.status == 202:
+            check(f"{coll}: Location names the job", r.headers.get("location") == loc, str(r.headers.get("location")))
+        done = wait_job(client, loc, timeout=120)
+        check(f"{coll}: the job finishes", done is not None and done["state"] == "done",
+              str(done and (done["state"], done.get("problem"))))
+        if not done or done["state"] != "done":
+            continue
+        check(f"{coll}: progress unit {unit}, work counted", done["progress"]["unit"] == unit
+              and done["progress"]["samples_done"] > 0, str(done["progress"]))
+        check(f"{coll}: result not cancelled", done["result"]["cancelled"] is False)
+        again = json.loads(json.dumps(doc), object_pairs_hook=lambda kv: dict(reversed(kv)))
+        r = client.post(f"/v1/{coll}", again)
+        check(f"{coll}: identical request answered from the cache", r.status == 200 and r.json()["id"] == job["id"]
+              and r.json()["cache_hit"] is True, str(r.status))
+        if r.status == 200:
+            check(f"{coll}: cache hit gives the identical result",
+                  strip_volatile(r.json()["result"]) == strip_volatile(done["result"]))
+        r = client.get(f"/v1/{coll}?limit=5")
+        check(f"list {coll}: the job is there", r.status == 200 and job["id"] in [j["id"] for j in r.json()["items"]])
+        r = client.post(f"/v1/{coll}", {"name": 3})
+        check(f"{coll}: an invalid document is 422", r.status == 422, str(r.status))
+        if r.status == 422:
+            ptrs = [e["pointer"] for e in r.json()["errors"]]
+            check(f"{coll}: every problem with its pointer", "/name" in ptrs and len(ptrs) >= 2, str(ptrs))
+        r = client.delete(loc)
+        check(f"DELETE a done {coll[:-1]}: 409", r.status == 409, str(r.status))
+        r = client.get(f"/v1/{coll}/" + "0" * 32)
+        check(f"unknown {coll[:-1]}: 404", r.status == 404)
+    # cancel a long optimisation: it keeps its best point so far
+    long = copy.deepcopy(opt)
+    long["solver"].update({"max_evaluations": 200000, "multistart": 64, "seed": random.randrange(1, 2**31),
+                           "max_time_s": 600})
+    r = client.post("/v1/optimizations", long)
+    check("long optimisation: 202", r.status == 202, f"{r.status} {r.body[:300]!r}")
+    if r.status == 202:
+        loc = r.headers["location"]
+        running = wait_job(client, loc, states=("running",), timeout=60,
+                           pred=lambda d: d["progress"]["best_objective"] is not None)
+        check("a running optimisation reports evaluations and the best objective so far", running is not None
+              and running["progress"]["unit"] == "evaluations" and running["progress"]["samples_done"] > 0,
+              str(running and running["progress"]))
+        r = client.delete(loc)
+        check("DELETE a running optimisation: 200 cancelled", r.status == 200 and r.json()["state"] == "cancelled",
+              str(r.status))
+        kept = wait_job(client, loc, states=("cancelled",), timeout=60, pred=lambda d: "result" in d)
+        check("a cancelled optimisation keeps its best point so far", kept is not None
+              and kept["result"]["cancelled"] is True and kept["result"].get("best") is not None,
+              str(kept and kept.get("result", {}).get("cancelled")))
+        r = client.delete(loc)
+        check("DELETE a cancelled optimisation again: 409", r.status == 409, str(r.status))
+
+
 def suite_slow_client(client, server_timeout_s):
     """A client that sends half a request and stalls: others are served meanwhile; with a known
     server timeout, the stalled connection is closed."""
@@ -784,6 +850,7 @@ def main():
         suite_service(client, contract)
         suite_analyze(client, contract, source)
         suite_studies(client, contract, source)
+        suite_design_jobs(client, contract, source)
         suite_slow_client(client, timeout)
         if srv:
             code = srv.stop()
