@@ -3,8 +3,11 @@
 // by playwright-core. Starts `prsm serve` itself on 127.0.0.1 (a free port, a temporary database),
 // loads the page, loads an example, submits a small study, waits for the result and checks that the
 // plots and numbers are there and agree with the API's JSON fetched directly, checks the export,
-// cancel and that an invalid field shows the API's message next to that field, saves screenshots,
-// and stops the server.
+// cancel and that an invalid field shows the API's message next to that field; then, when the
+// service's openapi lists them, the optimisation view (a Pareto sweep: the front's SVG points and a
+// clicked point's design against the API, the best design, cancel) and the allocation view (case A
+// and LS-1: the tables and charts against the API, cancel), or prints "SKIPPED ..." for a view the
+// service does not serve; saves screenshots, and stops the server.
 //
 //   node tests/browser/run.mjs --prsm build/prsm --source . --artifacts build/browser-artifacts \
 //        [--work build/browser-test] [--chromium /usr/bin/chromium] [--keep]
@@ -365,6 +368,239 @@ async function run(page) {
   await page.fill('#f-pitch', '2');
   await page.waitForFunction(() => !document.querySelector('#f-pitch ~ .problems .problem-msg.error'));
   check('fixing the pitch clears its problems', true);
+
+  // ---- the optimisation and allocation views, when the service has them --------------------
+  const openapi = (await apiJson('GET', '/v1/openapi.json')).json;
+  for (const [collection, section, fn] of [['optimizations', '#optimization', optimisationView], ['allocations', '#allocation', allocationView]]) {
+    const served = !!openapi.paths[`/v1/${collection}`];
+    check(`the ${section.slice(1)} view is shown exactly when openapi lists /v1/${collection}`, served === await page.isVisible(section));
+    if (served) await fn(page, shot);
+    else console.log(`SKIPPED ${section === '#optimization' ? 'optimisation' : 'allocation'} view: /v1/${collection} not served`);
+  }
+}
+
+// Loads an example of a view by keyboard and checks the editor holds exactly that document.
+async function loadExample(page, view, file) {
+  await page.focus(`${view} button[data-example="${file}"]`);
+  await page.keyboard.press('Enter');
+  const prefix = view === '#optimization' ? 'opt' : 'alloc';
+  await page.waitForFunction(([id, f]) => document.getElementById(id).textContent.includes(f), [`${prefix}-note`, file]);
+  const want = JSON.parse(fs.readFileSync(path.join(source, 'studies', file), 'utf8'));
+  const got = JSON.parse(await page.inputValue(`#${prefix}-request`));
+  check(`${file}: the example loads into the request editor unchanged`, canonical(got) === canonical(want));
+  return want;
+}
+// A cancelled optimisation or allocation: its job document once the worker has attached the best
+// result so far (or after 5 s without one).
+async function cancelledJob(jobPath) {
+  let job;
+  for (let i = 0; i < 50; i++) {
+    job = (await apiJson('GET', jobPath)).json;
+    if (job.result) break;
+    await new Promise(res => setTimeout(res, 100));
+  }
+  return job;
+}
+// Edits the request editor's JSON as a person would (the input event keeps the fields in step).
+async function editRequest(page, id, change) {
+  const doc = JSON.parse(await page.inputValue(id));
+  change(doc);
+  await page.fill(id, JSON.stringify(doc, null, 2));
+  return doc;
+}
+// Waits until the page shows a finished job of the collection with its results, returns its JSON.
+// notPath: the previous job's path (the hash must have moved on from it).
+async function waitJob(page, collection, state, resultSel, timeout = 60000, notPath = '') {
+  await page.waitForFunction(([c, st, sel, prev]) => location.hash.startsWith(`#/v1/${c}/`) && location.hash !== `#${prev}`
+    && document.querySelector('#job-state').dataset.state === st && (!sel || document.querySelector(sel)), [collection, state, resultSel, notPath], { timeout });
+  const jobPath = await page.evaluate(() => location.hash.slice(1));
+  return { jobPath, job: (await apiJson('GET', jobPath)).json };
+}
+
+// ---- optimisation: a Pareto sweep, its front against the API, a point's design, cancel ------------
+async function optimisationView(page, shot) {
+  log('optimisation view');
+  check('the optimisation view is in the navigation', await page.isVisible('#nav-optimization'));
+  const example = await loadExample(page, '#optimization', 'optimize-case-a-pareto.json');
+  check('the solver fields show the example\'s settings', await page.inputValue('#opt-f-solver-max_evaluations') === String(example.solver.max_evaluations)
+    && await page.inputValue('#opt-f-multi_objective-points') === String(example.multi_objective.points));
+
+  // a problem of the API next to the field that edits that member
+  await page.fill('#opt-f-solver-max_evaluations', '0');
+  const bad = JSON.parse(await page.inputValue('#opt-request'));
+  check('a field writes its member into the request', bad.solver.max_evaluations === 0);
+  const refused = await apiJson('POST', '/v1/optimizations', bad);
+  const badMsg = refused.status === 422 && refused.json.errors.find(e => e.pointer === '/solver/max_evaluations');
+  await page.click('#opt-submit');
+  await page.waitForSelector('#opt-problems:not([hidden])');
+  check('a refused optimisation shows the API\'s message next to the max-evaluations field', !!badMsg
+    && await page.$eval('#opt-f-solver-max_evaluations ~ .problem-msg', e => e.dataset.text) === badMsg.message
+    && await page.$eval('#opt-f-solver-max_evaluations', e => e.getAttribute('aria-invalid') === 'true'), badMsg ? badMsg.message : `${refused.status}`);
+  check('the problem summary names the pointer', (await page.textContent('#opt-problems')).includes(`/solver/max_evaluations: ${badMsg && badMsg.message}`));
+
+  // a small budget for the test: 2000 evaluations (the example has more)
+  await page.fill('#opt-f-solver-max_evaluations', '2000');
+  const sent = JSON.parse(await page.inputValue('#opt-request'));
+  check('the request sent is the example with 2000 evaluations', canonical(sent) === canonical({ ...example, solver: { ...example.solver, max_evaluations: 2000 } }));
+  await page.click('#opt-submit');
+  const { jobPath, job } = await waitJob(page, 'optimizations', 'done', '#pareto-plot');
+  const r = job.result;
+  log(`optimisation done: ${r.evaluations} evaluations, ${r.pareto.points.length} points`);
+  check('the page shows the job at #/v1/optimizations/ID', /^\/v1\/optimizations\/[0-9a-f]{32}$/.test(jobPath), jobPath);
+  check('progress counts evaluations', await page.textContent('#job-unit') === 'Evaluations'
+    && (await page.textContent('#job-samples')).startsWith(job.progress.samples_done.toLocaleString('en-US')), await page.textContent('#job-samples'));
+  check('the job view sits below the optimisation request', await page.evaluate(() => document.querySelector('#optimization').nextElementSibling.id === 'job'));
+
+  // the front: one point per API point, at its efficiency and stiffness
+  const pts = r.pareto.points;
+  const a = r.pareto.objective_a, b = r.pareto.objective_b;
+  check('the sweep is efficiency against stiffness', a === 'efficiency' && b === 'stiffness_N_per_um', `${a} ${b}`);
+  const circles = await page.$$eval('#pareto-plot circle.point', cs => cs.map(c => ({ i: Number(c.dataset.index), x: Number(c.dataset.x), y: Number(c.dataset.y), label: c.getAttribute('aria-label'), role: c.getAttribute('role'), tab: c.getAttribute('tabindex') })));
+  check(`the front has the API's ${pts.length} points`, pts.length >= 2 && circles.length === pts.length, `${circles.length}`);
+  check('each point is at its design\'s efficiency and stiffness', pts.every((p, i) => circles[i] && circles[i].x === p.figures[a] && circles[i].y === p.figures[b]),
+    JSON.stringify(circles.map(c => [c.x, c.y])));
+  check('each point is a focusable button with a name', circles.every(c => c.role === 'button' && c.tab === '0' && c.label));
+  const rows = await page.$$eval('#pareto-table tbody tr', trs => trs.map(tr => [...tr.querySelectorAll('td[data-key]')].map(td => Number(td.dataset.value))));
+  check('the front\'s table has the same points', rows.length === pts.length && pts.every((p, i) => rows[i][0] === p.figures[a] && rows[i][1] === p.figures[b]));
+  const bestIdx = pts.findIndex(p => canonical(p.variables) === canonical(r.best.variables));
+  const ringed = await page.$$eval('#pareto-plot circle.point.best', cs => cs.map(c => Number(c.dataset.index)));
+  check('the best design is marked on the front', bestIdx < 0 ? ringed.length === 0 : JSON.stringify(ringed) === JSON.stringify([bestIdx]), `${ringed} vs ${bestIdx}`);
+
+  // a point's design: clicked, and by keyboard
+  const shownPoint = async i => ({
+    design: JSON.parse(await page.textContent('#pareto-point-design')),
+    vars: await page.$$eval('#pareto-point-variables td', tds => Object.fromEntries(tds.map(t => [t.dataset.key, Number(t.dataset.value)]))),
+    cons: await page.$$eval('#pareto-point-constraints tbody tr', trs => trs.map(tr => ({ name: tr.dataset.name,
+      value: tr.querySelector('[data-key=value]').dataset.value, satisfied: tr.querySelector('[data-key=satisfied]').dataset.value }))),
+    index: Number(await page.getAttribute('#pareto-detail', 'data-index')),
+  });
+  const samePoint = (got, p) => canonical(got.design) === canonical(p.design)
+    && Object.entries(p.variables).filter(([, v]) => v !== null).every(([k, v]) => got.vars[k] === v)
+    && got.cons.length === p.constraints.length
+    && p.constraints.every((c, j) => got.cons[j].name === c.name && (c.value === null ? got.cons[j].value === undefined : Number(got.cons[j].value) === c.value) && got.cons[j].satisfied === String(c.satisfied));
+  const clickIdx = pts.length - 1;
+  await page.click(`#pareto-plot circle.point[data-index="${clickIdx}"]`);
+  await page.waitForSelector(`#pareto-detail[data-index="${clickIdx}"]`);
+  let got = await shownPoint();
+  check(`clicking point ${clickIdx + 1} shows its design, variables and constraints as the API says`, samePoint(got, pts[clickIdx]), JSON.stringify(got.vars));
+  check('the selection is announced', (await page.textContent('#pareto-status')).includes(`point ${clickIdx + 1}`));
+  await page.focus('#pareto-plot circle.point[data-index="0"]');
+  await page.keyboard.press('Enter');
+  await page.waitForSelector('#pareto-detail[data-index="0"]');
+  got = await shownPoint();
+  check('Enter on point 1 shows its design', samePoint(got, pts[0]));
+  check('the pressed point says so (aria-pressed)', await page.getAttribute('#pareto-plot circle.point[data-index="0"]', 'aria-pressed') === 'true');
+
+  // the best design with its figures and constraints
+  const bestDesign = JSON.parse(await page.textContent('#best-point-design'));
+  check('the best design is the API\'s', canonical(bestDesign) === canonical(r.best.design));
+  const bestFig = await page.$$eval('#best-point-figures td, #best-point-objectives td', tds => Object.fromEntries(tds.map(t => [t.dataset.key, t.dataset.value === undefined ? null : Number(t.dataset.value)])));
+  check('the best design\'s figures are the API\'s', Object.entries(r.best.figures).every(([k, v]) => bestFig[k] === v), JSON.stringify(bestFig));
+  const bestCons = await page.$$eval('#best-point-constraints tbody tr', trs => trs.map(tr => tr.dataset.name));
+  check('the best design\'s constraints table lists every constraint', JSON.stringify(bestCons) === JSON.stringify(r.best.constraints.map(c => c.name)));
+  await shot('05-optimization.png');
+  await (await page.$('#pareto-card')).screenshot({ path: path.join(artifacts, '05b-pareto.png') });
+
+  // study the selected design's tolerances: the design goes into the study form
+  await page.click('#pareto-point-study');
+  await page.waitForFunction(() => document.activeElement && document.activeElement.id === 'f-starts');
+  const formDesign = await page.evaluate(() => window.prsm.form.toRequest().design);
+  check('"Study this design\'s tolerances" puts that design into the study form', canonical(formDesign) === canonical(pts[0].design), JSON.stringify(formDesign).slice(0, 200));
+  check('the study form keeps its tolerances', await page.$$eval('#tolerances tbody tr', trs => trs.length) > 0);
+
+  // cancel: a large budget, cancelled from the page once evaluations are counted; its best so far stays
+  await page.fill('#opt-f-solver-max_evaluations', '200000');
+  await page.fill('#opt-f-solver-max_time_s', '300');
+  await page.click('#opt-submit');
+  await page.waitForFunction(() => location.hash.startsWith('#/v1/optimizations/') && document.querySelector('#job-state').dataset.state === 'running'
+    && document.querySelector('#job-progress').value > 0, null, { timeout: 30000 });
+  const bestShown = await page.waitForSelector('#job-best-row:not([hidden])', { timeout: 15000 }).then(() => true, () => false);
+  check('a running optimisation shows evaluations and the best objective so far', await page.textContent('#job-unit') === 'Evaluations' && bestShown
+    && await page.textContent('#job-best-label') === 'Best objective so far', await page.textContent('#job-best'));
+  await (await page.$('#job')).screenshot({ path: path.join(artifacts, '05c-optimization-running.png') });
+  const runPath = await page.evaluate(() => location.hash.slice(1));
+  await page.click('#job-cancel');
+  await page.waitForSelector('#job-state[data-state=cancelled]');
+  const cancelled = await cancelledJob(runPath);
+  check('cancel: the API says the optimisation is cancelled', cancelled.state === 'cancelled', cancelled.state);
+  if (cancelled.result) {
+    await page.waitForSelector('#opt-cancelled');
+    check('cancel: the best design so far is shown', cancelled.result.cancelled === true && (!cancelled.result.best
+      || canonical(JSON.parse(await page.textContent('#best-point-design'))) === canonical(cancelled.result.best.design)));
+  } else {
+    check('cancel: the page says it was cancelled', (await page.textContent('#job-status')).includes('Cancelled'));
+  }
+}
+
+// ---- allocation: case A (Monte Carlo-corrected) and LS-1 (analytic), the tables against the API ----
+async function allocationView(page, shot) {
+  log('allocation view');
+  check('the allocation view is in the navigation', await page.isVisible('#nav-allocation'));
+  const checkTables = async (r, what) => {
+    const rows = await page.$$eval('#alloc-tolerances tbody tr', trs => trs.map(tr => ({ p: tr.dataset.parameter,
+      ...Object.fromEntries([...tr.querySelectorAll('td[data-key]')].map(td => [td.dataset.key, td.dataset.value === undefined ? null : Number(td.dataset.value)])),
+      text: tr.querySelector('[data-key=half_width]').textContent })));
+    check(`${what}: one row per allocated tolerance`, rows.length === r.tolerances.length && rows.every((x, i) => x.p === r.tolerances[i].parameter), rows.map(x => x.p).join(','));
+    const unitShown = { um: 'µm', mrad: 'mrad', um_per_300mm: 'µm/300 mm', '': '' };
+    check(`${what}: allocated half-widths with their unit, linear half-widths, costs and sensitivities as the API says`, r.tolerances.every((t, i) => rows[i]
+      && rows[i].half_width === t.half_width && rows[i].cost === t.cost && rows[i].linear_half_width === r.linear.half_widths[i]
+      && rows[i].reference_half_width === t.reference_half_width
+      && rows[i].text.startsWith(String(Number(t.half_width.toPrecision(4))))
+      && (t.unit === '' || rows[i].text.includes(unitShown[t.unit]))
+      && r.constraints.every(c => rows[i][`sensitivity:${c.output}`] === t.sensitivities[c.output])), JSON.stringify(rows[0]));
+    check(`${what}: total cost = API ${r.total_cost}`, await page.$eval('#alloc-tolerances tfoot [data-key=total_cost]', td => Number(td.dataset.value)) === r.total_cost
+      && await page.$eval('#alloc-total strong', e => Number(e.dataset.value)) === r.total_cost);
+    const cons = await page.$$eval('#alloc-constraints tbody tr', trs => trs.map(tr => ({ output: tr.dataset.output,
+      ...Object.fromEntries([...tr.querySelectorAll('td[data-key]')].map(td => [td.dataset.key, td.dataset.value === undefined ? null : Number(td.dataset.value)])),
+      lo: tr.querySelector('[data-key=mc_interval]').dataset.lo, hi: tr.querySelector('[data-key=mc_interval]').dataset.hi })));
+    check(`${what}: predicted (linear) and Monte Carlo yield with its 95 % interval per constraint as the API says`, cons.length === r.constraints.length
+      && r.constraints.every((c, i) => cons[i].output === c.output && cons[i].predicted_yield === c.predicted_yield && cons[i].assembly_tolerance === c.assembly_tolerance
+        && (c.monte_carlo ? cons[i].mc_yield === c.monte_carlo.fraction && Number(cons[i].lo) === c.monte_carlo.interval95[0]
+          && Number(cons[i].hi) === c.monte_carlo.interval95[1] && cons[i].mc_samples === c.monte_carlo.samples : cons[i].mc_yield === null)), JSON.stringify(cons));
+    const bars = await page.$$eval('#alloc-range-plot g.bars rect.bar', rs => rs.map(x => Number(x.dataset.value)));
+    check(`${what}: the chart has a bar per tolerance at its allocated half-width`, JSON.stringify(bars) === JSON.stringify(r.tolerances.map(t => t.half_width)));
+    const steps = r.correction.steps.some(s => s.yields.some(y => y)) ? r.correction.steps : []; // an analytic stack's one step has no yields
+    check(`${what}: the correction steps in a table and a chart`, await page.$$eval('#alloc-steps tbody tr', trs => trs.length).catch(() => 0) === steps.length
+      && (steps.length === 0 || await page.$$eval('#alloc-steps-plot-0 circle.marker', cs => cs.map(c => Number(c.dataset.value))).then(v => v.length === steps.length
+        && steps.every((s, i) => s.yields[0] && Math.abs(v[i] - 100 * s.yields[0].fraction) < 1e-9))), `${steps.length} steps`);
+  };
+
+  // case A: backlash at 99.73 %, corrected with Monte Carlo (4096 samples a step for the test)
+  const caseA = await loadExample(page, '#allocation', 'allocate-case-a.json');
+  check('the Monte Carlo fields show the example\'s settings', await page.inputValue('#alloc-f-monte_carlo-samples') === String(caseA.monte_carlo.samples));
+  await page.fill('#alloc-f-monte_carlo-samples', '4096');
+  await page.click('#alloc-submit');
+  let { job, jobPath: casePath } = await waitJob(page, 'allocations', 'done', '#alloc-tolerances');
+  log(`allocation done: total cost ${job.result.total_cost}, ${job.result.correction.steps.length} steps`);
+  check('the allocation ran with 4096 samples a step', job.result.monte_carlo && job.result.monte_carlo.samples === 4096);
+  check('allocation progress counts samples', await page.textContent('#job-unit') === 'Samples');
+  await checkTables(job.result, 'case A');
+  await shot('06-allocation.png');
+  await (await page.$('#results')).screenshot({ path: path.join(artifacts, '06b-allocation-results.png') });
+
+  // LS-1: the analytic stack (no Monte Carlo)
+  await loadExample(page, '#allocation', 'allocate-ls1.json');
+  check('an analytic example leaves the Monte Carlo fields empty', await page.inputValue('#alloc-f-monte_carlo-samples') === '');
+  await page.click('#alloc-submit');
+  ({ job } = await waitJob(page, 'allocations', 'done', '#alloc-tolerances', 60000, casePath));
+  await checkTables(job.result, 'LS-1');
+  check('LS-1: the page says an analytic stack has no Monte Carlo', (await page.textContent('#alloc-yield-card')).includes('no Monte Carlo'));
+
+  // cancel: case A in the exact assembly model with more samples, cancelled once samples are counted
+  await loadExample(page, '#allocation', 'allocate-case-a.json');
+  await editRequest(page, '#alloc-request', d => { d.study.assembly.mode = 'exact'; d.monte_carlo.samples = 16384; });
+  await page.click('#alloc-submit');
+  await page.waitForFunction(() => location.hash.startsWith('#/v1/allocations/') && document.querySelector('#job-state').dataset.state === 'running'
+    && document.querySelector('#job-progress').value > 0, null, { timeout: 30000 });
+  check('a running allocation counts its Monte Carlo samples', await page.textContent('#job-unit') === 'Samples', await page.textContent('#job-samples'));
+  const runPath = await page.evaluate(() => location.hash.slice(1));
+  await page.click('#job-cancel');
+  await page.waitForSelector('#job-state[data-state=cancelled]');
+  const cancelled = await cancelledJob(runPath);
+  check('cancel: the API says the allocation is cancelled', cancelled.state === 'cancelled', cancelled.state);
+  if (cancelled.result) await page.waitForSelector('#alloc-cancelled');
+  check('cancel: the page says so (with the best allocation so far when there is one)', (await page.textContent('#job-status')).includes('Cancelled')
+    && (!cancelled.result || await page.isVisible('#alloc-cancelled')));
 }
 
 main().then(() => {

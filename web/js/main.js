@@ -1,11 +1,14 @@
 // The page: examples, the study form with live derived values, submit, the job view with progress
-// and cancel, and the results. Uses only prsm serve's API (same origin).
+// and cancel, and the results; the optimisation and allocation views when the service has them
+// (optimization.js, allocation.js), run through the same job view. Uses only prsm serve's API
+// (same origin).
 
 import { api, ApiError, describe } from './api.js';
 import { StudyForm, schemaInfo } from './form.js';
 import { renderStudyResult } from './results.js';
 import { fmt } from './plots.js';
 import { setupOptimization } from './optimization.js';
+import { setupAllocation } from './allocation.js';
 
 const $ = sel => document.querySelector(sel);
 const REQUESTS_KEY = 'prsm.requests';
@@ -145,6 +148,9 @@ class JobView {
     this.path = null;
     this.onRecent = onRecent;
     this.lastAnnounced = '';
+    this.renderers = {}; // collection -> (container, job) for the kinds other than studies
+    // the job and results sections follow the view whose request they run
+    this.anchors = { studies: $('#study-layout'), optimizations: $('#optimization'), allocations: $('#allocation') };
     $('#job-cancel').addEventListener('click', () => this.cancel());
   }
 
@@ -153,16 +159,25 @@ class JobView {
     this.lastAnnounced = text;
   }
 
+  place(collection) {
+    const anchor = this.anchors[collection];
+    if (anchor && anchor.nextElementSibling !== this.section) anchor.after(this.section, $('#results'));
+  }
+
   async open(path, study, collection = 'studies') {
     clearTimeout(this.timer);
     this.path = path;
     this.study = study;
     this.collection = collection;
+    this.place(collection);
     this.section.hidden = false;
     $('#job-problem').hidden = true;
     $('#results').hidden = true;
     $('#job-link').href = path;
     $('#job-link').textContent = path.split('/').pop();
+    $('#job-state').textContent = '—';
+    delete $('#job-state').dataset.state;
+    $('#job-best-row').hidden = true;
     this.announce('Loading the job…');
     await this.poll();
   }
@@ -181,7 +196,20 @@ class JobView {
     if (path !== this.path) return;
     this.render(job);
     if (job.state === 'queued' || job.state === 'running') this.timer = setTimeout(() => this.poll(), 500);
-    else this.finish(job);
+    else { this.finish(job); this.awaitBestSoFar(job); }
+  }
+
+  // A cancelled optimisation or allocation hands back its best result so far once its worker has
+  // stopped, a moment after the DELETE: look again a few times.
+  awaitBestSoFar(job, tries = 20) {
+    const path = this.path;
+    if (job.state !== 'cancelled' || job.result || this.collection === 'studies' || tries <= 0) return;
+    this.timer = setTimeout(async () => {
+      let again;
+      try { again = await api.job(path); } catch { return; }
+      if (path !== this.path) return;
+      if (again.result) { this.render(again); this.finish(again); } else this.awaitBestSoFar(again, tries - 1);
+    }, 250);
   }
 
   render(job) {
@@ -202,6 +230,7 @@ class JobView {
     iv.textContent = typeof w === 'number' ? `${fmt(w)}${typeof goal === 'number' ? ` (goal ${fmt(goal)})` : ''}` : job.state === 'running' ? '— (no target, or too few samples yet)' : '—';
     if (typeof w === 'number') iv.dataset.value = String(w); else delete iv.dataset.value;
     $('#job-best-row').hidden = typeof p.best_objective !== 'number';
+    $('#job-best-label').textContent = this.collection === 'allocations' ? 'Least cost so far (meeting every target)' : 'Best objective so far';
     $('#job-best').textContent = fmt(p.best_objective);
     $('#job-eta').textContent = job.state === 'running' ? duration(p.eta_s) : '—';
     $('#job-cancel').disabled = !(job.state === 'queued' || job.state === 'running');
@@ -230,7 +259,31 @@ class JobView {
     res.hidden = false;
     const body = $('#results-body');
     if (this.collection === 'studies') renderStudyResult(body, job, this.study);
-    else if (this.renderOther) this.renderOther(body, job);
+    else if (this.renderers[this.collection]) this.renderers[this.collection](body, job);
+    else body.textContent = `No view for ${this.collection}: see the result as JSON at ${job.links.self}.`;
+  }
+
+  // A POST's answer: 202 (follow the job) or 200 (done, from the cache: show it at once).
+  async submitted(r, doc, collection) {
+    const job = r.body;
+    rememberRequest(job.id, doc);
+    history.replaceState(null, '', `#${job.links.self}`);
+    if (r.status === 200 && job.state === 'done') {
+      clearTimeout(this.timer);
+      this.path = job.links.self;
+      this.study = doc;
+      this.collection = collection;
+      this.place(collection);
+      this.section.hidden = false;
+      $('#job-problem').hidden = true;
+      $('#job-link').href = job.links.self;
+      $('#job-link').textContent = job.id;
+      this.render(job);
+      this.finish(job);
+    } else {
+      await this.open(job.links.self, doc, collection);
+    }
+    this.section.scrollIntoView({ block: 'start' });
   }
 
   async cancel() {
@@ -241,6 +294,7 @@ class JobView {
       clearTimeout(this.timer);
       this.render(job);
       this.finish(job);
+      this.awaitBestSoFar(job);
     } catch (e) {
       this.announce(`Cancel refused: ${describe(e)}`);
       this.poll();
@@ -268,23 +322,26 @@ function showExport(kind, doc, collection = 'studies') {
   $('#export-text').focus();
 }
 
-// ---- recent studies --------------------------------------------------------------------------
+// ---- recent jobs (every collection the service has) ----------------------------------------------
+const KIND_NAMES = { studies: 'study', optimizations: 'optimisation', allocations: 'allocation' };
+let recentCollections = ['studies'];
 async function refreshRecent() {
   const ul = $('#recent-list');
   try {
-    const list = await api.list('studies', 8);
+    const lists = await Promise.all(recentCollections.map(c => api.list(c, 8).then(l => (l.items || []).map(j => ({ ...j, collection: c })))));
+    const items = lists.flat().sort((a, b) => (a.created_at < b.created_at ? 1 : a.created_at > b.created_at ? -1 : 0)).slice(0, 10);
     ul.textContent = '';
-    for (const j of list.items || []) {
+    for (const j of items) {
       const li = document.createElement('li');
       const a = document.createElement('a');
       a.href = `#${j.links.self}`;
-      a.textContent = j.id.slice(0, 12);
+      a.textContent = `${KIND_NAMES[j.collection] || j.collection} ${j.id.slice(0, 12)}`;
       li.append(a, ` ${j.state}, ${j.created_at.replace('T', ' ').slice(0, 19)} UTC`);
       ul.appendChild(li);
     }
     if (!ul.children.length) ul.innerHTML = '<li>None yet.</li>';
   } catch (e) {
-    ul.textContent = `Cannot list studies: ${describe(e)}`;
+    ul.textContent = `Cannot list the jobs: ${describe(e)}`;
   }
 }
 
@@ -331,23 +388,7 @@ async function main() {
     const btn = $('#submit');
     btn.disabled = true;
     try {
-      const r = await api.submit('studies', doc);
-      const job = r.body;
-      rememberRequest(job.id, doc);
-      history.replaceState(null, '', `#${job.links.self}`);
-      if (r.status === 200 && job.state === 'done') {
-        jobs.path = job.links.self;
-        jobs.study = doc;
-        jobs.collection = 'studies';
-        jobs.section.hidden = false;
-        $('#job-link').href = job.links.self;
-        $('#job-link').textContent = job.id;
-        jobs.render(job);
-        jobs.finish(job);
-      } else {
-        await jobs.open(job.links.self, doc);
-      }
-      $('#job').scrollIntoView({ block: 'start' });
+      await jobs.submitted(await api.submit('studies', doc), doc, 'studies');
     } catch (err) {
       if (err instanceof ApiError && err.errors.length) {
         const placed = form.showProblems(err.errors, { source: 'submit' });
@@ -375,7 +416,9 @@ async function main() {
   };
   window.addEventListener('hashchange', route);
 
-  setupOptimization(openapi, { jobs, form, examples: examples.examples, rememberRequest });
+  const ctx = { jobs, form, examples: examples.examples, submitted: (r, doc, c) => jobs.submitted(r, doc, c) };
+  if (setupOptimization(openapi, ctx)) recentCollections.push('optimizations');
+  if (setupAllocation(openapi, ctx)) recentCollections.push('allocations');
   api.version().then(v => { $('#version').textContent = `prsm ${v.prsm || v.version || ''}`.trim(); }).catch(() => {});
   refreshRecent();
 

@@ -1,30 +1,39 @@
 // The optimisation view: appears only when the service's contract (GET /v1/openapi.json) lists
-// POST /v1/optimizations. The request is edited as JSON (schemas/optimization.schema.json, served
-// at /v1/schemas/), submitted and followed by the same job view as studies (progress, cancel), and
-// the Pareto front is drawn as a scatter whose points are buttons: click (or Enter) shows that
-// point's design and figures.
+// /v1/optimizations. The request (schemas/optimization.schema.json) is edited as JSON with its
+// solver settings as fields, submitted and followed by the page's job view (evaluations, best
+// objective so far, cancel). The result (schemas/optimization-result.schema.json): a summary, for a
+// sweep the Pareto front as a scatter whose points are buttons (click, or Tab and Enter) with the
+// same points in a table, the selected point's design, figures and constraints, and the best
+// design with its figures and constraints; "Study this design's tolerances" loads a design into the
+// study form.
 //
-// paretoPoints() and pointTable() are the only places that read the result's shape
-// (schemas/optimization-result.schema.json).
+// paretoPoints() and pointDetail() are the only places that read a point's shape.
 
-import { api, ApiError, describe } from './api.js';
+import { api } from './api.js';
 import { scatter, fmt } from './plots.js';
+import { h, requestEditor } from './jobrequest.js';
 
 const COLLECTION = 'optimizations';
 
-function h(tag, attrs = {}, ...children) {
-  const e = document.createElement(tag);
-  for (const [k, v] of Object.entries(attrs)) {
-    if (v === undefined || v === null || v === false) continue;
-    if (k === 'text') e.textContent = v; else e.setAttribute(k, String(v));
-  }
-  for (const c of children.flat()) if (c !== null && c !== undefined) e.append(c instanceof Node ? c : String(c));
-  return e;
-}
+// label and unit of the result's variables and figures
+const NAMES = {
+  starts: ['starts n', ''], pitch_mm: ['pitch P', 'mm'], lead_mm: ['lead', 'mm'], roller_radius_mm: ['roller radius r_r', 'mm'],
+  screw_radius_mm: ['screw radius r_s', 'mm'], nut_radius_mm: ['nut radius r_n', 'mm'], rollers: ['rollers Z', ''],
+  engaged_threads: ['engaged threads', ''], flank_angle_deg: ['flank angle β', '°'],
+  efficiency: ['efficiency η', ''], stiffness_N_per_um: ['axial stiffness', 'N/µm'], mass_kg: ['mass', 'kg'],
+  reflected_inertia_kg_m2: ['reflected inertia', 'kg·m²'], z_max: ['Z_max', ''], nut_outer_diameter_mm: ['nut outer diameter', 'mm'],
+  screw_diameter_mm: ['screw diameter', 'mm'], static_safety: ['static safety', ''], life_h: ['L10 life', 'h'],
+  life_revolutions: ['L10 life', 'rev'], p_max_MPa: ['p_max', 'MPa'], critical_speed_rpm: ['critical speed', 'rpm'],
+  operating_speed_rpm: ['operating speed', 'rpm'],
+};
+const label = key => (NAMES[key] ? NAMES[key][0] : key);
+const unit = key => (NAMES[key] ? NAMES[key][1] : '');
+const withUnit = (v, key) => `${fmt(v)}${unit(key) && typeof v === 'number' ? ` ${unit(key)}` : ''}`;
+const axisLabel = key => `${label(key)}${unit(key) ? ` (${unit(key)})` : ''}`;
 
-// The Pareto front of a result (schemas/optimization-result.schema.json): pareto.points, sorted by
-// objective_a, each with variables, objectives, constraints, figures and design. x = objective_a,
-// y = objective_b (efficiency and stiffness for the issue's sweep), read from the point's figures.
+// The Pareto front of a result: pareto.points (sorted by objective_a), x = objective_a and
+// y = objective_b (efficiency and stiffness for the issue's sweep), read from each point's figures
+// (its objectives as a fallback). best: the point that is the result's best design.
 export function paretoPoints(result) {
   const pareto = result && result.pareto;
   if (!pareto || !Array.isArray(pareto.points)) return [];
@@ -32,97 +41,163 @@ export function paretoPoints(result) {
   const value = (p, name) => {
     if (p.figures && typeof p.figures[name] === 'number') return p.figures[name];
     const o = (p.objectives || []).find(x => x.name === name);
-    return o ? o.value : null;
+    return o && typeof o.value === 'number' ? o.value : null;
   };
+  const bestKey = result.best ? JSON.stringify(result.best.variables) : null;
   return pareto.points.map((p, i) => ({
     x: value(p, a), y: value(p, b), xKey: a, yKey: b, index: i, point: p,
     feasible: (p.constraints || []).every(c => c.satisfied),
+    best: bestKey !== null && JSON.stringify(p.variables) === bestKey,
   })).filter(p => typeof p.x === 'number' && typeof p.y === 'number');
 }
 
-function pointTable(point) {
-  const rows = [];
-  for (const [k, v] of Object.entries(point.variables || {})) if (v !== null) rows.push([k, v, '']);
-  for (const [k, v] of Object.entries(point.figures || {})) if (v !== null) rows.push([k, v, '']);
-  for (const c of point.constraints || []) rows.push([`${c.name} (${c.bound} ${fmt(c.limit)}${c.unit && c.unit !== '-' ? ` ${c.unit}` : ''})`, c.value, c.satisfied ? 'holds' : 'violated']);
-  return h('table', { class: 'numbers', id: 'pareto-point-table' },
-    h('caption', {}, 'The selected design'),
-    h('tbody', {}, rows.map(([k, v, note]) => h('tr', { class: note === 'violated' ? 'violated' : undefined },
-      h('th', { scope: 'row' }, k),
-      h('td', { 'data-key': k, 'data-value': typeof v === 'number' ? String(v) : undefined }, `${typeof v === 'number' ? fmt(v) : String(v)}${note ? ` (${note})` : ''}`)))));
+function kvTable(id, caption, rows) {
+  return h('table', { class: 'numbers', id },
+    h('caption', {}, caption),
+    h('tbody', {}, rows.map(([key, v]) => h('tr', {},
+      h('th', { scope: 'row' }, label(key)),
+      h('td', { 'data-key': key, 'data-value': typeof v === 'number' ? String(v) : undefined }, withUnit(v, key))))));
+}
+
+function constraintTable(id, constraints) {
+  return h('table', { class: 'numbers constraints', id },
+    h('caption', {}, 'Constraints'),
+    h('thead', {}, h('tr', {}, ['constraint', 'value', 'limit', 'holds'].map(c => h('th', { scope: 'col' }, c)))),
+    h('tbody', {}, constraints.map(c => {
+      const u = c.unit && c.unit !== '-' ? ` ${c.unit}` : '';
+      return h('tr', { 'data-name': c.name, class: c.satisfied ? undefined : 'violated' },
+        h('th', { scope: 'row', title: c.message || undefined }, c.name.replace(/_(mm|h|MPa)$/, '').replace(/_/g, ' ')),
+        h('td', { 'data-key': 'value', 'data-value': typeof c.value === 'number' ? String(c.value) : undefined }, `${fmt(c.value)}${u}`),
+        h('td', { 'data-key': 'limit', 'data-value': String(c.limit) }, `${c.bound === 'min' ? '≥' : '≤'} ${fmt(c.limit)}${u}`),
+        h('td', { 'data-key': 'satisfied', 'data-value': String(c.satisfied) }, c.satisfied ? 'yes' : h('strong', {}, 'no')));
+    })));
 }
 
 let useDesign = null; // (design) => loads it into the study form; set by setupOptimization
 
+// One point (the best design or a point of the front): variables, objectives and figures, its
+// constraints, the tolerance-study button and the design as JSON. idp: prefix of the ids.
+function pointDetail(point, idp, heading) {
+  const box = h('div', { class: 'point-detail', id: idp });
+  box.append(h('h4', { class: 'h4' }, heading));
+  const vars = Object.entries(point.variables || {}).filter(([, v]) => v !== null);
+  const objs = (point.objectives || []).map(o => [o.name, o.value, o.sense]);
+  const figs = Object.entries(point.figures || {}).filter(([k]) => !objs.some(o => o[0] === k));
+  box.append(h('div', { class: 'tables' },
+    kvTable(`${idp}-variables`, 'Design variables', vars),
+    h('table', { class: 'numbers', id: `${idp}-objectives` }, h('caption', {}, 'Objectives'),
+      h('tbody', {}, objs.map(([k, v, sense]) => h('tr', {}, h('th', { scope: 'row' }, `${label(k)} (${sense === 'maximise' ? 'max' : 'min'})`),
+        h('td', { 'data-key': k, 'data-value': typeof v === 'number' ? String(v) : undefined }, withUnit(v, k)))))),
+    kvTable(`${idp}-figures`, 'Other figures', figs),
+    constraintTable(`${idp}-constraints`, point.constraints || [])));
+  if (point.design) {
+    const use = h('button', { type: 'button', id: `${idp}-study`, class: 'study-design' }, 'Study this design’s tolerances');
+    use.addEventListener('click', () => useDesign && useDesign(point.design));
+    box.append(h('div', { class: 'actions' }, use));
+  }
+  box.append(h('details', {}, h('summary', {}, 'Design as JSON (a document POST /v1/designs/analyze accepts)'),
+    h('pre', { class: 'json', id: `${idp}-design` }, JSON.stringify(point.design, null, 2))));
+  return box;
+}
+
 export function renderOptimizationResult(container, job) {
   container.textContent = '';
   const r = job.result || {};
+  const s = r.search || {}, sv = r.solver || {};
+  container.append(h('dl', { class: 'summary', id: 'opt-summary' },
+    [['Optimisation', r.name || '—'], ['Method', r.method], ['Status', `${r.status}${r.feasible === false && r.violated && r.violated.length ? ` (violates ${r.violated.join(', ')})` : ''}`],
+      ['Evaluations', fmt(r.evaluations, 6)], ['Stop reason', `${r.stop_reason}${r.cancelled ? ' (cancelled: best so far)' : ''}`],
+      ['Integer combinations', `${s.combinations}, ${s.pruned} pruned`], ['NLopt runs', `${s.runs}, ${s.runs_feasible} feasible`],
+      ['Solver', `${sv.algorithm}, ${sv.multistart} start${sv.multistart === 1 ? '' : 's'} per combination, seed ${sv.seed}`],
+      ['Time', `${fmt(r.elapsed_s, 3)} s`], ['Cached', job.cache_hit ? 'yes' : 'no'], ['Engine', r.versions ? r.versions.engine : '—']]
+      .map(([k, v]) => h('div', {}, h('dt', {}, k), h('dd', {}, String(v))))));
+  container.append(h('p', { class: 'downloads' }, h('a', { href: job.links.self, id: 'opt-json-link' }, 'Result as JSON')));
+  if (r.cancelled) container.append(h('p', { class: 'notice', id: 'opt-cancelled' }, 'The optimisation was cancelled: below is the best design found so far.'));
+  if (r.warnings && r.warnings.length) container.append(h('ul', { class: 'warnings', 'aria-label': 'Warnings' }, r.warnings.map(w => h('li', {}, `${w.pointer ? `${w.pointer}: ` : ''}${w.message}`))));
+
   const pts = paretoPoints(r);
-  container.append(h('p', {}, h('a', { href: job.links.self }, 'Result as JSON')));
-  const summary = h('p', {}, `Method ${r.method}, ${r.status}${r.feasible === false ? ` (infeasible: ${(r.violated || []).join(', ')})` : ''}; ${r.evaluations} evaluations, stop: ${r.stop_reason}${r.cancelled ? ' (cancelled: best so far)' : ''}.`);
-  container.append(summary);
-  if (!pts.length) {
-    container.append(h('p', { class: 'hint' }, 'No Pareto front in this result (not a sweep): its best design is below.'));
-    if (r.best) container.append(h('div', { class: 'table-box' }, pointTable(r.best)), h('details', {}, h('summary', {}, 'Design as JSON'), h('pre', { class: 'json' }, JSON.stringify(r.best.design, null, 2))));
-    return;
-  }
-  const detail = h('div', { class: 'table-box', id: 'pareto-detail' }, h('p', { class: 'hint' }, 'Click a point (or Tab to it and press Enter) to see its design.'));
-  const svg = scatter({
-    points: pts.map(p => ({ x: p.x, y: p.y, feasible: p.feasible, label: `${p.xKey} ${fmt(p.x)}, ${p.yKey} ${fmt(p.y)}` })),
-    xLabel: pts[0].xKey, yLabel: pts[0].yKey,
-    title: 'Pareto front', desc: `${pts.length} non-dominated designs`,
-    onSelect: i => {
+  if (pts.length) {
+    const p = r.pareto;
+    const live = h('p', { class: 'status', id: 'pareto-status', role: 'status', 'aria-live': 'polite' }, 'Click a point (or Tab to it and press Enter), or use a row’s button, to see that design.');
+    const detail = h('div', { id: 'pareto-detail' });
+    const rowsBody = h('tbody', {});
+    const select = i => {
+      const pt = pts[i];
       detail.textContent = '';
-      const design = pts[i].point.design;
-      const use = design && useDesign ? h('button', { type: 'button', id: 'pareto-use' }, 'Study this design’s tolerances') : null;
-      if (use) use.addEventListener('click', () => useDesign(design));
-      detail.append(pointTable(pts[i].point), use || '', h('details', {}, h('summary', {}, 'Design as JSON'), h('pre', { class: 'json' }, JSON.stringify(design || pts[i].point, null, 2))));
-    },
-  });
-  svg.id = 'pareto-plot';
-  container.append(h('div', { class: 'figure-row' }, h('figure', { class: 'plot-box' }, svg), detail));
+      detail.dataset.index = String(pt.index);
+      detail.append(pointDetail(pt.point, 'pareto-point', `Point ${pt.index + 1} of the front${pt.best ? ' (the best design)' : ''}: ${label(pt.xKey)} ${withUnit(pt.x, pt.xKey)}, ${label(pt.yKey)} ${withUnit(pt.y, pt.yKey)}`));
+      live.textContent = `Showing point ${pt.index + 1}: ${label(pt.xKey)} ${withUnit(pt.x, pt.xKey)}, ${label(pt.yKey)} ${withUnit(pt.y, pt.yKey)}.`;
+      for (const tr of rowsBody.children) tr.classList.toggle('selected', tr.dataset.index === String(pt.index));
+    };
+    const svg = scatter({
+      points: pts.map(q => ({ x: q.x, y: q.y, feasible: q.feasible, best: q.best,
+        label: `Point ${q.index + 1}: ${label(q.xKey)} ${withUnit(q.x, q.xKey)}, ${label(q.yKey)} ${withUnit(q.y, q.yKey)}, ${q.point.variables.starts} starts, ${q.point.variables.rollers} rollers${q.best ? ' (best design)' : ''}` })),
+      xLabel: axisLabel(p.objective_a), yLabel: axisLabel(p.objective_b),
+      title: `Pareto front: ${label(p.objective_a)} against ${label(p.objective_b)}`,
+      desc: `${pts.length} non-dominated designs from ${p.levels} ε-constraint levels (${p.epsilon_runs_feasible} of ${p.epsilon_runs} runs feasible, ${p.dominated_removed} dominated removed); the ringed point is the best design`,
+      onSelect: select,
+    });
+    svg.id = 'pareto-plot';
+    for (const q of pts) {
+      const b = h('button', { type: 'button', 'data-index': q.index, 'aria-label': `Show point ${q.index + 1}` }, 'Show');
+      b.addEventListener('click', () => {
+        const c = svg.querySelector(`.point[data-index="${pts.indexOf(q)}"]`);
+        if (c) c.dispatchEvent(new MouseEvent('click'));
+      });
+      const v = q.point.variables;
+      rowsBody.append(h('tr', { 'data-index': q.index, class: q.best ? 'best' : undefined },
+        h('th', { scope: 'row' }, String(q.index + 1), q.best ? ' (best)' : ''),
+        h('td', { 'data-key': q.xKey, 'data-value': String(q.x) }, fmt(q.x, 5)),
+        h('td', { 'data-key': q.yKey, 'data-value': String(q.y) }, fmt(q.y, 5)),
+        h('td', {}, String(v.starts)), h('td', {}, fmt(v.pitch_mm)), h('td', {}, fmt(v.roller_radius_mm)), h('td', {}, String(v.rollers)),
+        h('td', {}, b)));
+    }
+    const table = h('table', { class: 'numbers', id: 'pareto-table' },
+      h('caption', {}, 'The front’s points'),
+      h('thead', {}, h('tr', {}, ['#', axisLabel(p.objective_a), axisLabel(p.objective_b), 'starts', 'pitch (mm)', 'r_r (mm)', 'Z', ''].map(c => h('th', { scope: 'col' }, c)))),
+      rowsBody);
+    container.append(h('section', { class: 'card', id: 'pareto-card', 'aria-labelledby': 'pareto-h' },
+      h('h3', { id: 'pareto-h' }, `Pareto front: ${label(p.objective_a)} against ${label(p.objective_b)}`),
+      h('div', { class: 'figure-row' }, h('figure', { class: 'plot-box' }, svg, h('figcaption', {}, 'Filled: feasible; hollow: a constraint violated; ringed: the best design (closest to the ideal point).')), h('div', { class: 'table-box' }, table)),
+      live, detail));
+  }
+  const best = h('section', { class: 'card', id: 'best-card', 'aria-labelledby': 'best-h' },
+    h('h3', { id: 'best-h' }, r.method === 'pareto' ? 'Best design (the front’s point closest to the ideal)' : 'Best design'));
+  if (r.best) best.append(pointDetail(r.best, 'best-point', r.feasible ? 'Feasible: every constraint holds' : `Infeasible: ${(r.violated || []).join(', ')} violated`));
+  else best.append(h('p', {}, 'No design could be analysed.'));
+  container.append(best);
 }
 
-// ctx: {jobs (the JobView), form (the StudyForm), examples (the manifest's list), rememberRequest}
+// ctx: {jobs (the JobView), form (the StudyForm), examples (the manifest's list), submitted(response, doc, collection)}
 export function setupOptimization(openapi, ctx) {
   const paths = (openapi && openapi.paths) || {};
-  const section = document.getElementById('optimization');
   if (!paths[`/v1/${COLLECTION}`]) return false;
+  const section = document.getElementById('optimization');
   section.hidden = false;
   document.getElementById('nav-optimization').hidden = false;
-  const body = document.getElementById('optimization-body');
-  const text = h('textarea', { id: 'opt-request', rows: 16, spellcheck: 'false', 'aria-describedby': 'opt-hint' });
-  const problems = h('div', { id: 'opt-problems', class: 'problems', role: 'alert' });
-  const submit = h('button', { type: 'button', class: 'primary', id: 'opt-submit' }, 'Run optimisation');
-  const exBar = h('div', { class: 'examples', role: 'group', 'aria-label': 'Optimisation examples' });
-  for (const ex of ctx.examples.filter(e => e.kind === 'optimization')) {
-    const b = h('button', { type: 'button', 'data-example': ex.file }, ex.label);
-    b.addEventListener('click', async () => { text.value = JSON.stringify(await api.example(ex.file), null, 2); });
-    exBar.appendChild(b);
-  }
-  body.append(exBar,
-    h('label', { for: 'opt-request' }, 'Optimisation request (JSON)'),
-    h('p', { id: 'opt-hint', class: 'hint' }, 'As ', h('a', { href: '/v1/schemas/optimization.schema.json' }, 'optimization.schema.json'), ' describes it; problems are listed below with their JSON pointers.'),
-    text, problems, h('div', { class: 'actions' }, submit));
-  ctx.jobs.renderOther = renderOptimizationResult;
   useDesign = design => {
     ctx.form.load({ ...ctx.form.toRequest(), design });
+    document.getElementById('error-summary').hidden = true;
+    document.getElementById('examples-note').textContent = 'Loaded the optimised design into the study form (tolerances and settings kept).';
     document.getElementById('study-form').scrollIntoView();
     document.getElementById('f-starts').focus();
   };
-  submit.addEventListener('click', async () => {
-    problems.textContent = '';
-    let doc;
-    try { doc = JSON.parse(text.value); } catch (e) { problems.textContent = `Not JSON: ${e.message}`; return; }
-    try {
-      const r = await api.submit(COLLECTION, doc);
-      ctx.rememberRequest(r.body.id, doc);
-      history.replaceState(null, '', `#${r.body.links.self}`);
-      await ctx.jobs.open(r.body.links.self, doc, COLLECTION);
-    } catch (e) {
-      const ul = h('ul', {}, (e instanceof ApiError && e.errors.length ? e.errors.map(p => `${p.pointer || '(document)'}: ${p.message}`) : [describe(e)]).map(t => h('li', {}, t)));
-      problems.append(ul);
-    }
+  ctx.jobs.renderers[COLLECTION] = renderOptimizationResult;
+  const editor = requestEditor(document.getElementById('optimization-body'), {
+    prefix: 'opt', collection: COLLECTION, noun: 'Optimisation', schema: 'optimization.schema.json',
+    examples: ctx.examples.filter(e => e.kind === 'optimization'),
+    submitLabel: 'Run optimisation',
+    fields: [
+      { path: 'solver.max_evaluations', label: 'Max evaluations', type: 'int', placeholder: '2000' },
+      { path: 'solver.max_time_s', label: 'Time cap (s)', type: 'number', placeholder: '60' },
+      { path: 'solver.multistart', label: 'Starts per combination', type: 'int', placeholder: '2' },
+      { path: 'solver.seed', label: 'Seed', type: 'int', placeholder: '1' },
+      { path: 'solver.algorithm', label: 'Algorithm', type: 'enum', options: ['cobyla', 'slsqp', 'mma', 'auglag'], placeholder: 'cobyla (default)' },
+      { path: 'multi_objective.points', label: 'Pareto levels', type: 'int', placeholder: '7', hint: 'a Pareto sweep only' },
+    ],
+    onSubmitted: (r, doc) => ctx.submitted(r, doc, COLLECTION),
   });
+  const first = ctx.examples.find(e => e.kind === 'optimization');
+  if (first) api.example(first.file).then(doc => { if (!editor.textarea.value) editor.setDoc(doc, `Loaded ${first.file}; pick another example or edit the request.`); }).catch(() => {});
   return true;
 }

@@ -195,7 +195,8 @@ export function barChart({ labels, values, ref, refLabel, xLabel, yLabel, title,
   return svg;
 }
 
-// points: [{x, y, label, feasible?}]; onSelect(index) on click, Enter or Space (each point focusable).
+// points: [{x, y, label, feasible?, best?}]; onSelect(index) on click, Enter or Space (each point
+// focusable). Each point keeps its raw x and y (data-x, data-y); a best point gets a ring.
 export function scatter({ points, xLabel, yLabel, title, desc, onSelect }) {
   const w = 520, h = 300, m = { l: 60, r: 16, t: 14, b: 40 };
   const svg = frame(w, h, title, desc, 'scatter');
@@ -210,11 +211,108 @@ export function scatter({ points, xLabel, yLabel, title, desc, onSelect }) {
   el('polyline', { points: order.map(i => `${xs(points[i].x)},${ys(points[i].y)}`).join(' '), class: 'front' }, svg);
   const g = el('g', { class: 'points' }, svg);
   points.forEach((p, i) => {
-    const c = el('circle', { cx: xs(p.x), cy: ys(p.y), r: 6, class: p.feasible === false ? 'point infeasible' : 'point', tabindex: 0, role: 'button', 'aria-label': p.label, 'data-index': i }, g);
+    if (p.best) el('circle', { cx: xs(p.x), cy: ys(p.y), r: 10, class: 'best-ring', 'aria-hidden': 'true' }, g);
+    const c = el('circle', { cx: xs(p.x), cy: ys(p.y), r: 6, class: `point${p.feasible === false ? ' infeasible' : ''}${p.best ? ' best' : ''}`, tabindex: 0, role: 'button', 'aria-label': p.label, 'data-index': i, 'data-x': p.x, 'data-y': p.y }, g);
     el('title', {}, c).textContent = p.label;
-    const pick = () => { g.querySelectorAll('.point').forEach(q => q.classList.remove('selected')); c.classList.add('selected'); onSelect && onSelect(i); };
+    const pick = () => {
+      g.querySelectorAll('.point').forEach(q => { q.classList.remove('selected'); q.setAttribute('aria-pressed', 'false'); });
+      c.classList.add('selected');
+      c.setAttribute('aria-pressed', 'true');
+      if (onSelect) onSelect(i);
+    };
+    c.setAttribute('aria-pressed', 'false');
     c.addEventListener('click', pick);
     c.addEventListener('keydown', e => { if (e.key === 'Enter' || e.key === ' ') { e.preventDefault(); pick(); } });
+  });
+  return svg;
+}
+
+// Log-scale ticks (1, 2, 5 x 10^k) covering [lo, hi], lo > 0.
+function logTicks(lo, hi) {
+  const out = [];
+  for (let k = Math.floor(Math.log10(lo)); k <= Math.ceil(Math.log10(hi)); k++) {
+    for (const m of [1, 2, 5]) {
+      const t = m * 10 ** k;
+      if (t >= lo * (1 - 1e-9) && t <= hi * (1 + 1e-9)) out.push(Number(t.toPrecision(6)));
+    }
+  }
+  return out.length >= 2 ? out : [lo, hi];
+}
+
+// One row per item on a shared log axis: the allowed range [lo, hi] as a band (hi null: open to the
+// right), a bar from lo to the value, a tick at `mark` (e.g. the linear allocation) and a dashed tick
+// at `ref` (e.g. the reference half-width). items: [{label, value, lo, hi, mark?, ref?, atBound?}].
+export function rangeChart({ items, xLabel, title, desc, markLabel, refLabel }) {
+  const rowH = 24, w = 680, m = { l: 250, r: 20, t: 26, b: 40 };
+  const h = m.t + m.b + rowH * Math.max(1, items.length);
+  const svg = frame(w, h, title, desc, 'range-chart');
+  const vals = items.flatMap(it => [it.value, it.lo, it.hi, it.mark, it.ref]).filter(v => typeof v === 'number' && v > 0 && Number.isFinite(v));
+  let lo = Math.min(...vals), hi = Math.max(...vals);
+  if (!(hi > lo)) { lo /= 2; hi *= 2; }
+  lo /= 1.25; hi *= 1.25;
+  const L = v => Math.log10(Math.max(v, lo));
+  const xs0 = scale(L(lo), L(hi), m.l, w - m.r);
+  const xs = v => xs0(L(v));
+  const xt = logTicks(lo, hi);
+  const g = el('g', { class: 'axes' }, svg);
+  el('line', { x1: m.l, y1: h - m.b, x2: w - m.r, y2: h - m.b }, g);
+  for (const t of xt) {
+    el('line', { x1: xs(t), y1: h - m.b, x2: xs(t), y2: h - m.b + 4 }, g);
+    el('line', { x1: xs(t), y1: m.t, x2: xs(t), y2: h - m.b, class: 'grid' }, g);
+    text(g, xs(t), h - m.b + 16, fmt(t, 3), { 'text-anchor': 'middle' });
+  }
+  text(g, (m.l + w - m.r) / 2, h - 4, xLabel, { 'text-anchor': 'middle', class: 'label' });
+  // legend
+  const lg = el('g', { class: 'legend' }, svg);
+  el('rect', { x: m.l, y: 6, width: 14, height: 10, class: 'range' }, lg);
+  text(lg, m.l + 18, 15, 'bounds');
+  el('rect', { x: m.l + 70, y: 8, width: 14, height: 6, class: 'bar' }, lg);
+  text(lg, m.l + 88, 15, 'allocated');
+  if (markLabel) { el('line', { x1: m.l + 160, x2: m.l + 160, y1: 5, y2: 17, class: 'mark' }, lg); text(lg, m.l + 165, 15, markLabel); }
+  if (refLabel) { el('line', { x1: m.l + 255, x2: m.l + 255, y1: 5, y2: 17, class: 'ref-tick' }, lg); text(lg, m.l + 260, 15, refLabel); }
+  const rows = el('g', { class: 'bars' }, svg);
+  items.forEach((it, i) => {
+    const y = m.t + i * rowH, yc = y + rowH / 2;
+    text(rows, m.l - 6, y + rowH * 0.66, it.label, { 'text-anchor': 'end', class: 'row-label' });
+    const a = typeof it.lo === 'number' && it.lo > 0 ? it.lo : lo;
+    const b = typeof it.hi === 'number' ? it.hi : hi;
+    el('rect', { x: xs(a), y: y + 3, width: Math.max(0.5, xs(b) - xs(a)), height: rowH - 6, class: typeof it.hi === 'number' ? 'range' : 'range open' }, rows);
+    const r = el('rect', { x: xs(a), y: yc - 4, width: Math.max(1, xs(it.value) - xs(a)), height: 8, class: `bar${it.atBound ? ' at-bound' : ''}`, 'data-value': it.value, 'data-label': it.label }, rows);
+    el('title', {}, r).textContent = `${it.label}: ${fmt(it.value)} (bounds ${fmt(it.lo)} to ${typeof it.hi === 'number' ? fmt(it.hi) : 'none'}${it.atBound ? `, at the ${it.atBound} bound` : ''})`;
+    el('circle', { cx: xs(it.value), cy: yc, r: 3.5, class: 'end' }, rows);
+    if (typeof it.mark === 'number') el('line', { x1: xs(it.mark), x2: xs(it.mark), y1: y + 2, y2: y + rowH - 2, class: 'mark' }, rows);
+    if (typeof it.ref === 'number') el('line', { x1: xs(it.ref), x2: xs(it.ref), y1: y + 2, y2: y + rowH - 2, class: 'ref-tick' }, rows);
+  });
+  return svg;
+}
+
+// Points with 95 % whiskers over a category axis (e.g. correction steps) and a target line.
+// points: [{label, y, lo?, hi?, highlight?, title?}]; values and target in the plotted unit.
+export function intervalChart({ points, target, targetLabel, xLabel, yLabel, title, desc }) {
+  const w = 520, h = 260, m = { l: 60, r: 16, t: 14, b: 46 };
+  const svg = frame(w, h, title, desc, 'interval-chart');
+  const vals = points.flatMap(p => [p.y, p.lo, p.hi]).concat(typeof target === 'number' ? [target] : []).filter(v => typeof v === 'number' && Number.isFinite(v));
+  let ylo = Math.min(...vals), yhi = Math.max(...vals);
+  if (yhi - ylo < 1e-12) { ylo -= 1; yhi += 1; }
+  const pad = 0.1 * (yhi - ylo);
+  const xs = scale(-0.5, points.length - 0.5, m.l, w - m.r), ys = scale(ylo - pad, yhi + pad, h - m.b, m.t);
+  axes(svg, m, w, h, xs, ys, [], ticks(ylo - pad, yhi + pad, 5), xLabel, yLabel);
+  if (typeof target === 'number') {
+    el('line', { x1: m.l, x2: w - m.r, y1: ys(target), y2: ys(target), class: 'ref', 'data-value': target }, svg);
+    text(svg, m.l + 4, ys(target) - 4, targetLabel || fmt(target), { 'text-anchor': 'start', class: 'ref-label' });
+  }
+  const g = el('g', { class: 'points' }, svg);
+  points.forEach((p, i) => {
+    const x = xs(i);
+    text(g, x, h - m.b + 16, p.label, { 'text-anchor': 'middle' });
+    if (typeof p.lo === 'number' && typeof p.hi === 'number') {
+      el('line', { x1: x, x2: x, y1: ys(p.lo), y2: ys(p.hi), class: 'whisker' }, g);
+      el('line', { x1: x - 4, x2: x + 4, y1: ys(p.lo), y2: ys(p.lo), class: 'whisker' }, g);
+      el('line', { x1: x - 4, x2: x + 4, y1: ys(p.hi), y2: ys(p.hi), class: 'whisker' }, g);
+    }
+    if (typeof p.y !== 'number') return;
+    const c = el('circle', { cx: x, cy: ys(p.y), r: p.highlight ? 6 : 4.5, class: `marker${p.highlight ? ' highlight' : ''}`, 'data-value': p.y }, g);
+    el('title', {}, c).textContent = p.title || `${p.label}: ${fmt(p.y)}`;
   });
   return svg;
 }
