@@ -20,6 +20,7 @@
 #include "io/json_util.h"
 
 #include "test_problems.h"
+#include "test_support.h"
 
 /* ---- helpers ---------------------------------------------------------------------------- */
 
@@ -628,47 +629,11 @@ static void field_readers_report_absence(void **state)
 
 /* ---- studies/ --------------------------------------------------------------------------- */
 
-/* The source tree: $PRSM_SOURCE_DIR, else two levels up from this file. */
-static void source_dir(char *out, size_t cap)
-{
-	const char *env = getenv("PRSM_SOURCE_DIR");
-	if (env != NULL && env[0] != '\0') {
-		snprintf(out, cap, "%s", env);
-		return;
-	}
-	snprintf(out, cap, "%s", __FILE__);
-	for (int up = 0; up < 2; up++) {
-		char *slash = strrchr(out, '/');
-		if (slash == NULL) {
-			snprintf(out, cap, "..");
-			return;
-		}
-		*slash = '\0';
-	}
-	if (out[0] == '\0')
-		snprintf(out, cap, "/");
-}
-
-static char *read_file(const char *path, size_t *len)
-{
-	FILE *f = fopen(path, "rb");
-	if (f == NULL)
-		return NULL;
-	size_t cap = 1 << 20, n;
-	char *buf = malloc(cap);
-	if (buf != NULL) {
-		n = fread(buf, 1, cap, f);
-		*len = n;
-	}
-	fclose(f);
-	return buf;
-}
-
 static void studies_load_without_problems(void **state)
 {
 	(void)state;
 	char dir[512], path[1024];
-	source_dir(dir, sizeof dir);
+	prsm_test_source_dir(dir, sizeof dir);
 	snprintf(path, sizeof path, "%s/studies", dir);
 	DIR *d = opendir(path);
 	if (d == NULL)
@@ -681,7 +646,7 @@ static void studies_load_without_problems(void **state)
 			continue;
 		snprintf(path, sizeof path, "%s/studies/%s", dir, e->d_name);
 		size_t len = 0;
-		char *text = read_file(path, &len);
+		char *text = prsm_test_read_file(path, &len);
 		assert_non_null(text);
 		prsm_problems p, w;
 		prsm_problems_init(&p);
@@ -740,7 +705,7 @@ static void seed000_files_match_the_reference(void **state)
 {
 	(void)state;
 	char dir[512], path[1024];
-	source_dir(dir, sizeof dir);
+	prsm_test_source_dir(dir, sizeof dir);
 	static const struct {
 		const char *file;
 		double rs, rr, rn, helix_screw_deg;
@@ -751,7 +716,7 @@ static void seed000_files_match_the_reference(void **state)
 	for (int i = 0; i < 2; i++) {
 		snprintf(path, sizeof path, "%s/studies/%s", dir, stages[i].file);
 		size_t len = 0;
-		char *text = read_file(path, &len);
+		char *text = prsm_test_read_file(path, &len);
 		assert_non_null(text);
 		prsm_problems p;
 		prsm_problems_init(&p);

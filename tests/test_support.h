@@ -11,10 +11,49 @@
 #include <cmocka.h>
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 
 #include "model/geometry.h"
 
 #define DEG (M_PI / 180.0)
+
+/* The source tree: $PRSM_SOURCE_DIR, else two levels up from this file. */
+static inline void prsm_test_source_dir(char *out, size_t cap)
+{
+	const char *env = getenv("PRSM_SOURCE_DIR");
+	if (env != NULL && env[0] != '\0') {
+		snprintf(out, cap, "%s", env);
+		return;
+	}
+	snprintf(out, cap, "%s", __FILE__);
+	for (int up = 0; up < 2; up++) {
+		char *slash = strrchr(out, '/');
+		if (slash == NULL) {
+			snprintf(out, cap, "..");
+			return;
+		}
+		*slash = '\0';
+	}
+	if (out[0] == '\0')
+		snprintf(out, cap, "/");
+}
+
+/* A file of at most 1 MiB, malloc'd (the caller frees it); NULL when unreadable. */
+static inline char *prsm_test_read_file(const char *path, size_t *len)
+{
+	FILE *f = fopen(path, "rb");
+	if (f == NULL)
+		return NULL;
+	size_t cap = 1 << 20, n;
+	char *buf = malloc(cap);
+	if (buf != NULL) {
+		n = fread(buf, 1, cap, f);
+		*len = n;
+	}
+	fclose(f);
+	return buf;
+}
 
 /* |actual - expected| <= tol, with a readable failure message. */
 #define assert_close(actual, expected, tol)                                                       \
