@@ -328,6 +328,19 @@ ok "validate invalid study: the same 5 problems" test "$(grep -c ': /' "$tmp/v.t
 "$prsm" study "$tmp/study.json" "$tmp/study.json" > /dev/null 2>&1; check "study two files" 64 $?
 "$prsm" study "$tmp/does-not-exist.json" > /dev/null 2>&1; check "study missing file" 64 $?
 
+# validate knows every document kind: optimisation and allocation documents too
+for f in optimize-case-a optimize-case-a-pareto allocate-ls1 allocate-case-a; do
+  "$prsm" validate "$src/studies/$f.json" > "$tmp/v.txt"; check "validate $f" 0 $?
+done
+echo '{"variables": {"starts": {"values": [2]}}, "objectives": [{"name": "speed"}], "design": {}}' > "$tmp/badopt.json"
+"$prsm" validate "$tmp/badopt.json" --format json > "$tmp/v.json"; check "validate invalid optimisation" 1 $?
+ok "validate invalid optimisation: problems at their pointers" $py - "$tmp/v.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+ptrs = [e["pointer"] for e in d["errors"]]
+assert d["valid"] is False and any(p.startswith("/objectives/0") for p in ptrs) and any(p.startswith("/design") for p in ptrs), ptrs
+PY
+
 # batch: lines of any kind through the cache, in order, invalid lines reported, run again from
 # the cache; a batch killed with -9 finishes when run again, with the results of a clean run
 $py - "$src" "$tmp" <<'PY'
