@@ -221,6 +221,24 @@ static double scaled(int kind, double limit, double v)
 	return constraint_side[kind] * (v - limit) / fabs(limit);
 }
 
+int prsm_dp_robust(prsm_robust_eval *out, const prsm_dp_spec *s, const prsm_design *d,
+                   const double *g_det, prsm_error *err)
+{
+	prsm_robust *r = s->robust;
+	for (int i = 0; i < s->n_constraints; i++)
+		if (!(g_det[i] <= s->robust_gate_tol)) {
+			memset(out, 0, sizeof *out);
+			snprintf(out->failure, sizeof out->failure, "not run: the constraint %s does not hold",
+			         prsm_dp_constraint_names[s->constraint_kind[i]]);
+			for (int k = 0; k < r->n; k++) {
+				out->v[k].yield = out->v[k].smooth_yield = NAN;
+				out->v[k].g = out->v[k].g_solver = 1.0;
+			}
+			return 0;
+		}
+	return prsm_robust_evaluate(out, r, d, err);
+}
+
 static int dp_eval(void *ctx, const double *x, const double *levels, double *f, double *g,
                    double *gf, double *gg)
 {
@@ -230,6 +248,7 @@ static int dp_eval(void *ctx, const double *x, const double *levels, double *f, 
 	prsm_design d;
 	prsm_dp_figures fig;
 	prsm_dp_design_at(&d, s, x, levels);
+	prsm_design unresolved = d;
 	int rc = prsm_dp_analyse(&fig, &d, s, 0, NULL, NULL);
 	for (int k = 0; k < s->n_objectives; k++)
 		f[k] = fig.objective[s->objective[k]];
@@ -239,6 +258,21 @@ static int dp_eval(void *ctx, const double *x, const double *levels, double *f, 
 		/* Z_max is an integer: within the tolerance of Z asin(s)/pi = 1 the floor decides */
 		if (kind == PRSM_DP_C_ROLLER_FIT && d.rollers > fig.z_max && !(g[i] > 1e-3))
 			g[i] = 1e-3;
+	}
+	if (s->robust) {
+		/* the problem has a surrogate: g holds the checked values, then the solver's */
+		const int nd = s->n_constraints, nc = nd + s->robust->n;
+		for (int i = 0; i < nd; i++)
+			g[nc + i] = g[i];
+		prsm_robust_eval re;
+		prsm_error err = PRSM_ERROR_INIT;
+		int rrc = rc ? 0 : prsm_dp_robust(&re, s, &unresolved, g, &err);
+		for (int k = 0; k < s->robust->n; k++) {
+			g[nd + k] = rc || rrc ? 1.0 : re.v[k].g;
+			g[nc + nd + k] = rc || rrc ? 1.0 : re.v[k].g_solver;
+		}
+		if (rrc && !rc)
+			rc = rrc;
 	}
 	return rc;
 }
@@ -397,6 +431,23 @@ int prsm_dp_problem(prsm_opt_problem *p, prsm_dp_spec *s, prsm_error *err)
 	for (int i = 0; i < s->n_constraints; i++)
 		snprintf(p->constraint_name[i], PRSM_OPT_NAME_MAX, "%s",
 		         prsm_dp_constraint_names[s->constraint_kind[i]]);
+	if (s->robust) {
+		const prsm_robust *r = s->robust;
+		if (r->n < 1 || r->n > PRSM_ROBUST_MAX || !r->build || !r->release ||
+		    s->n_constraints + r->n > PRSM_OPT_MAX_CONSTRAINTS)
+			return prsm_error_set(err, PRSM_EINVAL, "/robust", "robust constraints: 1..%d with a "
+			                      "study builder", PRSM_ROBUST_MAX);
+		for (int k = 0; k < r->n; k++) {
+			if (!(r->c[k].yield_min > 0.0 && r->c[k].yield_min < 1.0) ||
+			    !(r->c[k].spec.has_lower || r->c[k].spec.has_upper))
+				return prsm_error_set(err, PRSM_EINVAL, "/robust/constraints",
+				                      "robust constraint %s: a spec and a target in (0, 1)",
+				                      r->c[k].output);
+			snprintf(p->constraint_name[p->n_constraints++], PRSM_OPT_NAME_MAX, "yield_%.40s",
+			         r->c[k].output);
+		}
+		p->has_surrogate = 1;
+	}
 	p->eval = dp_eval;
 	p->prune = dp_prune;
 	p->ctx = s;

@@ -26,12 +26,21 @@
  * or revolutions, p_max of the most loaded contact <= limit, screw critical speed (beam theory,
  * needs the column data) >= factor x operating speed.
  *
+ * Robust constraints (opt/robust.h, optional): the Monte Carlo yield of a study output of the
+ * candidate design against a spec >= a target, with common random numbers. They follow the
+ * deterministic constraints in the problem, named "yield_<output>"; the problem then has a
+ * surrogate (the solver sees a smooth stand-in, the check uses the Monte Carlo yield). A
+ * candidate's study runs only when every deterministic constraint holds within robust_gate_tol
+ * (the optimiser's constraint tolerance); otherwise each robust constraint is reported violated
+ * (g = 1) without running it.
+ *
  * Pruning: a (starts, Z, n_t) combination is skipped when even the most favourable corner of
  * the continuous box cannot fit Z rollers, or puts the screw diameter or the nut outer diameter
  * outside their limits (each is monotone in the radii).
  *
  * The spec is read-only during a run; each evaluation works on its own copy of the base design,
- * so one spec may serve several threads. prsm_dp_evaluate allocates inside the model (the
+ * so one spec may serve several threads, unless it has robust constraints (their cache changes
+ * with every evaluation: one thread at a time). prsm_dp_evaluate allocates inside the model (the
  * performance arrays) and frees before it returns.
  */
 #ifndef PRSM_OPT_DESIGN_PROBLEM_H
@@ -41,6 +50,7 @@
 #include "model/design.h"
 #include "model/performance.h"
 #include "opt/optimize.h"
+#include "opt/robust.h"
 #include "util/error.h"
 
 enum {
@@ -102,6 +112,8 @@ typedef struct {
 	double p_max_max_MPa;
 	double critical_speed_factor_min;
 	int standard_rules;          /* 1: rule warnings are constraint violations */
+	prsm_robust *robust;         /* robust constraints; NULL: none (not owned) */
+	double robust_gate_tol;      /* run the robust studies only when every other g <= this */
 	/* filled by prsm_dp_problem */
 	int n_constraints;
 	int constraint_kind[PRSM_DP_CONSTRAINT_KINDS];
@@ -126,8 +138,8 @@ typedef struct {
 void prsm_dp_spec_init(prsm_dp_spec *s, const prsm_design *base);
 
 /* Fill p (variables, objectives, constraints, callbacks with ctx = s) from s and the
- * constraint list of s (n_constraints, constraint_kind, constraint_limit). s must outlive p.
- * Returns 0 or PRSM_EINVAL (err says which field). */
+ * constraint list of s (n_constraints, constraint_kind, constraint_limit), then the robust
+ * constraints of s->robust. s must outlive p. Returns 0 or PRSM_EINVAL (err says which field). */
 int prsm_dp_problem(prsm_opt_problem *p, prsm_dp_spec *s, prsm_error *err);
 
 /* The design at (x, levels) of the problem built from s, unresolved (rules fill the radii). */
@@ -141,6 +153,13 @@ void prsm_dp_design_at(prsm_design *out, const prsm_dp_spec *s, const double *x,
  * model's code (fig->failure says why). */
 int prsm_dp_analyse(prsm_dp_figures *fig, prsm_design *d, const prsm_dp_spec *s, int full,
                     prsm_analysis *a, prsm_performance *perf);
+
+/* The robust constraints at (x, levels): the design's study when every deterministic constraint
+ * g_det (s->n_constraints values, scaled as the problem's) holds within s->robust_gate_tol, else
+ * every constraint violated (out->evaluated 0, out->failure says why). Returns as
+ * prsm_robust_evaluate. */
+int prsm_dp_robust(prsm_robust_eval *out, const prsm_dp_spec *s, const prsm_design *d,
+                   const double *g_det, prsm_error *err);
 
 /* The largest Z_max over the continuous box for n starts (0 when none fits). */
 int prsm_dp_z_max_bound(const prsm_dp_spec *s, int starts);

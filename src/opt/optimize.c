@@ -56,7 +56,8 @@ double prsm_opt_scalar(const prsm_opt_problem *p, const prsm_opt_options *o, con
 typedef struct {
 	double x[PRSM_OPT_MAX_CONTINUOUS];
 	double f[PRSM_OPT_MAX_OBJECTIVES];
-	double g[NCON_MAX];          /* problem constraints, then the epsilon ones */
+	double g[NCON_MAX];          /* problem constraints, then the epsilon ones (checked) */
+	double gs[NCON_MAX];         /* what the solver sees: g, or the problem's stand-ins */
 	double scalar;
 	double violation;            /* sum of the positive g */
 	int failed;                  /* eval returned nonzero */
@@ -121,20 +122,24 @@ static void eval_raw(search *s, point *pt, const double *x, double *gf, double *
 {
 	const prsm_opt_problem *p = s->p;
 	const prsm_opt_options *o = s->o;
+	double gbuf[2 * PRSM_OPT_MAX_CONSTRAINTS];
+	const int nc = p->n_constraints;
 	memcpy(pt->x, x, (size_t)s->n * sizeof *x);
 	for (int k = 0; k < p->n_objectives; k++)
 		pt->f[k] = NAN;
-	for (int i = 0; i < p->n_constraints; i++)
-		pt->g[i] = NAN;
-	pt->failed = p->eval(p->ctx, x, s->levels, pt->f, pt->g, gf, gc) != 0;
+	for (int i = 0; i < 2 * nc; i++)
+		gbuf[i] = NAN;
+	pt->failed = p->eval(p->ctx, x, s->levels, pt->f, gbuf, gf, gc) != 0;
 	s->evaluations++;
-	for (int i = 0; i < p->n_constraints; i++)
-		if (!isfinite(pt->g[i]))
-			pt->g[i] = 1.0; /* cannot tell: count it as violated */
+	for (int i = 0; i < nc; i++) {
+		/* cannot tell: count it as violated */
+		pt->g[i] = isfinite(gbuf[i]) ? gbuf[i] : 1.0;
+		pt->gs[i] = !p->has_surrogate ? pt->g[i] : isfinite(gbuf[nc + i]) ? gbuf[nc + i] : 1.0;
+	}
 	for (int e = 0; e < s->n_eps; e++) {
 		int k = s->eps_index[e];
 		double gk = p->sense[k] * (pt->f[k] - o->eps_limit[k]) / o->range[k];
-		pt->g[p->n_constraints + e] = isfinite(gk) ? gk : 1.0;
+		pt->g[nc + e] = pt->gs[nc + e] = isfinite(gk) ? gk : 1.0;
 	}
 	pt->scalar = prsm_opt_scalar(p, o, pt->f);
 	if (!isfinite(pt->scalar)) {
@@ -212,7 +217,7 @@ static void evaluate(search *s, const double *x, int want_grad)
 		double w = b - a;
 		s->last_grad_s[j] = w > 0.0 ? (hi.scalar - lo.scalar) / w : 0.0;
 		for (int i = 0; i < m; i++)
-			s->last_grad_g[i * n + j] = w > 0.0 ? (hi.g[i] - lo.g[i]) / w : 0.0;
+			s->last_grad_g[i * n + j] = w > 0.0 ? (hi.gs[i] - lo.gs[i]) / w : 0.0;
 	}
 	s->last = centre;
 	s->last_has_grad = 1;
@@ -259,7 +264,7 @@ static void constraints_cb(unsigned m, double *result, unsigned n, const double 
 		return;
 	}
 	evaluate(s, x, grad != NULL);
-	memcpy(result, s->last.g, m * sizeof *result);
+	memcpy(result, s->last.gs, m * sizeof *result); /* the solver's view; we check g */
 	if (grad)
 		memcpy(grad, s->last_grad_g, (size_t)m * n * sizeof *grad);
 }

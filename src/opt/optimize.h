@@ -79,8 +79,11 @@ extern const char *const prsm_opt_stop_names[];
  * (n_constraints scaled violations, feasible when <= 0). When grad_objectives is not NULL (the
  * problem has exact gradients and the algorithm needs them) also write the gradients, row-major
  * (n_objectives x n_continuous and n_constraints x n_continuous). Entries that cannot be computed
- * may be NaN. Returns 0, or nonzero when the point cannot be evaluated at all (it then counts as
- * infeasible, whatever the values say). Must be deterministic.
+ * may be NaN. When the problem has_surrogate, constraints holds 2 n_constraints values: the
+ * checked violations first, then the smooth stand-ins the solver sees instead (e.g. a smoothed
+ * Monte Carlo yield for a piecewise-constant one: opt/robust.h); feasibility, the best point and
+ * the result always use the checked ones. Returns 0, or nonzero when the point cannot be
+ * evaluated at all (it then counts as infeasible, whatever the values say). Must be deterministic.
  */
 typedef int (*prsm_opt_eval_fn)(void *ctx, const double *x, const double *levels,
                                 double *objectives, double *constraints,
@@ -103,7 +106,8 @@ typedef struct {
 	int sense[PRSM_OPT_MAX_OBJECTIVES];  /* PRSM_OPT_MINIMISE or PRSM_OPT_MAXIMISE */
 	int n_constraints;
 	char constraint_name[PRSM_OPT_MAX_CONSTRAINTS][PRSM_OPT_NAME_MAX];
-	int has_gradient;                    /* eval writes exact gradients when asked */
+	int has_gradient;                    /* eval writes exact gradients (of the solver's values) when asked */
+	int has_surrogate;                   /* eval also writes the solver's stand-in of each constraint */
 	prsm_opt_eval_fn eval;
 	prsm_opt_prune_fn prune;             /* may be NULL: nothing is pruned */
 	void *ctx;
