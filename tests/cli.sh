@@ -496,6 +496,26 @@ r = json.load(open(sys.argv[1]))
 assert r["feasible"] is False and r["status"] == "infeasible", r["status"]
 assert r["violated"] == ["static_safety"], r["violated"]
 PY
+# robust constraints (the Monte Carlo yield of the candidate's study, common random numbers):
+# the example's best design meets every yield target; a bad tolerance at its pointer
+"$prsm" optimize "$src/studies/optimize-case-a-robust.json" --quiet > "$tmp/opt-rob.json"; check "optimize robust" 0 $?
+ok "optimize robust: feasible, every yield at or above its target, with its interval and samples" $py - "$tmp/opt-rob.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+assert r["feasible"] and r["violated"] == [], r["violated"]
+rob = r["best"]["robust"]
+assert len(rob) == 2, rob
+for e in rob:
+    assert e["satisfied"] and e["yield_percent"] >= e["yield_min_percent"], e
+    assert e["yield_low95_percent"] <= e["yield_percent"] <= e["yield_high95_percent"], e
+    assert e["samples"] == 256 and e["seed"] == 7, e
+assert 0 < r["robust"]["studies"] < r["evaluations"], r["robust"]
+PY
+$py -c 'import json, sys
+d = json.load(open(sys.argv[1])); d["robust"]["tolerances"][0]["parameter"] = "screw.colour_um"
+json.dump(d, open(sys.argv[2], "w"))' "$src/studies/optimize-case-a-robust.json" "$tmp/opt-rob-bad.json"
+"$prsm" optimize "$tmp/opt-rob-bad.json" > /dev/null 2> "$tmp/opt-rob-bad.txt"; check "optimize robust invalid" 1 $?
+ok "optimize robust invalid: the tolerance at its pointer" grep -q ': /robust/tolerances/0/parameter:' "$tmp/opt-rob-bad.txt"
 "$prsm" optimize > /dev/null 2>&1; check "optimize without a file" 64 $?
 "$prsm" optimize "$src/studies/optimize-case-a.json" --frobnicate > /dev/null 2>&1; check "optimize unknown option" 64 $?
 "$prsm" optimize "$tmp/does-not-exist.json" > /dev/null 2>&1; check "optimize missing file" 64 $?

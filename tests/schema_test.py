@@ -2073,9 +2073,10 @@ for path in optimization_documents:
     if res2:
         for r_ in (res, res2):
             r_.pop("elapsed_s", None)
+            r_.get("robust", {}).pop("elapsed_s", None)  # the robust studies' time
         check(f"{name}: deterministic for its seed", json.dumps(res, sort_keys=True) == json.dumps(res2, sort_keys=True))
 if optimization_documents:
-    base = [d for d in map(load_json, optimization_documents) if "multi_objective" not in d][0]
+    base = [d for d in map(load_json, optimization_documents) if "multi_objective" not in d and "robust" not in d][0]
     for bad_name, mutate, pointer in [
         ("an empty pitch range", lambda d: d["variables"].update(pitch_mm={"min": 3, "max": 1}), "/variables/pitch_mm/max"),
         ("a negative roller radius", lambda d: d["variables"].update(roller_radius_mm={"min": -1, "max": 4}), "/variables/roller_radius_mm/min"),
@@ -2094,6 +2095,38 @@ if optimization_documents:
         check(f"optimisation: {bad_name} is refused (exit 1) at {pointer}", rc == 1 and f": {pointer}:" in err, f"exit {rc}: {err[:300]}")
         if bad_name not in ("an empty pitch range", "two objectives without a method", "a critical speed without column"):
             check(f"optimisation: {bad_name} is refused by the schema", bool(schema_errors(V_OPT, bad)))
+    # robust constraints: every yield of the best design meets its target with its interval and
+    # samples; invalid robust sections refused at their pointers (by the schema too where it can)
+    for path in optimization_documents:
+        doc = load_json(path)
+        if "robust" not in doc:
+            continue
+        name = "studies/" + os.path.basename(path)
+        rc, res, out, err = prsm("optimize", path, "--quiet")
+        if not check(f"{name}: robust run exits 0", rc == 0 and res is not None, err[:300]):
+            continue
+        rob = res["best"].get("robust", [])
+        check(f"{name}: every robust constraint reported", len(rob) == len(doc["robust"]["constraints"]), rob)
+        for e_ in rob:
+            check(f"{name}: {e_['name']} meets its target by the Monte Carlo yield",
+                  e_["evaluated"] and e_["satisfied"] and e_["yield_percent"] >= e_["yield_min_percent"]
+                  and e_["yield_low95_percent"] <= e_["yield_percent"] <= e_["yield_high95_percent"]
+                  and e_["samples"] == doc["robust"]["monte_carlo"].get("samples", 256), e_)
+        check(f"{name}: the robust studies are counted", res["robust"]["studies"] > 0, res.get("robust"))
+        for bad_name, mutate, pointer, by_schema in [
+            ("an unknown toleranced parameter", lambda d: d["robust"]["tolerances"][0].update(parameter="screw.colour_um"), "/robust/tolerances/0/parameter", False),
+            ("a negative tolerance", lambda d: d["robust"]["tolerances"][1].update(tol_um=-2), "/robust/tolerances/1/tol_um", True),
+            ("a 100 % yield target", lambda d: d["robust"]["constraints"][0].update(yield_min_percent=100), "/robust/constraints/0/yield_min_percent", True),
+            ("an unknown robust output", lambda d: d["robust"]["constraints"][0].update(output="beauty"), "/robust/constraints/0/output", True),
+            ("too few robust samples", lambda d: d["robust"]["monte_carlo"].update(samples=4), "/robust/monte_carlo/samples", True),
+            ("an unknown assembly mode", lambda d: d["robust"].update(assembly={"mode": "sideways"}), "/robust/assembly/mode", True),
+        ]:
+            bad = copy.deepcopy(doc)
+            mutate(bad)
+            rc, res, out, err = prsm("optimize", write_doc(bad), "--quiet")
+            check(f"optimisation: {bad_name} is refused (exit 1) at {pointer}", rc == 1 and f": {pointer}:" in err, f"exit {rc}: {err[:300]}")
+            if by_schema:
+                check(f"optimisation: {bad_name} is refused by the schema", bool(schema_errors(V_OPT, bad)))
 
 # ---- 11. tolerance allocation (issue 7 item 4) -------------------------------------------------
 # the example allocations validate against allocation.schema.json; what `prsm allocate` prints

@@ -16,11 +16,13 @@
 #include "io/analysis_json.h"
 #include "io/design_json.h"
 #include "io/json_util.h"
+#include "io/study_json.h"
 #include "model/compliance.h"
 #include "model/geometry.h"
 #include "opt/design_problem.h"
 #include "opt/optimize.h"
 #include "opt/pareto.h"
+#include "opt/robust.h"
 #include "util/clock.h"
 
 #define PRSM_OPT_MODEL_VERSION "MODEL.md 2026-11 (§1, §2, §5, §6)"
@@ -30,7 +32,16 @@ enum { METHOD_SINGLE = 0, METHOD_WEIGHTED = 1, METHOD_PARETO = 2 };
 static const char *const method_names[] = {"single", "weighted_sum", "pareto", NULL};
 
 static const char *const doc_keys[] = {"name", "description", "design", "variables", "objectives",
-                                       "multi_objective", "constraints", "solver", NULL};
+                                       "multi_objective", "constraints", "robust", "solver", NULL};
+static const char *const robust_keys[] = {"tolerances", "correlations", "assembly", "monte_carlo",
+                                          "constraints", "surrogate", NULL};
+static const char *const robust_mc_keys[] = {"samples", "seed", "sampler", "block_size", "threads",
+                                             "failure", "edge_contact", NULL};
+static const char *const robust_constraint_keys[] = {"output", "spec", "yield_min_percent", NULL};
+static const char *const spec_keys[] = {"lower", "upper", NULL};
+/* Robust studies: default samples per candidate and the document's cap. */
+#define ROBUST_DEFAULT_SAMPLES 256
+#define ROBUST_MAX_SAMPLES 65536
 static const char *const variable_keys[] = {"starts", "pitch_mm", "lead_mm", "roller_radius_mm",
                                             "screw_radius_mm", "rollers", "engaged_threads",
                                             "flank_angle_deg", NULL};
@@ -56,7 +67,25 @@ typedef struct {
 	int points;                       /* Pareto levels */
 	double weight[PRSM_OPT_MAX_OBJECTIVES];
 	int rollers_auto_max;             /* rollers' max defaulted to the Z_max bound */
+	/* robust constraints (the "robust" section) */
+	int has_robust;
+	prsm_robust robust;
+	cJSON *study;                     /* the study document of a candidate: the base design (its
+	                                     geometry replaced per candidate), the section's tolerances,
+	                                     correlations, assembly and monte_carlo, the constrained
+	                                     outputs and specs, no sensitivities; owned */
+	int robust_output_of[PRSM_MC_MAX_OUTPUTS]; /* constraint index of each study output */
+	char sampler[16];                 /* the robust studies' sampler, as run */
+	size_t block_size;
+	int threads;
 } opt_doc;
+
+static void od_free(opt_doc *od)
+{
+	if (od)
+		cJSON_Delete(od->study);
+	free(od);
+}
 
 
 /* A continuous range {min, max} at obj[key]. */
@@ -326,6 +355,279 @@ static void read_solver(opt_doc *od, const cJSON *doc, size_t max_evaluations, p
 	                     tol, pr);
 }
 
+/* ---- robust constraints ---- */
+
+/* Set obj[key] to the number v (replacing it or adding it). */
+static void set_number(cJSON *obj, const char *key, double v)
+{
+	cJSON *it = cJSON_GetObjectItemCaseSensitive(obj, key);
+	if (it && cJSON_IsNumber(it))
+		cJSON_SetNumberValue(it, v);
+	else {
+		cJSON_DeleteItemFromObjectCaseSensitive(obj, key);
+		cJSON_AddNumberToObject(obj, key, v);
+	}
+}
+
+/* The flank angle in degrees that the design reader turns back into exactly beta_rad. */
+static double flank_deg_exact(double beta_rad)
+{
+	double deg = beta_rad * (180.0 / M_PI);
+	for (int k = 0; k < 8 && deg * (M_PI / 180.0) != beta_rad; k++)
+		deg = nextafter(deg, deg * (M_PI / 180.0) < beta_rad ? INFINITY : -INFINITY);
+	return deg;
+}
+
+/* Put candidate d's varied fields into the study document's design geometry: what
+ * prsm_dp_design_at changes in the base design, with the derived radii left to the rules. */
+static void candidate_geometry(cJSON *study, const prsm_design *d)
+{
+	cJSON *g = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(study, "design"),
+	                                            "geometry");
+	if (!g)
+		return;
+	static const char *const derived[] = {"screw_radius_mm", "nut_radius_mm", "roller_arc_radius_mm",
+	                                      "screw_crest_radius_mm", "screw_root_radius_mm",
+	                                      "roller_crest_radius_mm", "roller_root_radius_mm",
+	                                      "nut_crest_radius_mm", "nut_root_radius_mm",
+	                                      "nut_length_mm", NULL};
+	for (int k = 0; derived[k]; k++)
+		cJSON_DeleteItemFromObjectCaseSensitive(g, derived[k]);
+	set_number(g, "starts", d->starts);
+	set_number(g, "pitch_mm", d->pitch_mm);
+	if (isfinite(d->roller_radius_mm))
+		set_number(g, "roller_radius_mm", d->roller_radius_mm);
+	set_number(g, "rollers", d->rollers);
+	set_number(g, "engaged_threads", d->engaged_threads);
+	set_number(g, "flank_angle_deg", flank_deg_exact(d->flank_angle_rad));
+}
+
+/* prsm_robust_build_fn: the tolerance study of candidate d through the study reader (so the
+ * study is exactly the one an equivalent study document gives). */
+static int build_study(void *ctx, prsm_study **study, void **handle, const prsm_design *d,
+                       prsm_error *err)
+{
+	opt_doc *od = ctx;
+	candidate_geometry(od->study, d);
+	prsm_io_study *s = calloc(1, sizeof *s);
+	prsm_problems *pr = malloc(sizeof *pr);
+	int rc = 0;
+	if (!s || !pr) {
+		rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
+		goto fail;
+	}
+	prsm_problems_init(pr);
+	rc = prsm_io_study_load(s, od->study, NULL, pr);
+	if (rc) {
+		if (pr->count)
+			prsm_error_set(err, rc, NULL, "%s: %s", pr->items[0].pointer, pr->items[0].message);
+		else
+			prsm_error_set(err, rc, NULL, "the study could not be built");
+		goto fail;
+	}
+	free(pr);
+	*study = &s->study;
+	*handle = s;
+	return 0;
+fail:
+	free(pr);
+	free(s);
+	return rc;
+}
+
+static void release_study(void *ctx, void *handle)
+{
+	(void)ctx;
+	free(handle);
+}
+
+/* Re-point a problem of the candidate study document into the optimisation document. */
+static void add_study_problem(prsm_problems *pr, const opt_doc *od, const prsm_problem *p)
+{
+	char ptr[PRSM_JSON_POINTER_MAX];
+	const char *q = p->pointer;
+	if (strncmp(q, "/design", 7) == 0 && (q[7] == '\0' || q[7] == '/')) {
+		prsm_problems_add(pr, "/robust", "base_design", "the tolerance set is checked on the base "
+		                  "design, which its study refuses at %.80s: %.120s", q, p->message);
+		return;
+	}
+	if (strncmp(q, "/outputs/", 9) == 0 || strncmp(q, "/specs/", 7) == 0) {
+		int o = -1;
+		if (q[1] == 'o') {
+			o = (int)strtol(q + 9, NULL, 10);
+		} else {
+			const cJSON *outs = cJSON_GetObjectItemCaseSensitive(od->study, "outputs");
+			int i = 0;
+			const cJSON *it;
+			cJSON_ArrayForEach(it, outs) {
+				if (cJSON_IsString(it) && strncmp(q + 7, it->valuestring, strlen(it->valuestring)) == 0)
+					o = i;
+				i++;
+			}
+		}
+		int k = o >= 0 && o < PRSM_MC_MAX_OUTPUTS ? od->robust_output_of[o] : 0;
+		char base[PRSM_JSON_POINTER_MAX];
+		prsm_json_pointer_append_index(base, sizeof base, "/robust/constraints", k);
+		prsm_json_pointer_append(ptr, sizeof ptr, base, q[1] == 'o' ? "output" : "spec");
+		prsm_problems_add(pr, ptr, p->code, "%s", p->message);
+		return;
+	}
+	snprintf(ptr, sizeof ptr, "/robust%.*s", (int)(sizeof ptr - 8), q);
+	prsm_problems_add(pr, ptr, p->code, "%s", p->message);
+}
+
+/* One robust constraint at /robust/constraints/i into od->robust.c[k]; 0 when valid. */
+static int read_robust_constraint(opt_doc *od, const cJSON *it, const char *ip, prsm_problems *pr)
+{
+	const int before = prsm_problems_total(pr);
+	if (prsm_json_object_value(it, ip, pr))
+		return PRSM_EINVAL;
+	prsm_json_check_keys(it, ip, robust_constraint_keys, pr);
+	prsm_robust_constraint *c = &od->robust.c[od->robust.n];
+	memset(c, 0, sizeof *c);
+	const char *name = NULL;
+	char op[PRSM_JSON_POINTER_MAX];
+	prsm_json_pointer_append(op, sizeof op, ip, "output");
+	if (prsm_json_get_string(&name, it, ip, "output", PRSM_JSON_REQUIRED, PRSM_ROBUST_NAME_MAX - 1,
+	                         pr) == PRSM_JSON_PRESENT) {
+		prsm_output_kind kind;
+		if (prsm_output_parse(name, &kind))
+			prsm_problems_add(pr, op, "unknown_output",
+			                  "unknown output '%s': backlash_um, backlash_min_um, backlash_max_um, "
+			                  "load_sharing_factor, stiffness_N_per_um, stiffness_ratio, te_pp_um, "
+			                  "te_rms_um, efficiency, efficiency_back", name);
+		else
+			for (int k = 0; k < od->robust.n; k++)
+				if (strcmp(od->robust.c[k].output, name) == 0)
+					prsm_problems_add(pr, op, "duplicate", "%s has a robust constraint already "
+					                  "(at /robust/constraints/%d)", name, k);
+		snprintf(c->output, sizeof c->output, "%s", name);
+	}
+	const cJSON *spec = NULL;
+	char sp[PRSM_JSON_POINTER_MAX];
+	if (prsm_json_get_section(&spec, sp, sizeof sp, it, ip, "spec", PRSM_JSON_REQUIRED, spec_keys,
+	                          pr) == PRSM_JSON_PRESENT) {
+		const prsm_json_range any = {-1e300, 1e300, 0, 0};
+		int lo = prsm_json_get_number(&c->spec.lower, spec, sp, "lower", PRSM_JSON_OPTIONAL, any, pr);
+		int hi = prsm_json_get_number(&c->spec.upper, spec, sp, "upper", PRSM_JSON_OPTIONAL, any, pr);
+		c->spec.has_lower = lo == PRSM_JSON_PRESENT;
+		c->spec.has_upper = hi == PRSM_JSON_PRESENT;
+		if (lo == PRSM_JSON_ABSENT && hi == PRSM_JSON_ABSENT)
+			prsm_problems_add(pr, sp, "required", "a spec needs lower, upper or both");
+		if (c->spec.has_lower && c->spec.has_upper && !(c->spec.lower < c->spec.upper)) {
+			char up[PRSM_JSON_POINTER_MAX];
+			prsm_json_pointer_append(up, sizeof up, sp, "upper");
+			prsm_problems_add(pr, up, "range", "upper must be greater than lower");
+		}
+	}
+	double pct = NAN;
+	if (prsm_json_get_number(&pct, it, ip, "yield_min_percent", PRSM_JSON_REQUIRED,
+	                         (prsm_json_range){0.0, 100.0, 1, 1}, pr) == PRSM_JSON_PRESENT)
+		c->yield_min = pct / 100.0;
+	if (prsm_problems_total(pr) > before)
+		return PRSM_EINVAL;
+	od->robust.n++;
+	return 0;
+}
+
+/* The "robust" section: its constraints, and the study document every candidate's study is
+ * made from, checked once on the base design (every problem re-pointed under /robust). */
+static void read_robust(opt_doc *od, const cJSON *doc, const cJSON *design, int design_ok,
+                        prsm_problems *pr)
+{
+	const cJSON *r = NULL;
+	char ptr[PRSM_JSON_POINTER_MAX];
+	if (prsm_json_get_section(&r, ptr, sizeof ptr, doc, "", "robust", PRSM_JSON_OPTIONAL,
+	                          robust_keys, pr) != PRSM_JSON_PRESENT)
+		return;
+	const int before = prsm_problems_total(pr);
+	prsm_robust_init(&od->robust);
+	od->has_robust = 1;
+	int kind = PRSM_ROBUST_KERNEL;
+	prsm_json_get_enum(&kind, r, ptr, "surrogate", PRSM_JSON_OPTIONAL, prsm_robust_surrogate_names, pr);
+	od->robust.surrogate = (prsm_robust_surrogate)kind;
+	const cJSON *arr = cJSON_GetObjectItemCaseSensitive(r, "constraints");
+	if (!cJSON_IsArray(arr) || cJSON_GetArraySize(arr) < 1 ||
+	    cJSON_GetArraySize(arr) > PRSM_ROBUST_MAX) {
+		prsm_problems_add(pr, "/robust/constraints", arr ? "count" : "required",
+		                  "an array of 1..%d robust constraints {output, spec, yield_min_percent}",
+		                  PRSM_ROBUST_MAX);
+	} else {
+		int i = 0;
+		const cJSON *it;
+		cJSON_ArrayForEach(it, arr) {
+			char ip[PRSM_JSON_POINTER_MAX];
+			prsm_json_pointer_append_index(ip, sizeof ip, "/robust/constraints", i++);
+			read_robust_constraint(od, it, ip, pr);
+		}
+	}
+	if (!cJSON_GetObjectItemCaseSensitive(r, "tolerances"))
+		prsm_problems_add(pr, "/robust/tolerances", "required", "robust constraints need the "
+		                  "tolerance set (as a study's tolerances)");
+	const cJSON *mc = NULL;
+	char mp[PRSM_JSON_POINTER_MAX];
+	prsm_json_get_section(&mc, mp, sizeof mp, r, ptr, "monte_carlo", PRSM_JSON_OPTIONAL,
+	                      robust_mc_keys, pr);
+	int samples = ROBUST_DEFAULT_SAMPLES;
+	prsm_json_get_int(&samples, mc, mp, "samples", PRSM_JSON_OPTIONAL, 16, ROBUST_MAX_SAMPLES, pr);
+	if (prsm_problems_total(pr) > before || !design_ok)
+		return;
+
+	/* the study document of the base design: every candidate's is this one with its geometry */
+	cJSON *st = cJSON_CreateObject();
+	od->study = st;
+	if (!st)
+		return;
+	cJSON_AddItemToObject(st, "design", cJSON_Duplicate(design, 1));
+	static const char *const copied[] = {"tolerances", "correlations", "assembly", NULL};
+	for (int k = 0; copied[k]; k++) {
+		const cJSON *it = cJSON_GetObjectItemCaseSensitive(r, copied[k]);
+		if (it)
+			cJSON_AddItemToObject(st, copied[k], cJSON_Duplicate(it, 1));
+	}
+	cJSON *outs = cJSON_AddArrayToObject(st, "outputs");
+	cJSON *specs = cJSON_AddObjectToObject(st, "specs");
+	for (int k = 0; k < od->robust.n; k++) {
+		const prsm_robust_constraint *c = &od->robust.c[k];
+		od->robust_output_of[k] = k;
+		cJSON_AddItemToArray(outs, cJSON_CreateString(c->output));
+		cJSON *so = cJSON_AddObjectToObject(specs, c->output);
+		if (c->spec.has_lower)
+			cJSON_AddNumberToObject(so, "lower", c->spec.lower);
+		if (c->spec.has_upper)
+			cJSON_AddNumberToObject(so, "upper", c->spec.upper);
+	}
+	cJSON *smc = mc ? cJSON_Duplicate(mc, 1) : cJSON_CreateObject();
+	cJSON_AddItemToObject(st, "monte_carlo", smc);
+	if (!cJSON_GetObjectItemCaseSensitive(smc, "samples"))
+		cJSON_AddNumberToObject(smc, "samples", ROBUST_DEFAULT_SAMPLES);
+	cJSON *sens = cJSON_AddObjectToObject(st, "sensitivity");
+	cJSON_AddFalseToObject(sens, "src");
+	cJSON_AddFalseToObject(sens, "stack");
+
+	prsm_io_study *s = calloc(1, sizeof *s);
+	prsm_problems *sp = malloc(sizeof *sp);
+	if (s && sp) {
+		prsm_problems_init(sp);
+		if (prsm_io_study_load(s, st, NULL, sp)) {
+			for (int i = 0; i < sp->count; i++)
+				add_study_problem(pr, od, &sp->items[i]);
+			if (sp->count == 0)
+				prsm_problems_add(pr, "/robust", "invalid", "the robust study cannot be built");
+		} else {
+			od->robust.seed = s->study.mc.seed;
+			od->robust.samples = s->study.mc.samples;
+			snprintf(od->sampler, sizeof od->sampler, "%s", prsm_sampler_name(s->study.mc.sampler));
+			od->block_size = s->study.mc.block_size;
+			od->threads = s->study.mc.threads;
+		}
+	} else {
+		prsm_problems_add(pr, "/robust", "memory", "out of memory");
+	}
+	free(sp);
+	free(s);
+}
+
 /* Replaced radii of the base design as warnings (the optimiser's rules recompute them). */
 static void base_warnings(const cJSON *doc, prsm_problems *warnings)
 {
@@ -373,8 +675,16 @@ static int load(opt_doc *od, const cJSON *doc, size_t max_evaluations, prsm_prob
 	read_multi(od, doc, pr);
 	read_constraints(od, doc, pr);
 	read_solver(od, doc, max_evaluations, pr);
+	read_robust(od, doc, design, design_ok, pr);
 	if (prsm_problems_total(pr) > before)
 		return PRSM_EINVAL;
+	if (od->has_robust) {
+		od->robust.build = build_study;
+		od->robust.release = release_study;
+		od->robust.build_ctx = od;
+		od->spec.robust = &od->robust;
+		od->spec.robust_gate_tol = od->options.constraint_tol;
+	}
 	base_warnings(doc, warnings);
 	prsm_dp_spec *s = &od->spec;
 	/* the rollers' max left out: up to the largest Z_max any start count reaches */
@@ -447,7 +757,7 @@ int prsm_io_optimization_check(const cJSON *doc, size_t max_evaluations, prsm_pr
 	if (!od)
 		return PRSM_ENOMEM;
 	int rc = load(od, doc, max_evaluations, warnings, problems);
-	free(od);
+	od_free(od);
 	return rc;
 }
 
@@ -536,8 +846,71 @@ static cJSON *objectives_json(const opt_doc *od, const double *values)
 	return arr;
 }
 
+static double percent(double fraction)
+{
+	return 100.0 * fraction;
+}
+
+/* The robust constraints of candidate d (unresolved) as the result's "robust" array, re-run
+ * from scratch (the cache emptied first: the reported yields are a fresh Monte Carlo run of the
+ * study, which must agree with what the search saw). g holds the point's checked violations.
+ * Unsatisfied names go to viol. Returns 0, PRSM_ECANCELLED or PRSM_ENOMEM. */
+static int robust_json(cJSON **out, const opt_doc *od, const prsm_design *d, const double *g,
+                       cJSON *viol)
+{
+	prsm_robust_eval re;
+	prsm_error err = PRSM_ERROR_INIT;
+	prsm_robust_forget(od->spec.robust);
+	int rc = prsm_dp_robust(&re, &od->spec, d, g, &err);
+	if (rc == PRSM_ENOMEM)
+		return rc;
+	cJSON *arr = cJSON_CreateArray();
+	const int nd = od->spec.n_constraints;
+	for (int k = 0; k < od->robust.n; k++) {
+		const prsm_robust_constraint *c = &od->robust.c[k];
+		const prsm_robust_value *v = &re.v[k];
+		cJSON *e = cJSON_CreateObject();
+		char name[PRSM_OPT_NAME_MAX];
+		snprintf(name, sizeof name, "yield_%.40s", c->output);
+		cJSON_AddStringToObject(e, "name", name);
+		cJSON_AddStringToObject(e, "output", c->output);
+		cJSON *sp = cJSON_AddObjectToObject(e, "spec");
+		if (c->spec.has_lower)
+			prsm_json_add_number(sp, "lower", c->spec.lower);
+		if (c->spec.has_upper)
+			prsm_json_add_number(sp, "upper", c->spec.upper);
+		prsm_json_add_number(e, "yield_min_percent", percent(c->yield_min));
+		const int ok = rc == 0 && re.evaluated;
+		cJSON_AddBoolToObject(e, "evaluated", ok);
+		prsm_json_add_number(e, "yield_percent", ok ? percent(v->yield) : NAN);
+		prsm_json_add_number(e, "yield_low95_percent", ok ? percent(v->yield_low95) : NAN);
+		prsm_json_add_number(e, "yield_high95_percent", ok ? percent(v->yield_high95) : NAN);
+		cJSON_AddNumberToObject(e, "samples", ok ? (double)re.samples : 0.0);
+		cJSON_AddNumberToObject(e, "failed_samples", ok ? (double)re.failed : 0.0);
+		cJSON_AddNumberToObject(e, "edge_contact_samples", ok ? (double)re.edge : 0.0);
+		cJSON_AddNumberToObject(e, "seed", (double)od->robust.seed);
+		cJSON_AddStringToObject(e, "sampler", od->sampler);
+		prsm_json_add_number(e, "mean", ok ? v->mean : NAN);
+		prsm_json_add_number(e, "sd", ok ? v->sd : NAN);
+		prsm_json_add_number(e, "normal_yield_percent", ok ? percent(v->normal_yield) : NAN);
+		prsm_json_add_number(e, "surrogate_yield_percent", ok ? percent(v->smooth_yield) : NAN);
+		/* the search's verdict; a fresh run gives the same yield (common random numbers) */
+		const int sat = g[nd + k] <= od->options.constraint_tol && ok &&
+		                v->g <= od->options.constraint_tol;
+		cJSON_AddBoolToObject(e, "satisfied", sat);
+		if (!ok)
+			cJSON_AddStringToObject(e, "message", rc ? err.message : re.failure);
+		if (!sat && viol)
+			cJSON_AddItemToArray(viol, cJSON_CreateString(name));
+		cJSON_AddItemToArray(arr, e);
+	}
+	*out = arr;
+	return rc == PRSM_ECANCELLED ? rc : 0;
+}
+
 /* The design at (x, levels) analysed in full: into o as design (+ analysis when full),
- * variables, figures, objectives and constraints. Returns 0 or PRSM_ENOMEM. */
+ * variables, figures, objectives, constraints and the robust constraints. Returns 0,
+ * PRSM_ECANCELLED (a robust study was cancelled) or PRSM_ENOMEM. */
 static int point_json(cJSON *o, const opt_doc *od, const double *x, const double *levels,
                       const double *g, int full, cJSON *violated)
 {
@@ -548,6 +921,7 @@ static int point_json(cJSON *o, const opt_doc *od, const double *x, const double
 	if (!a)
 		return PRSM_ENOMEM;
 	prsm_dp_design_at(&d, &od->spec, x, levels);
+	const prsm_design unresolved = d;
 	int rc = prsm_dp_analyse(&fig, &d, &od->spec, 1, a, &perf);
 	cJSON_AddItemToObject(o, "variables", variables_json(&d));
 	double f[PRSM_OPT_MAX_OBJECTIVES];
@@ -555,6 +929,13 @@ static int point_json(cJSON *o, const opt_doc *od, const double *x, const double
 		f[k] = fig.objective[od->spec.objective[k]];
 	cJSON_AddItemToObject(o, "objectives", objectives_json(od, f));
 	cJSON_AddItemToObject(o, "constraints", constraints_json(od, &fig, g, violated));
+	int rrc = 0;
+	if (od->has_robust) {
+		cJSON *rob = NULL;
+		rrc = robust_json(&rob, od, &unresolved, g, violated);
+		if (rob)
+			cJSON_AddItemToObject(o, "robust", rob);
+	}
 	cJSON_AddItemToObject(o, "figures", figures_json(&fig, &d));
 	if (rc == 0) {
 		prsm_problems w;
@@ -572,7 +953,7 @@ static int point_json(cJSON *o, const opt_doc *od, const double *x, const double
 	}
 	prsm_performance_free(&perf);
 	free(a);
-	return 0;
+	return rrc;
 }
 
 static void add_run_figures(cJSON *doc, const opt_doc *od, size_t evaluations, size_t combos,
@@ -598,6 +979,29 @@ static void add_run_figures(cJSON *doc, const opt_doc *od, size_t evaluations, s
 	cJSON_AddNumberToObject(cb, "runs_feasible", (double)runs_feasible);
 	prsm_json_add_number(doc, "elapsed_s", elapsed_s);
 }
+
+/* The robust studies' settings and cost, after the search and the result's re-checks. */
+static void add_robust_summary(cJSON *doc, const opt_doc *od)
+{
+	if (!od->has_robust)
+		return;
+	const prsm_robust *r = &od->robust;
+	cJSON *ro = cJSON_AddObjectToObject(doc, "robust");
+	cJSON_AddStringToObject(ro, "method", "Monte Carlo yield of the candidate's tolerance study "
+	                        "with common random numbers (the same seed, samples, sampler and "
+	                        "block size for every candidate); run only when every other "
+	                        "constraint holds");
+	cJSON_AddStringToObject(ro, "surrogate", prsm_robust_surrogate_names[r->surrogate]);
+	cJSON_AddNumberToObject(ro, "samples_per_study", (double)r->samples);
+	cJSON_AddNumberToObject(ro, "seed", (double)r->seed);
+	cJSON_AddStringToObject(ro, "sampler", od->sampler);
+	cJSON_AddNumberToObject(ro, "block_size", (double)od->block_size);
+	cJSON_AddNumberToObject(ro, "threads", od->threads);
+	cJSON_AddNumberToObject(ro, "studies", (double)r->studies);
+	cJSON_AddNumberToObject(ro, "samples", (double)r->samples_total);
+	prsm_json_add_number(ro, "elapsed_s", r->elapsed_s);
+}
+
 
 static cJSON *result_head(const opt_doc *od, const prsm_problems *warnings)
 {
@@ -670,6 +1074,7 @@ int prsm_io_optimization_execute(cJSON **result, const cJSON *doc, volatile int 
 	od->problem.ctx = &od->spec;
 	prsm_opt_options *o = &od->options;
 	o->cancel = cancel;
+	od->robust.cancel = cancel;
 	progress_forward(o, progress, progress_ctx);
 	if (max_time_s > 0.0 && max_time_s < o->max_time_s)
 		o->max_time_s = max_time_s;
@@ -706,6 +1111,7 @@ int prsm_io_optimization_execute(cJSON **result, const cJSON *doc, volatile int 
 				lead = i;
 			}
 		}
+		od->robust.cancel = NULL; /* the result's re-checks run to the end */
 		size_t runs = front->anchor[0].runs + front->anchor[1].runs;
 		size_t feas = front->anchor[0].runs_feasible + front->anchor[1].runs_feasible;
 		add_run_figures(out, od, front->evaluations, front->anchor[0].combinations,
@@ -743,6 +1149,7 @@ int prsm_io_optimization_execute(cJSON **result, const cJSON *doc, volatile int 
 			rc = run_rc;
 			goto cleanup;
 		}
+		od->robust.cancel = NULL; /* the result's re-checks run to the end */
 		add_run_figures(out, od, r->evaluations, r->combinations, r->pruned, r->runs,
 		                r->runs_feasible, r->stop, r->cancelled || run_rc == PRSM_ECANCELLED,
 		                r->elapsed_s);
@@ -764,6 +1171,7 @@ int prsm_io_optimization_execute(cJSON **result, const cJSON *doc, volatile int 
 		if (rc == 0)
 			rc = run_rc;
 	}
+	add_robust_summary(out, od);
 cleanup:
 	if (rc && rc != PRSM_ECANCELLED && *result) {
 		cJSON_Delete(*result);
@@ -771,6 +1179,6 @@ cleanup:
 	}
 	free(front);
 	free(r);
-	free(od);
+	od_free(od);
 	return rc;
 }
