@@ -364,6 +364,45 @@ static void test_shutdown_resume(void **state)
 	prsm_jobs_close(j);
 }
 
+/* The optimisation kind applies the service's sample cap to a robust constraint's study, and
+ * its evaluation cap to the solver, each at its field. */
+static void test_optimization_kind_caps(void **state)
+{
+	(void)state;
+	const prsm_job_kind *k = prsm_job_kind_by_collection("optimizations");
+	assert_ptr_equal(k, &prsm_job_kind_optimization);
+	assert_ptr_equal(prsm_job_kind_by_collection("allocations"), &prsm_job_kind_allocation);
+	char dir[512], path[1024];
+	prsm_test_source_dir(dir, sizeof dir);
+	snprintf(path, sizeof path, "%s/studies/optimize-case-a-robust.json", dir);
+	size_t len = 0;
+	char *text = prsm_test_read_file(path, &len);
+	assert_non_null(text);
+	cJSON *doc = cJSON_ParseWithLength(text, len);
+	free(text);
+	assert_non_null(doc);
+	prsm_job_limits lim = {100, 60.0, 1}; /* 100 samples or evaluations */
+	prsm_problems pr;
+	prsm_problems_init(&pr);
+	cJSON *norm = NULL;
+	assert_int_equal(k->normalise(&norm, doc, &lim, &pr), PRSM_EINVAL);
+	assert_null(norm);
+	int cap_samples = 0, cap_evaluations = 0;
+	for (int i = 0; i < pr.count; i++) {
+		cap_samples |= strcmp(pr.items[i].pointer, "/robust/monte_carlo/samples") == 0;
+		cap_evaluations |= strcmp(pr.items[i].pointer, "/solver/max_evaluations") == 0;
+	}
+	assert_true(cap_samples);
+	assert_true(cap_evaluations);
+	/* within the caps it is the canonical document itself */
+	lim.max_samples = 200000;
+	prsm_problems_init(&pr);
+	assert_int_equal(k->normalise(&norm, doc, &lim, &pr), 0);
+	assert_true(cJSON_Compare(norm, doc, 1));
+	cJSON_Delete(norm);
+	cJSON_Delete(doc);
+}
+
 static void test_study_kind(void **state)
 {
 	(void)state;
@@ -437,6 +476,7 @@ int main(void)
 		cmocka_unit_test_setup_teardown(test_cancel_and_queue_cap, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_cancel_keeps_best, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_shutdown_resume, setup, teardown),
+		cmocka_unit_test(test_optimization_kind_caps),
 		cmocka_unit_test_setup_teardown(test_study_kind, setup, teardown),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);

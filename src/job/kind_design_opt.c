@@ -75,6 +75,15 @@ static int optimization_normalise(cJSON **out, const cJSON *doc, const prsm_job_
 {
 	*out = NULL;
 	int rc = prsm_io_optimization_check(doc, lim->max_samples, NULL, problems);
+	/* robust constraints run a study per candidate: its samples are capped like a study's */
+	const cJSON *mc = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(doc, "robust"), "monte_carlo");
+	const cJSON *samples = cJSON_GetObjectItemCaseSensitive(mc, "samples");
+	if (lim->max_samples && cJSON_IsNumber(samples) && samples->valuedouble > (double)lim->max_samples) {
+		prsm_problems_add(problems, "/robust/monte_carlo/samples", "service_cap",
+		                  "%.0f samples per candidate: this service runs at most %zu per study", samples->valuedouble,
+		                  lim->max_samples);
+		rc = PRSM_EINVAL;
+	}
 	if (rc)
 		return rc;
 	*out = without(doc, opt_volatile);
