@@ -2181,6 +2181,44 @@ if "allocation.schema.json" in schemas and "allocation-result.schema.json" in sc
         rc, _, _, err = prsm("allocate", write_doc(bad), "--quiet")
         check(f"allocation: {bad_name} is refused by prsm allocate at {pointer}", rc == 1 and pointer in err, f"exit {rc}: {err[-300:]}")
 
+# ---- 12. prsm batch: input and output lines against batch-line and batch-result schemas -------
+V_BATCH_LINE = make_validator(schemas["batch-line.schema.json"])
+V_BATCH_RESULT = make_validator(schemas["batch-result.schema.json"])
+if True:
+    study = load_json(os.path.join(SRC, "studies", "case-a-tolerances.json"))
+    study["monte_carlo"] = {"samples": 256, "seed": 3, "block_size": 256}
+    study["sensitivity"] = {"src": False, "stack": False}
+    opt = load_json(os.path.join(SRC, "studies", "optimize-case-a.json"))
+    opt["solver"]["max_evaluations"] = 300
+    good = [{"kind": "study", "request": study, "id": "s"},
+            {"kind": "optimization", "request": opt, "id": 7},
+            {"kind": "allocation", "request": load_json(os.path.join(SRC, "studies", "allocate-ls1.json"))}]
+    bad = [{"kind": "study", "request": {"tolerances": []}},
+           {"kind": "allocation", "request": {"allocate": 1}, "id": "bad-alloc"}]
+    for i, line in enumerate(good):
+        errs = schema_errors(V_BATCH_LINE, line)
+        check(f"batch: input line {i + 1} ({line['kind']}) matches batch-line.schema.json", not errs, errs)
+    for line in bad:
+        check(f"batch: an invalid {line['kind']} request is refused by batch-line.schema.json",
+              bool(schema_errors(V_BATCH_LINE, line)))
+    lines = [json.dumps(x) for x in good + bad] + ["{not json"]
+    with tempfile.TemporaryDirectory() as d:
+        path = os.path.join(d, "in.jsonl")
+        with open(path, "w") as f:
+            f.write("\n".join(lines) + "\n")
+        rc, _, out, err = prsm("batch", path, "--db", os.path.join(d, "b.db"), "--quiet")
+    check("batch: exit 1 with invalid lines", rc == 1, f"exit {rc}: {err[-300:]}")
+    rows = [strict_loads(l) for l in out.splitlines() if l.strip()]
+    check("batch: one result line per input line, in order", [r["line"] for r in rows] == list(range(1, 7)),
+          str([r.get("line") for r in rows]))
+    for r in rows:
+        errs = schema_errors(V_BATCH_RESULT, r)
+        check(f"batch: result line {r['line']} ({r['state']}) matches batch-result.schema.json", not errs, errs)
+    check("batch: the states", [r["state"] for r in rows] == ["done", "done", "done", "invalid", "invalid", "invalid"],
+          str([r["state"] for r in rows]))
+    check("batch: problems of an invalid request at their pointers, relative to the request",
+          any(e["pointer"].startswith("/allocate") for e in rows[4]["problem"]["errors"]) and rows[4]["id"] == "bad-alloc")
+
 if known_seen:
     print(f"known disagreements: {len(known_seen)} still reproduce (see KNOWN in {os.path.basename(__file__)})")
 print(f"schemas: {passed} passed, {failed} failed")
