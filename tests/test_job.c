@@ -398,7 +398,15 @@ static void test_optimization_kind_caps(void **state)
 	lim.max_samples = 200000;
 	prsm_problems_init(&pr);
 	assert_int_equal(k->normalise(&norm, doc, &lim, &pr), 0);
+	/* the robust studies' thread count cannot change the result: not in the cache key */
+	cJSON *robust_mc = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(doc, "robust"), "monte_carlo");
+	assert_non_null(robust_mc);
+	cJSON_DeleteItemFromObjectCaseSensitive(robust_mc, "threads");
 	assert_true(cJSON_Compare(norm, doc, 1));
+	cJSON_Delete(norm);
+	cJSON_AddNumberToObject(robust_mc, "threads", 2);
+	assert_int_equal(k->normalise(&norm, doc, &lim, &pr), 0);
+	assert_null(cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(norm, "robust"), "monte_carlo"), "threads"));
 	cJSON_Delete(norm);
 	cJSON_Delete(doc);
 }

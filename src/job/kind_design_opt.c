@@ -6,7 +6,7 @@
  * objective so far) and the service's limits: the per-job evaluation or sample cap (the
  * service's max_samples) checked when the job is submitted, the time cap, and for allocations
  * the engine threads. A cancelled run hands back its best point so far, which the job keeps.
- * Thread counts cannot change a result, so an allocation's are dropped from the cache key.
+ * Thread counts cannot change a result, so they are dropped from the cache key.
  */
 #include "job/kind.h"
 
@@ -64,8 +64,9 @@ static cJSON *without(const cJSON *doc, const char *const *const *paths)
 	return norm;
 }
 
-/* an optimisation runs on one thread: nothing to drop */
-static const char *const *const opt_volatile[] = {NULL};
+/* an optimisation runs on one thread; its robust constraints' studies may use more */
+static const char *const opt_robust_threads[] = {"robust", "monte_carlo", "threads", NULL};
+static const char *const *const opt_volatile[] = {opt_robust_threads, NULL};
 
 static const char *const alloc_threads[] = {"monte_carlo", "threads", NULL};
 static const char *const alloc_study_threads[] = {"study", "monte_carlo", "threads", NULL};
