@@ -7,7 +7,12 @@
 // service's openapi lists them, the optimisation view (a Pareto sweep: the front's SVG points and a
 // clicked point's design against the API, the best design, cancel) and the allocation view (case A
 // and LS-1: the tables and charts against the API, cancel), or prints "SKIPPED ..." for a view the
-// service does not serve; saves screenshots, and stops the server.
+// service does not serve. Throughout: Tab order and focus rings, Chromium's accessibility tree (every
+// control, link, chart and progress bar named, every chart described), text contrast computed in
+// the page, nothing wider than a 1366 x 768 laptop screen (viewport screenshots of the form and the
+// results). Then a second server with --token-file: the 401 points at the page's API token field,
+// with the token a study runs and cancels, the token stays out of exports and localStorage. Saves
+// screenshots, and stops the servers.
 //
 //   node tests/browser/run.mjs --prsm build/prsm --source . --artifacts build/browser-artifacts \
 //        [--work build/browser-test] [--chromium /usr/bin/chromium] [--keep]
@@ -77,9 +82,11 @@ function ensurePlaywright() {
 }
 
 // ---- the server --------------------------------------------------------------------------------
-async function startServer(dbDir) {
+async function startServer(dbDir, extra = []) {
+  const env = { ...process.env };
+  delete env.PRSM_TOKEN; // the first server takes no token; the second one gets --token-file
   const child = spawn(path.resolve(args.prsm), ['serve', '--host', '127.0.0.1', '--port', '0', '--db', path.join(dbDir, 'prsm.db'),
-    '--data-dir', source, '--workers', '1'], { stdio: ['ignore', 'pipe', 'pipe'] });
+    '--data-dir', source, '--workers', '1', ...extra], { stdio: ['ignore', 'pipe', 'pipe'], env });
   let out = '';
   const origin = await new Promise((resolve, reject) => {
     const timer = setTimeout(() => reject(new Error(`prsm serve did not start:\n${out}`)), 15000);
@@ -131,37 +138,196 @@ function examplesAreCopies() {
   return manifest;
 }
 
+// A page on a laptop screen (1366 x 768) that may talk to `origin` only; external requests and
+// page errors are collected for the checks at the end.
+async function openPage(browser, origin) {
+  const context = await browser.newContext({ viewport: { width: 1366, height: 768 }, deviceScaleFactor: 1 });
+  const external = [], pageErrors = [];
+  await context.route('**/*', route => {
+    const u = route.request().url();
+    if (u.startsWith(origin + '/') || u.startsWith('data:') || u.startsWith('blob:')) return route.continue();
+    external.push(u);
+    return route.abort();
+  });
+  const page = await context.newPage();
+  page.on('pageerror', e => pageErrors.push(e.message));
+  page.setDefaultTimeout(20000);
+  return { context, page, external, pageErrors };
+}
+
 async function main() {
   examplesAreCopies();
   const entry = ensurePlaywright();
   const { chromium } = await import(pathToFileURL(entry).href);
   const dbDir = fs.mkdtempSync(path.join(os.tmpdir(), 'prsm-browser-'));
-  const { child, origin } = await startServer(dbDir);
-  ORIGIN = origin;
-  log(`prsm serve at ${origin}`);
+  const servers = [];
   let browser;
   try {
+    const first = await startServer(dbDir);
+    servers.push(first.child);
+    ORIGIN = first.origin;
+    log(`prsm serve at ${ORIGIN}`);
     browser = await chromium.launch({ executablePath: chromiumPath, headless: true, args: ['--no-sandbox', '--disable-gpu', '--disable-dev-shm-usage'] });
-    const context = await browser.newContext({ viewport: { width: 1366, height: 900 }, deviceScaleFactor: 1 });
-    const external = [], pageErrors = [];
-    await context.route('**/*', route => {
-      const u = route.request().url();
-      if (u.startsWith(origin + '/') || u.startsWith('data:') || u.startsWith('blob:')) return route.continue();
-      external.push(u);
-      return route.abort();
-    });
-    const page = await context.newPage();
-    page.on('pageerror', e => pageErrors.push(e.message));
-    page.setDefaultTimeout(20000);
-    await run(page);
-    check('no request left the server (everything served by prsm serve)', external.length === 0, external.join(', '));
-    check('no JavaScript errors in the page', pageErrors.length === 0, pageErrors.join(' | '));
+    const a = await openPage(browser, ORIGIN);
+    await run(a.page);
+    check('no request left the server (everything served by prsm serve)', a.external.length === 0, a.external.join(', '));
+    check('no JavaScript errors in the page', a.pageErrors.length === 0, a.pageErrors.join(' | '));
+    await a.context.close();
+
+    // a second server that wants a bearer token for POST and DELETE (--token-file)
+    const token = `prsm-test-${process.pid}-${Date.now().toString(36)}`;
+    const tokenDir = path.join(dbDir, 'token');
+    fs.mkdirSync(tokenDir);
+    const tokenFile = path.join(tokenDir, 'token.txt');
+    fs.writeFileSync(tokenFile, `${token}\n`, { mode: 0o600 });
+    const second = await startServer(tokenDir, ['--token-file', tokenFile]);
+    servers.push(second.child);
+    log(`prsm serve --token-file at ${second.origin}`);
+    const b = await openPage(browser, second.origin);
+    const saved = ORIGIN;
+    ORIGIN = second.origin;
+    try { await tokenRun(b.page, token); } finally { ORIGIN = saved; }
+    check('token server: no request left the server', b.external.length === 0, b.external.join(', '));
+    check('token server: no JavaScript errors in the page', b.pageErrors.length === 0, b.pageErrors.join(' | '));
+    await b.context.close();
   } finally {
     if (browser) await browser.close();
-    const code = await stopServer(child);
-    check('prsm serve stopped cleanly on SIGTERM', code === 0, String(code));
+    for (const child of servers) {
+      const code = await stopServer(child);
+      check('prsm serve stopped cleanly on SIGTERM', code === 0, String(code));
+    }
     if (!args.keep) fs.rmSync(dbDir, { recursive: true, force: true });
   }
+}
+
+// ---- accessibility and layout checks, run in the page as it stands ------------------------------
+// Chromium's own accessibility tree (CDP Accessibility.getFullAXTree: the names a screen reader
+// gets): every control, link, image and progress bar that is not hidden has a name, and every
+// image (the charts' <svg role="img">) a description.
+const NAMED_ROLES = new Set(['textbox', 'spinbutton', 'combobox', 'listbox', 'checkbox', 'radio', 'switch', 'slider', 'searchbox',
+  'button', 'link', 'img', 'image', 'progressbar', 'menuitem', 'tab']);
+async function axTree(page) {
+  const cdp = await page.context().newCDPSession(page);
+  try {
+    await cdp.send('Accessibility.enable');
+    const { nodes } = await cdp.send('Accessibility.getFullAXTree');
+    const describe = async n => {
+      if (!n.backendDOMNodeId) return `(${n.role && n.role.value})`;
+      try {
+        const { node } = await cdp.send('DOM.describeNode', { backendNodeId: n.backendDOMNodeId });
+        const attrs = Object.fromEntries((node.attributes || []).reduce((a, v, i, all) => (i % 2 ? a : a.concat([[v, all[i + 1]]])), []));
+        return `${node.localName}${attrs.id ? `#${attrs.id}` : ''}${attrs.class ? `.${attrs.class.split(' ').join('.')}` : ''}`;
+      } catch { return `(${n.role && n.role.value})`; }
+    };
+    const out = [];
+    for (const n of nodes) {
+      if (n.ignored) continue;
+      const role = n.role && n.role.value;
+      const props = Object.fromEntries((n.properties || []).map(p => [p.name, p.value && p.value.value]));
+      out.push({ role, name: (n.name && n.name.value) || '', description: (n.description && n.description.value) || '', value: n.value && n.value.value, props, node: n });
+    }
+    for (const x of out) x.where = NAMED_ROLES.has(x.role) && (!x.name.trim() || ((x.role === 'img' || x.role === 'image') && !x.description.trim())) ? await describe(x.node) : '';
+    return out;
+  } finally {
+    await cdp.detach();
+  }
+}
+async function a11yAudit(page, where) {
+  const tree = await axTree(page);
+  const controls = tree.filter(x => NAMED_ROLES.has(x.role));
+  const unnamed = controls.filter(x => !x.name.trim());
+  check(`${where}: every control, link, chart and progress bar has an accessible name (${controls.length} in the accessibility tree)`, controls.length > 0 && unnamed.length === 0,
+    unnamed.map(x => `${x.role} ${x.where}`).join(', '));
+  const images = tree.filter(x => x.role === 'img' || x.role === 'image');
+  const undescribed = images.filter(x => !x.description.trim());
+  check(`${where}: every chart (${images.length}) has a description`, undescribed.length === 0, undescribed.map(x => x.where).join(', '));
+  // the same from the DOM: every chart is an <svg role="img"> (a scatter of point buttons: role="group")
+  // named by its <title> and described by its <desc>; no positive tabindex (Tab follows the page)
+  const dom = await page.evaluate(() => {
+    const text = ids => (ids || '').split(/\s+/).filter(Boolean).map(id => (document.getElementById(id) || {}).textContent || '').join(' ').trim();
+    const svgs = [...document.querySelectorAll('svg')].filter(s => s.getClientRects().length);
+    return {
+      svgs: svgs.length,
+      bad: svgs.filter(s => !(s.getAttribute('role') === 'img' || (s.getAttribute('role') === 'group' && s.querySelector('[role=button]')))
+        || !text(s.getAttribute('aria-labelledby')) || !text(s.getAttribute('aria-describedby'))
+        || s.querySelector(`:scope > title`) !== document.getElementById(s.getAttribute('aria-labelledby'))).map(s => s.id || s.getAttribute('class')),
+      tabindex: [...document.querySelectorAll('[tabindex]')].filter(e => Number(e.getAttribute('tabindex')) > 0).map(e => e.id || e.tagName),
+      fakeButtons: [...document.querySelectorAll('[role=button]')].filter(e => e.tagName !== 'circle' && e.tagName !== 'BUTTON').map(e => e.id || e.tagName),
+    };
+  });
+  check(`${where}: every chart (${dom.svgs}) is an <svg role="img"> (or a group of point buttons) with a <title> naming it and a <desc>`, dom.bad.length === 0, dom.bad.join(', '));
+  check(`${where}: no positive tabindex, and buttons are <button> (besides the charts' point buttons)`, !dom.tabindex.length && !dom.fakeButtons.length,
+    dom.tabindex.concat(dom.fakeButtons).join(', '));
+  return tree;
+}
+
+// Text contrast as WCAG 2.x computes it, for every visible text in the page (HTML text by its
+// colour, SVG text by its fill) against the background it sits on (ancestors' background colours
+// blended over white, the opacity of the ancestors applied): 4.5:1, or 3:1 for large text.
+async function contrastAudit(page, where) {
+  const r = await page.evaluate(() => {
+    const rgba = c => {
+      const m = /rgba?\(([^)]+)\)/.exec(c || '');
+      if (!m) return null;
+      const p = m[1].split(/[\s,/]+/).filter(Boolean).map(Number);
+      return [p[0], p[1], p[2], p.length > 3 ? p[3] : 1];
+    };
+    const over = (top, under) => [0, 1, 2].map(i => top[3] * top[i] + (1 - top[3]) * under[i]).concat(1);
+    const lum = c => {
+      const f = v => { v /= 255; return v <= 0.03928 ? v / 12.92 : ((v + 0.055) / 1.055) ** 2.4; };
+      return 0.2126 * f(c[0]) + 0.7152 * f(c[1]) + 0.0722 * f(c[2]);
+    };
+    const ratio = (a, b) => { const [x, y] = [lum(a), lum(b)].sort((p, q) => q - p); return (x + 0.05) / (y + 0.05); };
+    const background = el => {
+      const layers = [];
+      for (let e = el; e && e.nodeType === 1; e = e.parentElement) {
+        const c = rgba(getComputedStyle(e).backgroundColor);
+        if (c && c[3] > 0) { layers.push(c); if (c[3] >= 1) break; }
+      }
+      return layers.reverse().reduce((acc, c) => over(c, acc), [255, 255, 255, 1]);
+    };
+    const opacity = el => { let o = 1; for (let e = el; e && e.nodeType === 1; e = e.parentElement) o *= Number(getComputedStyle(e).opacity); return o; };
+    const seen = [], low = [];
+    for (const el of document.querySelectorAll('body *')) {
+      if (['SCRIPT', 'STYLE', 'OPTION', 'title', 'desc', 'NOSCRIPT'].includes(el.tagName)) continue;
+      if (![...el.childNodes].some(n => n.nodeType === 3 && n.textContent.trim())) continue;
+      if (!el.getClientRects().length || el.closest('[hidden], .visually-hidden, title, desc')) continue;
+      const cs = getComputedStyle(el);
+      if (cs.visibility !== 'visible' || cs.display === 'none') continue;
+      if (el.matches(':disabled') || el.closest('button:disabled')) continue; // WCAG: inactive controls are exempt (ours pass anyway)
+      const svgText = el instanceof SVGElement;
+      let fg = rgba(svgText ? cs.fill : cs.color);
+      if (!fg) continue;
+      const bg = background(svgText ? el.closest('svg').parentElement : el);
+      fg = over([fg[0], fg[1], fg[2], fg[3] * opacity(el)], bg);
+      const size = parseFloat(cs.fontSize), bold = Number(cs.fontWeight) >= 700;
+      const need = size >= 24 || (bold && size >= 18.66) ? 3 : 4.5;
+      const r = ratio(fg, bg);
+      seen.push(r);
+      if (r < need) low.push(`${el.tagName.toLowerCase()}${el.id ? `#${el.id}` : ''}${el.getAttribute('class') ? `.${el.getAttribute('class').split(' ').join('.')}` : ''} "${el.textContent.trim().slice(0, 30)}" ${r.toFixed(2)} < ${need}`);
+    }
+    return { n: seen.length, min: Math.min(...seen), low };
+  });
+  check(`${where}: text contrast at least 4.5:1 (3:1 large) for all ${r.n} visible texts (lowest ${r.min.toFixed(2)})`, r.n > 0 && r.low.length === 0, r.low.slice(0, 8).join('; '));
+}
+
+// Nothing wider than a 1366 px laptop screen: no horizontal scrolling of the page, and no card,
+// fieldset or panel whose content spills out sideways.
+async function layoutAudit(page, where) {
+  const r = await page.evaluate(() => ({
+    page: [document.documentElement.scrollWidth, window.innerWidth],
+    spill: [...document.querySelectorAll('main section, .card, fieldset, aside, .figure-row, .table-box, .plot-box, header.top, .actions, .controls')]
+      .filter(e => e.getClientRects().length && getComputedStyle(e).overflowX === 'visible' && e.scrollWidth > e.clientWidth + 1)
+      .map(e => `${e.tagName.toLowerCase()}${e.id ? `#${e.id}` : ''}.${e.className} ${e.scrollWidth}>${e.clientWidth}`),
+  }));
+  check(`${where}: fits a ${r.page[1]} px wide screen (no horizontal scrolling, nothing spilling out of its box)`, r.page[0] <= r.page[1] && r.spill.length === 0,
+    `page ${r.page[0]}; ${r.spill.slice(0, 6).join('; ')}`);
+}
+
+// A viewport screenshot (what a 1366 x 768 laptop shows) with `sel` at the top.
+async function laptopShot(page, name, sel) {
+  await page.evaluate(s => { if (s) document.querySelector(s).scrollIntoView({ block: 'start' }); else window.scrollTo(0, 0); }, sel || null);
+  await page.screenshot({ path: path.join(artifacts, name), fullPage: false });
 }
 
 // ---- the page ----------------------------------------------------------------------------------
@@ -172,12 +338,35 @@ async function run(page) {
   await page.waitForSelector('#derived-list dd[data-key=nut_radius_mm]');
   log('page loaded');
 
-  // every control has an accessible name
-  const unnamed = await page.evaluate(() => [...document.querySelectorAll('input, select, textarea, button')]
-    .filter(e => !(e.labels && e.labels.length) && !e.getAttribute('aria-label') && !e.getAttribute('aria-labelledby') && !(e.tagName === 'BUTTON' && e.textContent.trim()))
-    .map(e => e.id || e.outerHTML.slice(0, 80)));
-  check('every form control has a label or an accessible name', unnamed.length === 0, unnamed.join(', '));
-  check('progress is announced in an aria-live region', await page.$eval('#job-status', e => e.getAttribute('aria-live') === 'polite'));
+  // keyboard: Tab from the top of the page visits the skip link, the navigation, the token field, the
+  // examples and the form's fields in document order, each stop on screen with a visible focus ring
+  const stops = [];
+  for (let i = 0; i < 40; i++) {
+    await page.keyboard.press('Tab');
+    stops.push(await page.evaluate(() => {
+      const e = document.activeElement, cs = getComputedStyle(e), r = e.getBoundingClientRect();
+      return { id: e.id || e.dataset.example || e.getAttribute('href') || e.tagName, pos: [...document.querySelectorAll('*')].indexOf(e),
+        ring: cs.outlineStyle !== 'none' && parseFloat(cs.outlineWidth) >= 2, onScreen: r.width > 0 && r.height > 0 && r.top >= 0 && r.bottom <= innerHeight && r.left >= 0 && r.right <= innerWidth };
+    }));
+  }
+  const order = stops.map(x => x.id);
+  check('Tab follows the document order', stops.every((x, i) => i === 0 || x.pos > stops[i - 1].pos), order.join(' '));
+  check('Tab reaches the skip link first, then the navigation, the API token, the examples and the design fields', order[0] === '#study-form'
+    && order.indexOf('api-token') > order.indexOf('#api') && order.indexOf('case-a-tolerances.json') > order.indexOf('api-token')
+    && order.indexOf('f-name') > order.indexOf('case-a-tolerances.json') && order.indexOf('f-starts') === order.indexOf('f-name') + 1, order.join(' '));
+  const noRing = stops.filter(x => !x.ring || !x.onScreen).map(x => x.id);
+  check('every Tab stop is on screen with a visible focus ring (outline of 2 px or more)', noRing.length === 0, noRing.join(' '));
+  await page.evaluate(() => document.activeElement.blur());
+
+  // every control has an accessible name (Chromium's accessibility tree), the charts and the text
+  // contrast, the layout on a laptop screen
+  await a11yAudit(page, 'form');
+  await contrastAudit(page, 'form');
+  await layoutAudit(page, 'form');
+  check('progress is a labelled <progress> (role progressbar, 0 to 1) with an aria-live status beside it', await page.$eval('#job-status', e => e.getAttribute('aria-live') === 'polite' && e.getAttribute('role') === 'status')
+    && await page.$eval('#job-progress', e => e.tagName === 'PROGRESS' && e.max === 1 && e.labels.length === 1));
+  check('the API token field is a labelled password field, empty at first', await page.$eval('#api-token', e => e.type === 'password' && e.labels.length === 1 && e.value === ''));
+  await laptopShot(page, '10-laptop-form.png');
 
   // an example with one keyboard action
   const study = JSON.parse(fs.readFileSync(path.join(source, 'studies/case-a-tolerances.json'), 'utf8'));
@@ -254,6 +443,13 @@ async function run(page) {
     }
   }
   await shot('03-results.png');
+  await page.waitForSelector('#te-plot');
+  await a11yAudit(page, 'results');
+  await contrastAudit(page, 'results');
+  await layoutAudit(page, 'results');
+  await laptopShot(page, '11-laptop-job.png', '#job');
+  await laptopShot(page, '12-laptop-results.png', '#output-cards');
+  await laptopShot(page, '13-laptop-tornado.png', '#tornado-card');
 
   // tornado: Sobol total indices by default, SRC² shares on demand, the definition named
   const first = outputs[0];
@@ -326,6 +522,9 @@ async function run(page) {
     && (await page.textContent('#job-interval')).includes('goal 0.05'), `${await page.textContent('#job-interval')} api ${JSON.stringify(live)}`);
   check('a second job was started', longPath !== jobPath && /^\/v1\/studies\//.test(longPath));
   await shot('02-running.png');
+  const bar = (await axTree(page)).find(x => x.role === 'progressbar');
+  check('while running, the progress bar is a progressbar from 0 to 1 with its value, described by the samples done and planned', bar && bar.name === 'Progress'
+    && Number(bar.props.valuemin) === 0 && Number(bar.props.valuemax) === 1 && Number(bar.value) > 0 && /^Samples [\d,]+ of 200,000/.test(bar.description), JSON.stringify(bar && bar.node));
   await (await page.$('#job')).screenshot({ path: path.join(artifacts, '02b-progress.png') });
   await page.click('#job-cancel');
   await page.waitForSelector('#job-state[data-state=cancelled]');
@@ -377,6 +576,118 @@ async function run(page) {
     if (served) await fn(page, shot);
     else console.log(`SKIPPED ${section === '#optimization' ? 'optimisation' : 'allocation'} view: /v1/${collection} not served`);
   }
+}
+
+// ---- a service that wants a bearer token: the 401 points at the token field, the token works ----
+async function tokenRun(page, token) {
+  log('token server');
+  const writes = [], reads = [];
+  page.on('request', req => {
+    if (!req.url().startsWith(`${ORIGIN}/v1/`)) return;
+    const auth = req.headers().authorization || null;
+    (req.method() === 'POST' || req.method() === 'DELETE' ? writes : reads).push({ method: req.method(), url: req.url(), auth });
+  });
+  const direct = await apiJson('POST', '/v1/studies', {});
+  check('token server: a POST without the token is 401 with WWW-Authenticate', direct.status === 401 && /^Bearer/.test(direct.headers.get('www-authenticate') || ''), `${direct.status}`);
+  await page.goto(ORIGIN + '/');
+  await page.waitForSelector('body[data-ready=true]');
+
+  // no token: the page's first POST (the live analysis) is refused, and the token field says so
+  await page.waitForSelector('#api-token-msg:not([hidden])');
+  check('without a token: the token field shows the 401 message and is marked invalid', await page.$eval('#api-token', e => e.getAttribute('aria-invalid') === 'true'
+    && e.getAttribute('aria-describedby').split(' ').includes('api-token-msg')) && (await page.textContent('#api-token-msg')).includes('needs an API token'), await page.textContent('#api-token-msg'));
+  await page.waitForFunction(() => document.querySelector('#derived-status').textContent.includes('API token'));
+  check('without a token: the derived values say the analysis needs the token (nothing put on the design fields)', await page.$$eval('#study-form .problem-msg', m => m.length) === 0);
+  await page.fill('#f-samples', '512');
+  await page.uncheck('#f-sobol');
+  await page.click('#submit');
+  await page.waitForSelector('#error-summary:not([hidden])');
+  const summary = await page.textContent('#error-summary');
+  check('without a token: submitting shows a clear 401 message pointing at the token field', summary.includes('The service needs an API token') && summary.includes('“API token” field'), summary);
+  check('without a token: focus moves to the message', await page.evaluate(() => document.activeElement.id === 'error-summary'));
+  await page.click('#error-summary a');
+  check('without a token: the message\'s link takes focus to the token field', await page.evaluate(() => document.activeElement.id === 'api-token'));
+  if (await page.isVisible('#opt-submit')) {
+    await page.waitForFunction(() => document.querySelector('#opt-request').value.length > 0);
+    await page.click('#opt-submit');
+    await page.waitForSelector('#opt-problems:not([hidden])');
+    check('without a token: the optimisation view says the token is needed and links to the field', (await page.textContent('#opt-problems')).includes('needs an API token'));
+    await page.click('#opt-problems a');
+    check('without a token: the link focuses the token field', await page.evaluate(() => document.activeElement.id === 'api-token'));
+  }
+  await laptopShot(page, '16-token-needed.png');
+  await a11yAudit(page, 'token needed');
+  await contrastAudit(page, 'token needed');
+
+  // a wrong token: refused, and the page says the token was refused
+  await page.fill('#api-token', 'not-the-token');
+  await page.waitForFunction(() => document.querySelector('#api-token-msg').textContent.includes('refused'));
+  await page.click('#submit');
+  await page.waitForFunction(() => document.querySelector('#error-summary').textContent.includes('The API token was refused'));
+  check('a wrong token: the page says the token was refused', (await page.textContent('#api-token-msg')).includes('refused this token')
+    && (await page.textContent('#error-summary')).includes('refused the API token (401): check the “API token” field'));
+
+  // the token: the analysis runs, the study is accepted and finishes
+  await page.fill('#api-token', token);
+  await page.waitForFunction(() => document.querySelector('#derived-status').textContent.startsWith('Design analysed'));
+  check('with the token: the message goes and the field is valid again', await page.isHidden('#api-token-msg') && await page.$eval('#api-token', e => !e.hasAttribute('aria-invalid')));
+  const firstWrite = writes.length;
+  await page.click('#submit');
+  await page.waitForSelector('#job-state[data-state=done]', { timeout: 45000 });
+  await page.waitForSelector('#output-cards .card.output');
+  const jobPath = await page.evaluate(() => location.hash.slice(1));
+  const job = (await apiJson('GET', jobPath)).json;
+  check('with the token: the study is submitted and finishes', job && job.state === 'done' && job.result.samples.run === 512, job && job.state);
+  check('with the token: the results are shown', await page.$$eval('#output-cards .card.output', c => c.length) === Object.keys(job.result.outputs).length);
+  check('the token is sent as a bearer token with every POST after it was entered', writes.slice(firstWrite).length > 0
+    && writes.slice(firstWrite).every(w => w.auth === `Bearer ${token}`), JSON.stringify(writes.slice(firstWrite).map(w => [w.method, w.auth && w.auth.slice(0, 12)])));
+  check('no GET carries the token', reads.length > 0 && reads.every(r => r.auth === null));
+  const stored = await page.evaluate(() => ({ session: sessionStorage.getItem('prsm.token'), local: JSON.stringify({ ...localStorage }), html: document.documentElement.outerHTML }));
+  check('the token is kept in sessionStorage only (not in localStorage nor in the page\'s HTML)', stored.session === token && !stored.local.includes(token) && !stored.html.includes(token));
+
+  // exports: never the token; the curl command takes it from $PRSM_TOKEN
+  await page.click('#export-json');
+  const exported = await page.inputValue('#export-text');
+  check('the exported JSON has no token', !exported.includes(token) && !/authorization/i.test(exported));
+  await page.click('#export-curl');
+  const curlCmd = await page.inputValue('#export-text');
+  check('the exported curl command sends "Authorization: Bearer $PRSM_TOKEN", not the token', curlCmd.includes('-H "Authorization: Bearer $PRSM_TOKEN"') && !curlCmd.includes(token), curlCmd.slice(0, 160));
+  check('the export says where the curl command takes the token from', (await page.textContent('#export-note')).includes('PRSM_TOKEN') && await page.isVisible('#export-note'));
+  if (spawnSync('sh', ['-c', 'command -v curl']).status === 0) {
+    const withToken = spawnSync('sh', ['-c', curlCmd], { encoding: 'utf8', env: { ...process.env, PRSM_TOKEN: token } });
+    check('the curl command runs with PRSM_TOKEN set (answered from the cache, same job)', withToken.status === 0 && /HTTP\/1\.1 200/.test(withToken.stdout) && withToken.stdout.includes(job.id), withToken.stderr || withToken.stdout.slice(0, 200));
+    const env = { ...process.env };
+    delete env.PRSM_TOKEN;
+    const without = spawnSync('sh', ['-c', curlCmd], { encoding: 'utf8', env });
+    check('the curl command without PRSM_TOKEN is refused (401)', /HTTP\/1\.1 401/.test(without.stdout), without.stdout.slice(0, 100));
+  }
+  await page.click('#export-close');
+
+  // cancel (DELETE) needs the token too: refused without it, done with it
+  await page.fill('#f-samples', '200000');
+  await page.selectOption('#f-mode', 'exact');
+  await page.click('#submit');
+  await page.waitForFunction(p => location.hash.startsWith('#/v1/studies/') && location.hash !== `#${p}` && document.querySelector('#job-state').dataset.state === 'running', jobPath, { timeout: 20000 });
+  const longPath = await page.evaluate(() => location.hash.slice(1));
+  await page.fill('#api-token', '');
+  check('clearing the field forgets the token', await page.evaluate(() => sessionStorage.getItem('prsm.token')) === null);
+  await page.click('#job-cancel');
+  await page.waitForSelector('#job-cancel-msg:not([hidden])');
+  check('cancel without the token: refused, the message beside the button points at the token field', (await page.textContent('#job-cancel-msg')).startsWith('Cancel refused: The service needs an API token')
+    && (await page.textContent('#job-cancel-msg')).includes('“API token” field') && await page.isVisible('#api-token-msg') && (await apiJson('GET', longPath)).json.state === 'running',
+    await page.textContent('#job-cancel-msg'));
+  await page.fill('#api-token', token);
+  await page.waitForFunction(() => !document.querySelector('#job-cancel').disabled);
+  await page.click('#job-cancel');
+  await page.waitForSelector('#job-state[data-state=cancelled]');
+  check('cancel with the token: the job is cancelled and the refusal goes', (await apiJson('GET', longPath)).json.state === 'cancelled' && await page.isHidden('#job-cancel-msg'));
+
+  // a reload keeps the token (same tab)
+  await page.reload();
+  await page.waitForSelector('body[data-ready=true]');
+  check('a reload keeps the token in the field (sessionStorage)', await page.inputValue('#api-token') === token);
+  await page.waitForFunction(() => document.querySelector('#derived-status').textContent.startsWith('Design analysed'));
+  check('after the reload the analysis runs with the token', await page.isHidden('#api-token-msg'));
 }
 
 // Loads an example of a view by keyboard and checks the editor holds exactly that document.
@@ -499,6 +810,10 @@ async function optimisationView(page, shot) {
   const bestCons = await page.$$eval('#best-point-constraints tbody tr', trs => trs.map(tr => tr.dataset.name));
   check('the best design\'s constraints table lists every constraint', JSON.stringify(bestCons) === JSON.stringify(r.best.constraints.map(c => c.name)));
   await shot('05-optimization.png');
+  await a11yAudit(page, 'optimisation');
+  await contrastAudit(page, 'optimisation');
+  await layoutAudit(page, 'optimisation');
+  await laptopShot(page, '14-laptop-pareto.png', '#pareto-card');
   await (await page.$('#pareto-card')).screenshot({ path: path.join(artifacts, '05b-pareto.png') });
 
   // study the selected design's tolerances: the design goes into the study form
@@ -576,6 +891,10 @@ async function allocationView(page, shot) {
   check('allocation progress counts samples', await page.textContent('#job-unit') === 'Samples');
   await checkTables(job.result, 'case A');
   await shot('06-allocation.png');
+  await a11yAudit(page, 'allocation');
+  await contrastAudit(page, 'allocation');
+  await layoutAudit(page, 'allocation');
+  await laptopShot(page, '15-laptop-allocation.png', '#results');
   await (await page.$('#results')).screenshot({ path: path.join(artifacts, '06b-allocation-results.png') });
 
   // LS-1: the analytic stack (no Monte Carlo)

@@ -110,7 +110,7 @@ export function renderAllocationResult(container, job) {
     xLabel: `half-width${units.length ? ` (${units.join(', ')}: each tolerance's unit)` : ''}, log scale`,
     markLabel: 'linear model', refLabel: 'reference',
     title: 'Allocated half-widths against their bounds',
-    desc: `${r.tolerances.length} tolerances; total cost ${fmt(r.total_cost)}; ${r.tolerances.filter(t => t.at_bound).length} at a bound`,
+    desc: `${r.tolerances.length} tolerances; total cost ${fmt(r.total_cost)}; ${r.tolerances.filter(t => t.at_bound).length} at a bound: ${r.tolerances.map(t => `${t.parameter} ${fmt(t.half_width)}`).join(', ')}. Every number is in the table below the chart.`,
   });
   range.id = 'alloc-range-plot';
   container.append(h('section', { class: 'card', id: 'alloc-tolerance-card', 'aria-labelledby': 'alloc-tol-h' },
@@ -134,7 +134,7 @@ export function renderAllocationResult(container, job) {
         target: typeof c.target_yield === 'number' ? 100 * c.target_yield : undefined, targetLabel: typeof c.target_yield === 'number' ? `target ${percent(c.target_yield, 2)}` : undefined,
         xLabel: 'correction step (0: the linear allocation; scales in the table)', yLabel: `${c.output} yield (%)`,
         title: `Monte Carlo yield of ${c.output} at each correction step`,
-        desc: `${steps.length} steps with their 95 % Wilson intervals; the larger point is the reported allocation`,
+        desc: `${steps.length} steps with their 95 % Wilson intervals; the larger point is the reported allocation. The steps are in the table beside the chart.`,
       });
       svg.id = `alloc-steps-plot-${ci}`;
       row.append(h('figure', { class: 'plot-box' }, svg, h('figcaption', {}, `${c.output}: Monte Carlo yield (95 % interval) per step; dashed: the target.`)));

@@ -1,6 +1,23 @@
 // The page's only way to the server: same-origin requests to prsm serve's API.
 // Every failure becomes an ApiError carrying the RFC 7807 problem document (schemas/problem.schema.json)
 // so callers can put each problem next to the field its JSON pointer names.
+//
+// The API token: a service started with --token-file (or PRSM_TOKEN) wants
+// "Authorization: Bearer <token>" on POST and DELETE. The page keeps the token the user types in
+// sessionStorage only (this tab, until it closes: never localStorage, never an export) and sends it
+// on POST and DELETE only. A 401 fires the window event "prsm:unauthorized" so the page can point
+// at the token field; describe() says the same in words.
+
+const TOKEN_KEY = 'prsm.token';
+let token = '';
+try { token = sessionStorage.getItem(TOKEN_KEY) || ''; } catch { /* storage off: the field still works for this page */ }
+export function getToken() { return token; }
+export function setToken(value) {
+  token = String(value || '').trim();
+  try {
+    if (token) sessionStorage.setItem(TOKEN_KEY, token); else sessionStorage.removeItem(TOKEN_KEY);
+  } catch { /* storage off */ }
+}
 
 export class ApiError extends Error {
   constructor(status, problem) {
@@ -9,6 +26,14 @@ export class ApiError extends Error {
     this.problem = problem || { title: `HTTP ${status}`, status, detail: `HTTP ${status}`, errors: [] };
   }
   get errors() { return Array.isArray(this.problem.errors) ? this.problem.errors : []; }
+  get unauthorized() { return this.status === 401; }
+}
+
+// What to tell the user about a 401: where the token goes, and whether the one sent was refused.
+export function tokenAdvice(sent) {
+  return sent
+    ? 'The service refused the API token (401): check the “API token” field at the top of the page.'
+    : 'The service needs an API token for this (401): enter it in the “API token” field at the top of the page.';
 }
 
 async function parse(response) {
@@ -22,6 +47,9 @@ async function parse(response) {
 // method, path ("/v1/..."), optional JSON body and AbortSignal. Resolves {status, body, headers}.
 export async function request(method, path, body, signal) {
   const init = { method, headers: { Accept: 'application/json, application/problem+json' }, signal };
+  const writes = method === 'POST' || method === 'DELETE';
+  const sent = writes && !!token;
+  if (sent) init.headers.Authorization = `Bearer ${token}`;
   if (body !== undefined) {
     init.headers['Content-Type'] = 'application/json';
     init.body = JSON.stringify(body);
@@ -39,7 +67,12 @@ export async function request(method, path, body, signal) {
     if (!problem || typeof problem !== 'object') problem = { title: response.statusText, status: response.status, detail: `HTTP ${response.status}`, errors: [] };
     const retry = response.headers.get('retry-after');
     if (retry) problem.retry_after_s = Number(retry);
-    throw new ApiError(response.status, problem);
+    const err = new ApiError(response.status, problem);
+    if (response.status === 401) {
+      err.tokenSent = sent;
+      window.dispatchEvent(new CustomEvent('prsm:unauthorized', { detail: { sent, method, path } }));
+    }
+    throw err;
   }
   return { status: response.status, body: doc, headers: response.headers };
 }
@@ -69,6 +102,7 @@ export const api = {
 // One line for a problem list: "pointer: message" items joined, for places without a field.
 export function describe(err) {
   if (!(err instanceof ApiError)) return String(err && err.message ? err.message : err);
+  if (err.unauthorized) return tokenAdvice(err.tokenSent);
   const p = err.problem;
   const list = err.errors.map(e => (e.pointer ? `${e.pointer}: ` : '') + e.message);
   const head = `${p.title || 'Error'} (${err.status || 'no answer'})`;

@@ -121,6 +121,12 @@ export function requestEditor(body, opts) {
     const ul = h('ul', {});
     list.forEach((p, i) => {
       const line = `${p.pointer || '(the request)'}: ${p.message}`;
+      if (p.link) { // a field elsewhere on the page (the API token): a link to it, nothing attached
+        const a = h('a', { href: `#${p.link.id}` }, p.message);
+        a.addEventListener('click', e => { e.preventDefault(); p.link.focus(); });
+        ul.append(h('li', { 'data-pointer': '' }, a));
+        return;
+      }
       const field = inputs.find(f => f.dataset.pointer === p.pointer);
       if (field) {
         const msg = h('p', { class: 'problem-msg error', id: `${field.id}-problem` }, p.message);
@@ -151,7 +157,8 @@ export function requestEditor(body, opts) {
       note.textContent = r.status === 200 ? 'Answered from the cache.' : 'Accepted: the job runs below.';
       await opts.onSubmitted(r, doc);
     } catch (e) {
-      if (e instanceof ApiError && e.errors.length) showProblems(`${e.problem.title} (${e.status}): ${e.errors.length === 1 ? 'a problem' : `${e.errors.length} problems`} in the request`, e.errors);
+      if (e instanceof ApiError && e.unauthorized) showProblems(e.tokenSent ? 'The API token was refused' : 'The service needs an API token', [{ pointer: '', message: describe(e), link: document.getElementById('api-token') }]);
+      else if (e instanceof ApiError && e.errors.length) showProblems(`${e.problem.title} (${e.status}): ${e.errors.length === 1 ? 'a problem' : `${e.errors.length} problems`} in the request`, e.errors);
       else showProblems(e.status === 503 ? `The service is busy${e.problem && e.problem.retry_after_s ? `: retry in ${e.problem.retry_after_s} s` : ''}` : 'The request was not accepted', [{ pointer: '', message: describe(e) }]);
     } finally {
       submit.disabled = false;

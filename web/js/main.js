@@ -3,7 +3,7 @@
 // (optimization.js, allocation.js), run through the same job view. Uses only prsm serve's API
 // (same origin).
 
-import { api, ApiError, describe } from './api.js';
+import { api, ApiError, describe, getToken, setToken } from './api.js';
 import { StudyForm, schemaInfo } from './form.js';
 import { renderStudyResult } from './results.js';
 import { fmt } from './plots.js';
@@ -102,7 +102,9 @@ function derivedView(form) {
       form.clearProblems('analyze');
       list.classList.add('stale');
       warn.textContent = '';
-      if (e instanceof ApiError && e.errors.length) {
+      if (e instanceof ApiError && e.unauthorized) {
+        status.textContent = `No analysis: ${describe(e)}`;
+      } else if (e instanceof ApiError && e.errors.length) {
         const placed = form.showProblems(e.errors, { prefix: '/design', source: 'analyze' });
         status.textContent = `The design is invalid: ${placed.map(p => `${p.pointer}: ${p.message}`).join('; ')}`;
       } else {
@@ -111,6 +113,36 @@ function derivedView(form) {
     }
   };
   return { schedule() { clearTimeout(timer); timer = setTimeout(run, 350); }, now: run };
+}
+
+// ---- the API token (sessionStorage only; see api.js) ------------------------------------------
+// A 401 anywhere marks the field and says what to do next to it; typing a token clears that and
+// calls onChange (the derived values are analysed again: the analysis is a POST too).
+function tokenField(onChange) {
+  const input = $('#api-token'), msg = $('#api-token-msg');
+  input.value = getToken();
+  const clear = () => {
+    msg.hidden = true;
+    msg.textContent = '';
+    input.removeAttribute('aria-invalid');
+    input.setAttribute('aria-describedby', 'api-token-hint');
+  };
+  let timer = null;
+  input.addEventListener('input', () => {
+    setToken(input.value);
+    clear();
+    clearTimeout(timer);
+    timer = setTimeout(onChange, 300);
+  });
+  window.addEventListener('prsm:unauthorized', e => {
+    const text = e.detail && e.detail.sent ? 'The service refused this token (401): check it.'
+      : 'This service needs an API token for POST and DELETE (401): enter it here.';
+    if (msg.textContent !== text) msg.textContent = text;
+    msg.hidden = false;
+    input.setAttribute('aria-invalid', 'true');
+    input.setAttribute('aria-describedby', 'api-token-hint api-token-msg');
+  });
+  return input;
 }
 
 // ---- error summary -------------------------------------------------------------------------
@@ -172,6 +204,7 @@ class JobView {
     this.place(collection);
     this.section.hidden = false;
     $('#job-problem').hidden = true;
+    $('#job-cancel-msg').hidden = true;
     $('#results').hidden = true;
     $('#job-link').href = path;
     $('#job-link').textContent = path.split('/').pop();
@@ -220,7 +253,6 @@ class JobView {
     else bar.removeAttribute('value'); // indeterminate while queued
     const pct = typeof p.fraction === 'number' ? `${(100 * p.fraction).toFixed(1)} %` : '';
     const unit = p.unit || 'samples';
-    bar.setAttribute('aria-valuetext', `${job.state} ${pct} ${count(p.samples_done)} of ${count(p.samples_planned)} ${unit}`);
     $('#job-state').textContent = job.state;
     $('#job-state').dataset.state = job.state;
     $('#job-unit').textContent = unit === 'evaluations' ? 'Evaluations' : 'Samples';
@@ -276,6 +308,7 @@ class JobView {
       this.place(collection);
       this.section.hidden = false;
       $('#job-problem').hidden = true;
+      $('#job-cancel-msg').hidden = true;
       $('#job-link').href = job.links.self;
       $('#job-link').textContent = job.id;
       this.render(job);
@@ -289,6 +322,7 @@ class JobView {
   async cancel() {
     if (!this.path) return;
     $('#job-cancel').disabled = true;
+    $('#job-cancel-msg').hidden = true;
     try {
       const job = await api.cancel(this.path);
       clearTimeout(this.timer);
@@ -296,7 +330,10 @@ class JobView {
       this.finish(job);
       this.awaitBestSoFar(job);
     } catch (e) {
-      this.announce(`Cancel refused: ${describe(e)}`);
+      // said next to the button (and announced): the next poll's status line must not hide it
+      const msg = $('#job-cancel-msg');
+      msg.textContent = `Cancel refused: ${describe(e)}`;
+      msg.hidden = false;
       this.poll();
     }
   }
@@ -308,9 +345,15 @@ let exportUrl = null;
 function showExport(kind, doc, collection = 'studies') {
   const box = $('#export');
   const json = JSON.stringify(doc, null, 2);
+  // The token never goes into an export: the curl command reads it from the environment (the
+  // variable prsm serve itself reads), and says so.
+  const auth = getToken() ? ` -H "Authorization: Bearer $PRSM_TOKEN"` : '';
   const text = kind === 'json' ? json
-    : `curl -si -H 'Content-Type: application/json' --data ${shellQuote(JSON.stringify(doc))} ${location.origin}/v1/${collection}`;
+    : `curl -si -H 'Content-Type: application/json'${auth} --data ${shellQuote(JSON.stringify(doc))} ${location.origin}/v1/${collection}`;
   $('#export-text').value = text;
+  const note = $('#export-note');
+  note.hidden = !(kind === 'curl' && auth);
+  note.textContent = auth ? 'The command sends the token from the environment variable PRSM_TOKEN (export PRSM_TOKEN=… first); the page never writes the token into an export.' : '';
   $('#export-label').textContent = kind === 'json' ? 'Request as JSON' : 'Request as a curl command';
   if (exportUrl) URL.revokeObjectURL(exportUrl);
   exportUrl = URL.createObjectURL(new Blob([kind === 'json' ? json + '\n' : text + '\n'], { type: kind === 'json' ? 'application/json' : 'text/plain' }));
@@ -355,6 +398,7 @@ async function main() {
   const form = new StudyForm($('#study-form'), schemaInfo(studySchema));
   const derived = derivedView(form);
   form.on('design', () => derived.schedule());
+  tokenField(() => derived.now());
   const jobs = new JobView(refreshRecent);
   window.prsm = { form, jobs, api }; // for the console and the browser test
 
@@ -390,7 +434,9 @@ async function main() {
     try {
       await jobs.submitted(await api.submit('studies', doc), doc, 'studies');
     } catch (err) {
-      if (err instanceof ApiError && err.errors.length) {
+      if (err instanceof ApiError && err.unauthorized) {
+        showSummary([{ pointer: '', message: describe(err), element: $('#api-token') }], err.tokenSent ? 'The API token was refused' : 'The service needs an API token');
+      } else if (err instanceof ApiError && err.errors.length) {
         const placed = form.showProblems(err.errors, { source: 'submit' });
         showSummary(placed, `${err.problem.title} (${err.status}): ${err.errors.length === 1 ? 'a problem' : `${err.errors.length} problems`} in the request`);
       } else {

@@ -134,7 +134,7 @@ export function renderOptimizationResult(container, job) {
         label: `Point ${q.index + 1}: ${label(q.xKey)} ${withUnit(q.x, q.xKey)}, ${label(q.yKey)} ${withUnit(q.y, q.yKey)}, ${q.point.variables.starts} starts, ${q.point.variables.rollers} rollers${q.best ? ' (best design)' : ''}` })),
       xLabel: axisLabel(p.objective_a), yLabel: axisLabel(p.objective_b),
       title: `Pareto front: ${label(p.objective_a)} against ${label(p.objective_b)}`,
-      desc: `${pts.length} non-dominated designs from ${p.levels} ε-constraint levels (${p.epsilon_runs_feasible} of ${p.epsilon_runs} runs feasible, ${p.dominated_removed} dominated removed); the ringed point is the best design`,
+      desc: `${pts.length} non-dominated designs from ${p.levels} ε-constraint levels (${p.epsilon_runs_feasible} of ${p.epsilon_runs} runs feasible, ${p.dominated_removed} dominated removed); the ringed point is the best design. Each point is a button showing its design; the same points are in the table beside the chart.`,
       onSelect: select,
     });
     svg.id = 'pareto-plot';

@@ -1,5 +1,7 @@
 // Small SVG charts drawn from the API's JSON: histogram with spec limits, line, tornado, bars and a
-// clickable scatter. No library: each returns an <svg role="img"> with a <title> and <desc>.
+// clickable scatter. No library: each returns an <svg role="img"> named by its <title> and described
+// by its <desc> (the scatter, whose points are buttons, is an <svg role="group">: an image's children
+// would be hidden from assistive technology).
 
 const NS = 'http://www.w3.org/2000/svg';
 let uid = 0;
@@ -52,9 +54,9 @@ function scale(d0, d1, r0, r1) {
   return v => r0 + (v - d0) * k;
 }
 
-function frame(w, h, title, desc, cls) {
+function frame(w, h, title, desc, cls, role = 'img') {
   const id = `plot${++uid}`;
-  const svg = el('svg', { viewBox: `0 0 ${w} ${h}`, width: '100%', role: 'img', 'aria-labelledby': `${id}t ${id}d`, class: `plot ${cls}` });
+  const svg = el('svg', { viewBox: `0 0 ${w} ${h}`, width: '100%', role, 'aria-labelledby': `${id}t`, 'aria-describedby': `${id}d`, class: `plot ${cls}` });
   el('title', { id: `${id}t` }, svg).textContent = title;
   el('desc', { id: `${id}d` }, svg).textContent = desc;
   return svg;
@@ -199,7 +201,7 @@ export function barChart({ labels, values, ref, refLabel, xLabel, yLabel, title,
 // focusable). Each point keeps its raw x and y (data-x, data-y); a best point gets a ring.
 export function scatter({ points, xLabel, yLabel, title, desc, onSelect }) {
   const w = 520, h = 300, m = { l: 60, r: 16, t: 14, b: 40 };
-  const svg = frame(w, h, title, desc, 'scatter');
+  const svg = frame(w, h, title, desc, 'scatter', 'group');
   const xsV = points.map(p => p.x), ysV = points.map(p => p.y);
   let xlo = Math.min(...xsV), xhi = Math.max(...xsV), ylo = Math.min(...ysV), yhi = Math.max(...ysV);
   if (xhi - xlo < 1e-12) { xlo -= 1; xhi += 1; }

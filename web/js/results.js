@@ -106,7 +106,7 @@ function tornadoSection(result) {
     plot.appendChild(tornado({
       items, signed: d.signed, xLabel: d.axis,
       title: `Tornado chart of ${outSel.value}: ${d.axis}`,
-      desc: items.slice(0, 5).map(i => `${i.label} ${fmt(i.value)}`).join('; '),
+      desc: `${items.length} tolerances, largest first: ${items.slice(0, 5).map(i => `${i.label} ${fmt(i.value)}`).join('; ')}${items.length > 5 ? '; …' : ''}. Every value is in the table beside the chart.`,
     }));
     table.textContent = '';
     table.appendChild(h('table', { class: 'numbers', id: 'tornado-table' },
@@ -241,7 +241,7 @@ function drawReplay(body, row, a, req, outs) {
   const tePlot = lineChart({
     x, y: curve, xLabel: 'screw angle (°)', yLabel: 'TE (µm)', xTicks: [0, 45, 90, 135, 180, 225, 270, 315, 360],
     title: `Transmission error over one screw revolution, sample ${row.sample}`,
-    desc: `peak to peak ${fmt(te.revolution.peak_to_peak_um)} µm, RMS ${fmt(te.revolution.rms_um)} µm at ${te.measuring_load_N} N`,
+    desc: `${apr + 1} points from 0° to 360°: peak to peak ${fmt(te.revolution.peak_to_peak_um)} µm, RMS ${fmt(te.revolution.rms_um)} µm at ${te.measuring_load_N} N, from ${fmt(Math.min(...curve))} to ${fmt(Math.max(...curve))} µm. The sample's outputs are in the table beside the chart.`,
   });
   tePlot.id = 'te-plot';
   const ls = A.load_sharing;
@@ -252,7 +252,7 @@ function drawReplay(body, row, a, req, outs) {
       ref: ls.axial_load_N / ls.roller_loads_N.length, refLabel: `F/Z = ${fmt(ls.axial_load_N / ls.roller_loads_N.length)} N`,
       xLabel: 'roller', yLabel: 'load (N)',
       title: `Load per roller at ${fmt(ls.axial_load_N)} N, sample ${row.sample}`,
-      desc: `sharing factor ${fmt(ls.sharing_factor)} (max roller load / mean)`,
+      desc: `sharing factor ${fmt(ls.sharing_factor)} (max roller load / mean); roller loads ${ls.roller_loads_N.map((v, i) => `${i + 1}: ${fmt(v)} N`).join(', ')}; the equal share F/Z is ${fmt(ls.axial_load_N / ls.roller_loads_N.length)} N.`,
     });
     loadPlot.id = 'roller-plot';
   }
@@ -311,7 +311,7 @@ export function renderStudyResult(container, job, study) {
     const svg = histogram({
       hist: o.histogram, spec: o.spec, label: name, unit,
       title: `Histogram of ${name}`,
-      desc: `${o.n} samples, mean ${fmt(o.mean)}, sd ${fmt(o.sd)}; ${yieldTxt}`,
+      desc: `${o.histogram.counts.length} bins from ${fmt(o.histogram.lower)} to ${fmt(o.histogram.upper)}${unit ? ` ${unit}` : ''}; ${o.n} samples, mean ${fmt(o.mean)}, sd ${fmt(o.sd)}; ${o.spec ? `spec ${o.spec.lower !== undefined ? fmt(o.spec.lower) : '—'} to ${o.spec.upper !== undefined ? fmt(o.spec.upper) : '—'}, ` : ''}${yieldTxt}. Every figure is in the table beside the chart.`,
     });
     const card = h('section', { class: 'card output', 'data-output': name, 'aria-labelledby': `out-h-${name}` },
       h('h3', { id: `out-h-${name}` }, name, o.spec && o.yield ? h('span', { class: `yield ${o.yield.fraction < 0.9973 ? 'low' : ''}`, 'data-value': String(o.yield.fraction) }, ` · ${yieldTxt}`) : null),
