@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "opt/alloc.h"
+#include "opt/alloc_mc.h"
 
 /* A four-tolerance stack with "high-entropy" figures. */
 static const double B4[4] = {2.385, 1.3, 0.71, 3.1};
@@ -247,6 +248,164 @@ static void test_two_constraints(void **state)
 	}
 }
 
+/* 16 competing constraints on 64 tolerances (nearly parallel sensitivities, and constraints
+ * that share tolerances), RSS and worst case: the exact solver settles with several
+ * constraints binding, in few evaluations, and agrees with SLSQP. */
+static void many_constraints(prsm_alloc_problem *p, prsm_alloc_stack stack, double spread)
+{
+	memset(p, 0, sizeof *p);
+	p->n = PRSM_ALLOC_MAX_TOLERANCES;
+	p->m = PRSM_ALLOC_MAX_CONSTRAINTS;
+	p->stack = stack;
+	uint64_t x = 0x9e3779b97f4a7c15ull;
+	for (size_t i = 0; i < p->n; i++) {
+		x = x * 6364136223846793005ull + 1442695040888963407ull;
+		double r = (double)(x >> 11) / 9007199254740992.0;
+		p->cost[i] = (prsm_alloc_cost){i % 3 == 2 ? PRSM_ALLOC_COST_EXPONENTIAL : PRSM_ALLOC_COST_RECIPROCAL_POWER,
+		                               0.25, 0.5 + 2.385 * r, i % 3 == 1 ? 2.0 : 1.0, 1.7};
+		p->t_min[i] = 1e-4;
+		p->t_max[i] = 1.0;
+		for (size_t o = 0; o < p->m; o++) {
+			x = x * 6364136223846793005ull + 1442695040888963407ull;
+			double q = (double)(x >> 11) / 9007199254740992.0;
+			p->c[o][i] = (1.0 + 0.3 * r) * (1.0 + spread * (q - 0.5)) * (i % p->m == o ? 3.0 : 1.0);
+		}
+	}
+	for (size_t o = 0; o < p->m; o++)
+		p->limit[o] = stack == PRSM_ALLOC_RSS ? 1.0 + 0.01 * (double)o : 12.0 + 0.1 * (double)o;
+}
+
+static void test_many_constraints(void **state)
+{
+	(void)state;
+	static prsm_alloc_problem p;
+	static prsm_alloc_solution s, q;
+	const double spreads[2] = {0.02, 0.6};
+	for (int stack = 0; stack < 2; stack++)
+		for (int k = 0; k < 2; k++) {
+			many_constraints(&p, (prsm_alloc_stack)stack, spreads[k]);
+			prsm_error err = PRSM_ERROR_INIT;
+			assert_int_equal(prsm_alloc_solve(&s, &p, PRSM_ALLOC_SOLVER_EXACT, &err), 0);
+			assert_int_equal(prsm_alloc_solve(&q, &p, PRSM_ALLOC_SOLVER_SLSQP, &err), 0);
+			int binding = 0;
+			for (size_t o = 0; o < p.m; o++) {
+				assert_true(s.stack[o] <= p.limit[o] * (1.0 + 1e-11));
+				if (s.multiplier[o] > 0.0) {
+					binding++;
+					assert_rel(s.stack[o], p.limit[o], 1e-11);
+				}
+			}
+			print_message("stack %d spread %.2f: %d binding, %zu evaluations, %d sweeps, solver %s, cost %.15g vs %.15g\n",
+			              stack, spreads[k], binding, s.evaluations, s.sweeps, prsm_alloc_solver_name(s.solver),
+			              s.total_cost, q.total_cost);
+			assert_int_equal(s.solver, PRSM_ALLOC_SOLVER_EXACT);
+			assert_true(s.evaluations < 2000);
+			assert_rel(s.total_cost, q.total_cost, 1e-8);
+			assert_true(s.total_cost <= q.total_cost * (1.0 + 1e-12));
+		}
+}
+
+/* Cancellation and the time cap inside the solve (exact and NLopt). */
+static void test_cancel_time_cap(void **state)
+{
+	(void)state;
+	static prsm_alloc_problem p;
+	static prsm_alloc_solution s;
+	prsm_error err = PRSM_ERROR_INIT;
+	volatile int cancel = 1;
+	many_constraints(&p, PRSM_ALLOC_RSS, 0.6);
+	p.cancel = &cancel;
+	assert_int_equal(prsm_alloc_solve(&s, &p, PRSM_ALLOC_SOLVER_EXACT, &err), PRSM_ECANCELLED);
+	assert_int_equal(prsm_alloc_solve(&s, &p, PRSM_ALLOC_SOLVER_SLSQP, &err), PRSM_ECANCELLED);
+	cancel = 0;
+	p.max_time_s = 1e-12;
+	assert_int_equal(prsm_alloc_solve(&s, &p, PRSM_ALLOC_SOLVER_EXACT, &err), PRSM_ENOCONVERGE);
+	assert_int_equal(s.time_cap, 1);
+	assert_non_null(strstr(err.message, "time cap"));
+	assert_int_equal(prsm_alloc_solve(&s, &p, PRSM_ALLOC_SOLVER_SLSQP, &err), PRSM_ENOCONVERGE);
+	assert_int_equal(s.time_cap, 1);
+	p.max_time_s = 60.0;
+	assert_int_equal(prsm_alloc_solve(&s, &p, PRSM_ALLOC_SOLVER_EXACT, &err), 0);
+	assert_int_equal(s.time_cap, 0);
+}
+
+/* Any cost scale: every coefficient times 1e250 (or 1e-250) gives the same half-widths, the
+ * multipliers and costs scaled by the same factor (the roots are taken on ln lambda). */
+static void test_cost_scale(void **state)
+{
+	(void)state;
+	const double scales[2] = {1e250, 1e-250};
+	for (int stack = 0; stack < 2; stack++)
+		for (int k = 0; k < 2; k++) {
+			prsm_alloc_problem p, q;
+			problem4(&p, (prsm_alloc_stack)stack, PRSM_ALLOC_COST_RECIPROCAL_POWER, 1.3);
+			q = p;
+			for (int i = 0; i < 4; i++) {
+				q.cost[i].coefficient *= scales[k];
+				q.cost[i].fixed *= scales[k];
+			}
+			prsm_alloc_solution a, b;
+			prsm_error err = PRSM_ERROR_INIT;
+			assert_int_equal(prsm_alloc_solve(&a, &p, PRSM_ALLOC_SOLVER_EXACT, &err), 0);
+			assert_int_equal(prsm_alloc_solve(&b, &q, PRSM_ALLOC_SOLVER_EXACT, &err), 0);
+			for (int i = 0; i < 4; i++)
+				assert_rel(b.t[i], a.t[i], 1e-12);
+			assert_rel(b.total_cost, a.total_cost * scales[k], 1e-12);
+			assert_rel(b.multiplier[0], a.multiplier[0] * scales[k], 1e-10);
+		}
+}
+
+/* The model's limits: the correction's scale multiplies the yield targets' T_asm only; a
+ * given assembly tolerance stays as given (also 1e300, without overflow); a nominal outside
+ * the spec is reported at the constraint's spec with its message intact. */
+static void test_model_limits(void **state)
+{
+	(void)state;
+	static prsm_alloc_model md;
+	static prsm_alloc_problem p;
+	static prsm_alloc_step st;
+	prsm_error err = PRSM_ERROR_INIT;
+	memset(&md, 0, sizeof md);
+	md.n = 4;
+	md.m = 3;
+	md.stack = PRSM_ALLOC_RSS;
+	for (size_t i = 0; i < 4; i++) {
+		md.cost[i] = (prsm_alloc_cost){PRSM_ALLOC_COST_RECIPROCAL, 0.0, B4[i], 1.0, 0.0};
+		md.t_max[i] = INFINITY;
+		md.k[i] = 3.0;
+		for (size_t o = 0; o < 3; o++)
+			md.c[o][i] = C4[(i + o) % 4];
+	}
+	md.spec[0] = (prsm_spec){1, 1, 5.0, 35.0};
+	md.nominal[0] = 21.7;
+	md.has_target[0] = 1;
+	md.out_fraction[0] = 0.0027;
+	md.assembly_tol[1] = 0.385;
+	md.fixed_var[1] = 0.01;
+	md.assembly_tol[2] = 1e300;
+	assert_int_equal(prsm_alloc_model_problem(&p, &st, &md, 1.0, &err), 0);
+	const double tasm0 = st.assembly_tol[0];
+	assert_int_equal(prsm_alloc_model_problem(&p, &st, &md, 0.615, &err), 0);
+	assert_rel(st.assembly_tol[0], 0.615 * tasm0, 1e-15);
+	assert_close(st.assembly_tol[1], 0.385, 0.0);
+	assert_rel(p.limit[1], sqrt(0.385 * 0.385 - 0.09), 1e-14);
+	assert_close(st.assembly_tol[2], 1e300, 0.0);
+	assert_rel(p.limit[2], 1e300, 1e-15);
+	assert_int_equal(prsm_alloc_model_problem(&p, &st, &md, 1.7, &err), 0);
+	assert_close(st.assembly_tol[1], 0.385, 0.0);
+	/* the nominal outside the spec */
+	md.nominal[0] = 40.0;
+	assert_int_equal(prsm_alloc_model_problem(&p, &st, &md, 1.0, &err), PRSM_EINVAL);
+	assert_string_equal(err.pointer, "/constraints/0/spec");
+	assert_string_equal(err.message,
+	                    "output 0: the nominal 40 is not strictly inside the spec: no tolerance can meet it");
+	/* the kept tolerances take the whole given budget */
+	md.nominal[0] = 21.7;
+	md.fixed_var[1] = 0.02;
+	assert_int_equal(prsm_alloc_model_problem(&p, &st, &md, 1.0, &err), PRSM_EINVAL);
+	assert_string_equal(err.pointer, "/constraints/1");
+}
+
 /* Target yield -> largest sigma, plugged back. */
 static void test_sigma_for_yield(void **state)
 {
@@ -334,6 +493,10 @@ int main(void)
 		cmocka_unit_test(test_bounds_against_nlopt),
 		cmocka_unit_test(test_slack_constraint),
 		cmocka_unit_test(test_two_constraints),
+		cmocka_unit_test(test_many_constraints),
+		cmocka_unit_test(test_cancel_time_cap),
+		cmocka_unit_test(test_cost_scale),
+		cmocka_unit_test(test_model_limits),
 		cmocka_unit_test(test_sigma_for_yield),
 		cmocka_unit_test(test_errors),
 	};

@@ -262,6 +262,115 @@ static void test_cancel(void **state)
 	cJSON_Delete(doc);
 }
 
+/* A yield target and a given assembly tolerance together (case A's backlash at 99.73 % and
+ * load_sharing_factor within 0.4, RSS): the correction scales the backlash limit only; the
+ * given 0.4 stays 0.4 at every step, binds at the reported one and is met there. */
+static void test_mixed_targets(void **state)
+{
+	(void)state;
+	cJSON *doc = alloc_case_a(1024);
+	cJSON *outs = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(doc, "study"), "outputs");
+	cJSON_AddItemToArray(outs, cJSON_CreateString("load_sharing_factor"));
+	cJSON_AddItemToArray(cJSON_GetObjectItemCaseSensitive(doc, "constraints"),
+	                     parse("{\"output\": \"load_sharing_factor\", \"assembly_tolerance\": 0.4}"));
+	cJSON *res = run_ok(doc, 1);
+	const cJSON *cor = item(res, "correction");
+	const double f = num(cor, "scale");
+	assert_true(cJSON_IsTrue(item(cor, "converged")));
+	assert_true(fabs(f - 1.0) > 0.05); /* the correction moved: the test means something */
+	const cJSON *bl = cJSON_GetArrayItem(item(res, "constraints"), 0);
+	const cJSON *ls = cJSON_GetArrayItem(item(res, "constraints"), 1);
+	assert_rel(num(bl, "assembly_tolerance"), f * num(bl, "assembly_tolerance_linear"), 1e-12);
+	assert_true(cJSON_IsTrue(item(bl, "meets_target")));
+	assert_close(num(ls, "assembly_tolerance"), 0.4, 0.0);
+	assert_close(num(ls, "assembly_tolerance_linear"), 0.4, 0.0);
+	assert_true(num(ls, "multiplier") > 0.0); /* binding at the reported step */
+	assert_rel(num(ls, "stack"), 0.4, 1e-9);
+	assert_true(num(ls, "stack") <= 0.4 * (1.0 + 1e-9));
+	assert_true(cJSON_IsTrue(item(ls, "meets_target")));
+	assert_true(cJSON_IsNull(item(ls, "target_yield")));
+	cJSON_Delete(res);
+	cJSON_Delete(doc);
+}
+
+/* A time cap that ends before the first Monte Carlo run: the linear allocation comes back
+ * unverified, stop time_cap, not converged (no step read out of range). */
+static void test_time_cap(void **state)
+{
+	(void)state;
+	cJSON *doc = alloc_case_a(1024);
+	prsm_problems pr;
+	prsm_error err = PRSM_ERROR_INIT;
+	cJSON *res = NULL;
+	prsm_problems_init(&pr);
+	assert_int_equal(prsm_io_allocation_execute(&res, doc, NULL, NULL, NULL, 1e-9, 1, &pr, &err), 0);
+	assert_non_null(res);
+	const cJSON *cor = item(res, "correction");
+	assert_string_equal(item(cor, "stop_reason")->valuestring, "time_cap");
+	assert_true(cJSON_IsFalse(item(cor, "converged")));
+	assert_int_equal(cJSON_GetArraySize(item(cor, "steps")), 1);
+	const cJSON *st = cJSON_GetArrayItem(item(cor, "steps"), 0);
+	assert_true(cJSON_IsTrue(item(st, "reported")));
+	assert_true(cJSON_IsNull(cJSON_GetArrayItem(item(st, "yields"), 0)));
+	assert_close(num(item(res, "monte_carlo"), "samples_total"), 0.0, 0.0);
+	assert_close(num(cor, "scale"), 1.0, 0.0);
+	cJSON_Delete(res);
+	cJSON_Delete(doc);
+}
+
+/* The nominal outside a spec: refused at the constraint's spec with a readable message. */
+static void test_spec_message(void **state)
+{
+	(void)state;
+	cJSON *doc = parse(LS1);
+	cJSON *c0 = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(doc, "constraints"), 0);
+	cJSON_ReplaceItemInObject(c0, "spec", parse("{\"lower\": 0.15, \"upper\": 0.2}"));
+	prsm_problems pr;
+	prsm_problems_init(&pr);
+	assert_int_equal(prsm_io_allocation_check(doc, 0, NULL, &pr), PRSM_EINVAL);
+	assert_int_equal(pr.count, 1);
+	assert_string_equal(pr.items[0].pointer, "/constraints/0/spec");
+	assert_string_equal(pr.items[0].message,
+	                    "output 0: the nominal 0.1 is not strictly inside the spec: no tolerance can meet it");
+	cJSON_Delete(doc);
+}
+
+/* Extreme but valid figures: a 1e300 assembly tolerance is simply slack (every tolerance at its
+ * upper bound), a 1e100 cost coefficient is solved like any other. */
+static void test_extremes(void **state)
+{
+	(void)state;
+	cJSON *doc = parse(LS1);
+	cJSON *c0 = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(doc, "constraints"), 0);
+	cJSON_DeleteItemFromObject(c0, "target_ppm");
+	cJSON_AddItemToObject(c0, "assembly_tolerance", cJSON_CreateNumber(1e300));
+	cJSON *a;
+	cJSON_ArrayForEach(a, cJSON_GetObjectItemCaseSensitive(doc, "allocate"))
+		cJSON_AddItemToObject(a, "bounds", parse("{\"lower\": 0.005, \"upper\": 0.2}"));
+	cJSON *res = run_ok(doc, 0);
+	const cJSON *t;
+	cJSON_ArrayForEach(t, item(res, "tolerances"))
+		assert_close(num(t, "half_width"), 0.2, 0.0);
+	cJSON_Delete(res);
+	/* LS-1 with every cost coefficient times 1e99: the same half-widths */
+	cJSON_Delete(doc);
+	doc = parse(LS1);
+	cJSON *ref = run_ok(doc, 0);
+	cJSON_ArrayForEach(a, cJSON_GetObjectItemCaseSensitive(doc, "allocate")) {
+		cJSON *cost = cJSON_GetObjectItemCaseSensitive(a, "cost");
+		double b = num(cost, "coefficient");
+		cJSON_ReplaceItemInObject(cost, "coefficient", cJSON_CreateNumber(b * 1e99));
+	}
+	res = run_ok(doc, 0);
+	for (int i = 0; i < 4; i++)
+		assert_rel(num(cJSON_GetArrayItem(item(res, "tolerances"), i), "half_width"),
+		           num(cJSON_GetArrayItem(item(ref, "tolerances"), i), "half_width"), 1e-12);
+	assert_rel(num(res, "total_cost"), 1e99 * num(ref, "total_cost"), 1e-12);
+	cJSON_Delete(res);
+	cJSON_Delete(ref);
+	cJSON_Delete(doc);
+}
+
 /* The document with one member replaced (JSON text), checked: the problem at pointer. */
 static void expect_problem(const char *base, const char *path_key, const char *value_json, const char *pointer,
                            size_t max_samples)
@@ -320,9 +429,12 @@ static void test_errors(void **state)
 	expect_problem(LS1, "constraints/0/output", "\"q\"", "/constraints/0/output", 0);
 	expect_problem(LS1, "constraints/0/spec", "{\"lower\": 0.3, \"upper\": 0.2}", "/constraints/0/spec/upper", 0);
 	/* the nominal outside the spec: no allocation meets it */
-	expect_problem(LS1, "constraints/0/spec", "{\"lower\": 0.15, \"upper\": 0.2}", "/constraints", 0);
+	expect_problem(LS1, "constraints/0/spec", "{\"lower\": 0.15, \"upper\": 0.2}", "/constraints/0/spec", 0);
 	/* the lower bounds alone break the limit */
-	expect_problem(LS1, "allocate/0/bounds", "{\"lower\": 0.09}", "/constraints", 0);
+	expect_problem(LS1, "allocate/0/bounds", "{\"lower\": 0.09}", "/constraints/0", 0);
+	/* cost figures beyond 1e100 (their costs would overflow) */
+	expect_problem(LS1, "allocate/0/cost/coefficient", "1e308", "/allocate/0/cost/coefficient", 0);
+	expect_problem(LS1, "allocate/0/cost/fixed", "1e200", "/allocate/0/cost/fixed", 0);
 	expect_problem(LS1, "monte_carlo", "{\"samples\": 100}", "/monte_carlo", 0);
 	expect_problem(LS1, "stack", "\"sum\"", "/stack", 0);
 	expect_problem(LS1, "study", "{}", "/analytic", 0);
@@ -353,6 +465,10 @@ int main(void)
 		cmocka_unit_test(test_case_a_corrected),
 		cmocka_unit_test(test_threads),
 		cmocka_unit_test(test_cancel),
+		cmocka_unit_test(test_mixed_targets),
+		cmocka_unit_test(test_time_cap),
+		cmocka_unit_test(test_spec_message),
+		cmocka_unit_test(test_extremes),
 		cmocka_unit_test(test_errors),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);

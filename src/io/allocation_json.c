@@ -11,6 +11,7 @@
  */
 #include "io/allocation_json.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -20,7 +21,7 @@
 #include "opt/alloc_mc.h"
 #include "util/clock.h"
 
-#define PRSM_ALLOC_ENGINE "prsm-alloc 1 (KKT with Brent roots on the multipliers; NLopt 2.7 SLSQP/COBYLA; Monte Carlo correction with common random numbers)"
+#define PRSM_ALLOC_ENGINE "prsm-alloc 2 (KKT: Brent roots on ln of the multipliers, projected Newton on the dual; NLopt 2.7 SLSQP/COBYLA; Monte Carlo correction of the yield targets with common random numbers)"
 #define DEFAULT_MAX_CORRECTIONS 8
 #define DEFAULT_SCALE_RTOL 0.01
 
@@ -45,6 +46,10 @@ static const char *const mc_keys[] = {"verify", "samples", "seed", "max_correcti
 static const prsm_json_range ANY = {-HUGE_VAL, HUGE_VAL, 0, 0};
 static const prsm_json_range POSITIVE = {0.0, HUGE_VAL, 1, 0};
 static const prsm_json_range NONNEG = {0.0, HUGE_VAL, 0, 0};
+/* cost figures: bounded so that a cost at any sensible half-width stays finite */
+#define COST_MAX 1e100
+static const prsm_json_range COST_COEFFICIENT = {0.0, COST_MAX, 1, 0};
+static const prsm_json_range COST_FIXED = {0.0, COST_MAX, 0, 0};
 
 /* Everything a loaded document holds. Large: on the heap. */
 typedef struct {
@@ -99,8 +104,8 @@ static void read_cost(prsm_alloc_cost *c, const cJSON *o, const char *ptr, prsm_
 	if (prsm_json_get_enum(&kind, o, ptr, "model", PRSM_JSON_REQUIRED, cost_names, pr) != PRSM_JSON_PRESENT)
 		return;
 	c->kind = (prsm_alloc_cost_kind)kind;
-	prsm_json_get_number(&c->fixed, o, ptr, "fixed", PRSM_JSON_OPTIONAL, NONNEG, pr);
-	prsm_json_get_number(&c->coefficient, o, ptr, "coefficient", PRSM_JSON_REQUIRED, POSITIVE, pr);
+	prsm_json_get_number(&c->fixed, o, ptr, "fixed", PRSM_JSON_OPTIONAL, COST_FIXED, pr);
+	prsm_json_get_number(&c->coefficient, o, ptr, "coefficient", PRSM_JSON_REQUIRED, COST_COEFFICIENT, pr);
 	char kp[PRSM_JSON_POINTER_MAX];
 	if (c->kind == PRSM_ALLOC_COST_RECIPROCAL_POWER) {
 		prsm_json_get_number(&c->power, o, ptr, "power", PRSM_JSON_REQUIRED, (prsm_json_range){0.0, 20.0, 1, 0}, pr);
@@ -485,10 +490,10 @@ static int load(doc_state **out, const cJSON *doc, size_t max_samples, prsm_prob
 		rc = PRSM_ENOMEM;
 		goto done;
 	}
-	rc = prsm_alloc_model_allocate(st0, md, 1.0, &err);
+	rc = prsm_alloc_model_allocate(st0, md, 1.0, NULL, 0.0, &err);
 	free(st0);
 	if (rc) {
-		prsm_problems_add(pr, "/constraints", "infeasible", "%s", err.message);
+		prsm_problems_add(pr, err.pointer[0] ? err.pointer : "/constraints", "infeasible", "%s", err.message);
 		rc = rc == PRSM_ENOMEM ? rc : PRSM_EINVAL;
 	}
 done:
@@ -568,6 +573,7 @@ static cJSON *mc_yield_json(const doc_state *d, const prsm_alloc_step *st, size_
 static cJSON *result_json(const doc_state *d, const prsm_alloc_mc_result *r, int cancelled)
 {
 	const prsm_alloc_model *md = &d->model;
+	assert(r->best >= 0 && r->best < r->n_steps);
 	const prsm_alloc_step *best = &r->steps[r->best];
 	cJSON *doc = cJSON_CreateObject();
 	if (!doc)
@@ -637,8 +643,8 @@ static cJSON *result_json(const doc_state *d, const prsm_alloc_mc_result *r, int
 		if (md->has_target[o])
 			cJSON_AddBoolToObject(c, "meets_target", best->has_mc ? best->mc_yield[o] >= d->target_yield[o]
 			                                                      : best->predicted_yield[o] >= d->target_yield[o] - 1e-12);
-		else
-			cJSON_AddNullToObject(c, "meets_target");
+		else /* a given assembly tolerance: the linear stack within it */
+			cJSON_AddBoolToObject(c, "meets_target", best->sol.stack[o] <= best->limit[o] * (1.0 + 1e-9));
 		cJSON_AddItemToArray(cons, c);
 	}
 	cJSON *lin = cJSON_AddObjectToObject(doc, "linear");
@@ -715,13 +721,17 @@ int prsm_io_allocation_execute(cJSON **result, const cJSON *doc, volatile int *c
 		rc = prsm_alloc_mc_run(r, &d->study->study, &d->model, &d->opt, err);
 		if (rc && !(rc == PRSM_ECANCELLED && r->best >= 0))
 			goto cleanup;
+		if (r->best < 0) { /* prsm_alloc_mc_run promises a step; never read steps[-1] */
+			rc = prsm_error_set(err, PRSM_ENOCONVERGE, NULL, "no allocation step finished");
+			goto cleanup;
+		}
 	} else {
 		double t0 = prsm_clock_seconds();
 		if (cancel && *cancel) {
 			rc = prsm_error_set(err, PRSM_ECANCELLED, NULL, "the allocation was cancelled");
 			goto cleanup;
 		}
-		rc = prsm_alloc_model_allocate(&r->steps[0], &d->model, 1.0, err);
+		rc = prsm_alloc_model_allocate(&r->steps[0], &d->model, 1.0, cancel, max_time_s, err);
 		if (rc)
 			goto cleanup;
 		r->n_steps = 1;

@@ -39,13 +39,16 @@ int prsm_io_allocation_check(const cJSON *doc, size_t max_samples, prsm_problems
                              prsm_problems *problems);
 
 /* Load, run and write the result in one call. The caller owns *result (cJSON_Delete).
- * cancel (may be NULL) is polled between and inside the Monte Carlo runs; progress (may be
+ * cancel (may be NULL) is polled between and inside the Monte Carlo runs and the solves; progress (may be
  * NULL) is called from this thread with done / planned = Monte Carlo samples (evaluations of
  * the linear solver for an analytic document) and best = the total cost of the best allocation
- * that met every target so far. max_time_s 0: no cap; threads 0: the study's own (results do not
- * depend on it). Returns 0 (the result may say "converged": false when the correction could not
+ * that met every target so far. max_time_s 0: no cap (it also caps each allocation's solve;
+ * when it ends before the first Monte Carlo run the result is the linear allocation,
+ * unverified, stop_reason time_cap); threads 0: the study's own (results do not depend on it).
+ * Returns 0 (the result may say "converged": false when the correction could not
  * meet the target), PRSM_EINVAL (problems filled, *result NULL; also a spec that no allocation
- * within the bounds can meet), PRSM_ECANCELLED (*result set to the best-so-far document when
+ * within the bounds can meet), PRSM_ENOCONVERGE (the time cap ended before the linear
+ * allocation was solved), PRSM_ECANCELLED (*result set to the best-so-far document when
  * there is one, flagged "cancelled": true), PRSM_ENOMEM, or another PRSM_E* code with err. */
 int prsm_io_allocation_execute(cJSON **result, const cJSON *doc, volatile int *cancel,
                                prsm_progress_fn progress, void *progress_ctx, double max_time_s,

@@ -15,10 +15,16 @@
  * case, a_i = sum_o lambda_o |c_oi|) in closed form (a power law, or Lambert W0 for the
  * exponential cost with RSS), clamped to its bounds (exact: each one-dimensional problem is
  * convex); each lambda_o is a one-dimensional root (Brent on log lambda) of its constraint held
- * with equality, or 0 when the constraint is slack. Several constraints: cyclic coordinate
- * ascent on the (concave) dual, one exact root per constraint per sweep, until every constraint
- * holds to 1e-12 relative with complementary slackness. NLopt (SLSQP or COBYLA on log T) solves
- * the same problem as a check.
+ * with equality, or 0 when the constraint is slack; the allocation is computed from ln lambda
+ * (log-sum-exp over the constraints), so any cost scale is searched without overflow. Several
+ * constraints: one sweep of those exact roots (coordinate ascent on the concave dual), then a
+ * projected Newton method on the dual (normalised multipliers mu_o = lambda_o L_o^q >= 0, the
+ * dual's gradient the relative violations and its Hessian from dT/da in closed form,
+ * Cholesky with a small ridge, backtracking on the dual value) until every constraint holds to
+ * 1e-12 relative with complementary slackness; if Newton stalls, further coordinate sweeps, and
+ * if those stall, SLSQP. NLopt (SLSQP or COBYLA on log T) solves the same problem as a check.
+ * The solve polls the problem's cancel flag and honours its time cap between iterations (and
+ * NLopt's maxtime and forced stop).
  *
  * The yield rule (the allocation document's targets): an output with spec [L, U] (one or both
  * sides) and mean mu, normal with sd sigma, has yield Phi((U - mu)/sigma) - Phi((L - mu)/sigma);
@@ -70,6 +76,8 @@ typedef struct {
 	double t_max[PRSM_ALLOC_MAX_TOLERANCES]; /* tolerance unit, > t_min; INFINITY: none */
 	double c[PRSM_ALLOC_MAX_CONSTRAINTS][PRSM_ALLOC_MAX_TOLERANCES]; /* output unit per tolerance unit */
 	double limit[PRSM_ALLOC_MAX_CONSTRAINTS]; /* L_o > 0, output unit */
+	volatile int *cancel;        /* may be NULL: polled between iterations (PRSM_ECANCELLED) */
+	double max_time_s;           /* 0: none; the solve's own time cap (PRSM_ENOCONVERGE, time_cap set) */
 } prsm_alloc_problem;
 
 typedef struct {
@@ -83,6 +91,7 @@ typedef struct {
 	size_t evaluations;                       /* closed-form allocations or NLopt evaluations */
 	int sweeps;                               /* coordinate-ascent sweeps (exact solver) */
 	prsm_alloc_solver solver;                 /* what produced it */
+	int time_cap;                             /* 1: the solve stopped at p->max_time_s */
 } prsm_alloc_solution;
 
 /* Cost of one tolerance at half-width t (cost units; +inf at t = 0 for the reciprocal models). */
@@ -90,11 +99,14 @@ double prsm_alloc_cost_eval(const prsm_alloc_cost *c, double t);
 
 /* Check p: sizes, finite positive coefficients, bounds, every tolerance either constrained or
  * bounded above, and feasibility (every constraint strictly met with every tolerance at t_min).
- * Returns 0 or PRSM_EINVAL with err saying which (pointer NULL). */
+ * Returns 0 or PRSM_EINVAL with err saying which; its pointer names the tolerance or the
+ * constraint as the allocation document lays them out ("/allocate/i", "/constraints/o"). */
 int prsm_alloc_check(const prsm_alloc_problem *p, prsm_error *err);
 
-/* Solve p (see the top of the file). Returns 0, PRSM_EINVAL (prsm_alloc_check), or
- * PRSM_ENOCONVERGE (NLopt failed, or the coordinate ascent did not settle: err says how far). */
+/* Solve p (see the top of the file). Returns 0, PRSM_EINVAL (prsm_alloc_check, or a constraint
+ * the lower bounds cannot meet: pointer "/constraints/o"), PRSM_ECANCELLED (p->cancel), or
+ * PRSM_ENOCONVERGE (the time cap ran out: out->time_cap 1; NLopt failed; or the dual methods
+ * did not settle: err says how far). */
 int prsm_alloc_solve(prsm_alloc_solution *out, const prsm_alloc_problem *p, prsm_alloc_solver solver,
                      prsm_error *err);
 

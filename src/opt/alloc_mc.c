@@ -44,38 +44,43 @@ int prsm_alloc_model_problem(prsm_alloc_problem *p, prsm_alloc_step *step, const
 	}
 	for (size_t o = 0; o < md->m; o++) {
 		double tasm;
-		int rc;
+		int rc = 0;
+		char ptr[48];
+		prsm_error e2 = PRSM_ERROR_INIT;
 		step->sigma_max[o] = NAN;
 		if (!md->has_target[o]) {
-			tasm = md->assembly_tol[o];
+			tasm = md->assembly_tol[o]; /* given: a hard limit, never scaled */
 		} else if (md->stack == PRSM_ALLOC_RSS) {
 			double sigma;
-			rc = prsm_alloc_sigma_for_out_fraction(&sigma, &md->spec[o], md->nominal[o], md->out_fraction[o], err);
-			if (rc)
-				return prsm_error_set(err, rc, NULL, "output %zu: %s", o, err->message);
-			tasm = 3.0 * sigma;
+			rc = prsm_alloc_sigma_for_out_fraction(&sigma, &md->spec[o], md->nominal[o], md->out_fraction[o], &e2);
+			tasm = 3.0 * sigma * scale;
 		} else {
-			rc = prsm_alloc_worst_case_limit(&tasm, &md->spec[o], md->nominal[o], err);
-			if (rc)
-				return prsm_error_set(err, rc, NULL, "output %zu: %s", o, err->message);
+			rc = prsm_alloc_worst_case_limit(&tasm, &md->spec[o], md->nominal[o], &e2);
+			tasm *= scale;
 		}
-		tasm *= scale;
+		if (rc) {
+			snprintf(ptr, sizeof ptr, "/constraints/%zu/spec", o);
+			return prsm_error_set(err, rc, ptr, "output %zu: %s", o, e2.message);
+		}
+		snprintf(ptr, sizeof ptr, "/constraints/%zu", o);
 		step->assembly_tol[o] = tasm;
 		if (md->stack == PRSM_ALLOC_RSS) {
 			step->sigma_max[o] = tasm / 3.0;
-			double free2 = tasm * tasm - 9.0 * md->fixed_var[o];
-			if (!(free2 > 0.0))
-				return prsm_error_set(err, PRSM_EINVAL, NULL,
+			/* sqrt(T_asm^2 - 9 var_fixed) without squaring T_asm (no overflow) */
+			const double ratio = 3.0 * sqrt(md->fixed_var[o]) / tasm;
+			const double free1 = tasm * sqrt((1.0 - ratio) * (1.0 + ratio));
+			if (!(ratio < 1.0) || !(free1 > 0.0))
+				return prsm_error_set(err, PRSM_EINVAL, ptr,
 				                      "output %zu: the tolerances not allocated already take the whole "
 				                      "budget (their 3 sd %.6g, the assembly tolerance %.6g)",
 				                      o, 3.0 * sqrt(md->fixed_var[o]), tasm);
-			p->limit[o] = sqrt(free2);
+			p->limit[o] = free1;
 			for (size_t i = 0; i < md->n; i++)
 				p->c[o][i] = 3.0 * md->c[o][i] / md->k[i];
 		} else {
 			double free1 = tasm - md->fixed_wc[o];
 			if (!(free1 > 0.0))
-				return prsm_error_set(err, PRSM_EINVAL, NULL,
+				return prsm_error_set(err, PRSM_EINVAL, ptr,
 				                      "output %zu: the tolerances not allocated already take the whole "
 				                      "budget (worst case %.6g, the assembly tolerance %.6g)",
 				                      o, md->fixed_wc[o], tasm);
@@ -83,22 +88,26 @@ int prsm_alloc_model_problem(prsm_alloc_problem *p, prsm_alloc_step *step, const
 			for (size_t i = 0; i < md->n; i++)
 				p->c[o][i] = md->c[o][i];
 		}
+		step->limit[o] = p->limit[o];
 	}
 	return 0;
 }
 
 int prsm_alloc_model_allocate(prsm_alloc_step *step, const prsm_alloc_model *md, double scale,
-                              prsm_error *err)
+                              volatile int *cancel, double max_time_s, prsm_error *err)
 {
 	memset(step, 0, sizeof *step);
 	prsm_alloc_problem *p = malloc(sizeof *p);
 	if (!p)
 		return prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
 	int rc = prsm_alloc_model_problem(p, step, md, scale, err);
+	p->cancel = cancel;
+	p->max_time_s = max_time_s;
 	if (rc == 0)
 		rc = prsm_alloc_solve(&step->sol, p, md->solver, err);
 	if (rc == 0) {
 		step->meets = 1;
+		step->assembly_ok = 1;
 		for (size_t o = 0; o < md->m; o++) {
 			double var = md->fixed_var[o];
 			for (size_t i = 0; i < md->n; i++) {
@@ -110,7 +119,10 @@ int prsm_alloc_model_allocate(prsm_alloc_step *step, const prsm_alloc_model *md,
 			                                                                step->predicted_sd[o]);
 			if (md->has_target[o] && step->predicted_yield[o] < 1.0 - md->out_fraction[o] - 1e-12)
 				step->meets = 0;
+			if (!md->has_target[o] && !(step->sol.stack[o] <= step->limit[o] * (1.0 + 1e-9)))
+				step->assembly_ok = 0;
 		}
+		step->meets &= step->assembly_ok;
 	}
 	free(p);
 	return rc;
@@ -311,7 +323,7 @@ static int run_mc(prsm_alloc_step *st, prsm_study *s, const prsm_alloc_model *md
 	int rc = prsm_study_run(r, s, err);
 	if (rc == 0) {
 		st->has_mc = 1;
-		st->meets = 1;
+		st->meets = st->assembly_ok; /* the given assembly tolerances: the linear stack */
 		for (size_t q = 0; q < md->m; q++) {
 			const prsm_stats_summary *sm = &r->out[o->output[q]].summary;
 			st->samples = sm->n;
@@ -373,12 +385,29 @@ int prsm_alloc_mc_run(prsm_alloc_mc_result *out, prsm_study *s, const prsm_alloc
 			out->stop = PRSM_ALLOC_STOP_CANCELLED;
 			break;
 		}
+		double left = 0.0; /* time left, 0: no cap */
+		if (o->max_time_s > 0.0) {
+			left = o->max_time_s - (prsm_clock_seconds() - t0);
+			if (left <= 0.0 && k > 0) {
+				out->stop = PRSM_ALLOC_STOP_TIME_CAP;
+				break;
+			}
+			left = fmax(left, 1e-9); /* the linear allocation is always tried */
+		}
 		prsm_alloc_step *st = &out->steps[out->n_steps];
 		prsm_error e2 = PRSM_ERROR_INIT;
-		int arc = prsm_alloc_model_allocate(st, md, f, &e2);
+		int arc = prsm_alloc_model_allocate(st, md, f, o->cancel, left, &e2);
+		if (arc == PRSM_ECANCELLED) {
+			out->stop = PRSM_ALLOC_STOP_CANCELLED;
+			break;
+		}
+		if (arc && st->sol.time_cap) {
+			out->stop = PRSM_ALLOC_STOP_TIME_CAP;
+			break;
+		}
 		if (arc) {
 			if (k == 0) {
-				rc = prsm_error_set(err, arc, NULL, "%s", e2.message);
+				rc = prsm_error_set(err, arc, e2.pointer[0] ? e2.pointer : NULL, "%s", e2.message);
 				goto cleanup;
 			}
 			/* shrinking went past what the lower bounds allow */
@@ -391,9 +420,10 @@ int prsm_alloc_mc_run(prsm_alloc_mc_result *out, prsm_study *s, const prsm_alloc
 			break;
 		}
 		if (o->max_time_s > 0.0) {
-			double left = o->max_time_s - (prsm_clock_seconds() - t0);
+			left = o->max_time_s - (prsm_clock_seconds() - t0);
 			if (left <= 0.0) {
-				out->n_steps--;
+				if (k > 0)
+					out->n_steps--; /* the linear allocation stays, unverified */
 				out->stop = PRSM_ALLOC_STOP_TIME_CAP;
 				break;
 			}
@@ -427,10 +457,15 @@ int prsm_alloc_mc_run(prsm_alloc_mc_result *out, prsm_study *s, const prsm_alloc
 				out->best = out->n_steps - 1;
 			pc.best = out->steps[out->best].sol.total_cost;
 			f_ok = f, g_ok = g;
-			int all_upper = 1;
+			/* a larger f changes nothing when every tolerance is at its upper bound or every
+			 * target's constraint is slack (the given assembly tolerances or the bounds decide) */
+			int all_upper = 1, targets_slack = 1;
 			for (size_t i = 0; i < md->n; i++)
 				all_upper &= st->sol.at_bound[i] == 1;
-			if (all_upper) {
+			for (size_t q = 0; q < md->m; q++)
+				if (md->has_target[q] && !(st->sol.stack[q] < st->limit[q] * (1.0 - 1e-9)))
+					targets_slack = 0;
+			if (all_upper || (targets_slack && isnan(f_fail))) {
 				out->stop = PRSM_ALLOC_STOP_CONVERGED;
 				break;
 			}
@@ -458,8 +493,14 @@ int prsm_alloc_mc_run(prsm_alloc_mc_result *out, prsm_study *s, const prsm_alloc
 		out->best = 0; /* nothing met the target: report the linear allocation */
 	out->converged = out->best >= 0 && out->steps[out->best].meets &&
 	                 (out->stop == PRSM_ALLOC_STOP_CONVERGED || out->stop == PRSM_ALLOC_STOP_LINEAR);
-	if (out->stop == PRSM_ALLOC_STOP_CANCELLED)
+	if (out->stop == PRSM_ALLOC_STOP_CANCELLED) {
 		rc = prsm_error_set(err, PRSM_ECANCELLED, NULL, "the allocation was cancelled");
+	} else if (out->best < 0) {
+		/* the time cap ran out before the linear allocation was solved */
+		rc = prsm_error_set(err, PRSM_ENOCONVERGE, NULL,
+		                    "the time cap of %.3g s ran out before the linear allocation was solved",
+		                    o->max_time_s);
+	}
 cleanup:
 	for (size_t v = 0; v < s->d; v++)
 		s->vars[v].dist = ref[v];

@@ -19,14 +19,16 @@
  * var_fixed,o with T_asm,o = 3 sigma_max,o, sigma_max the largest sd of a normal output centred
  * on mu_o whose yield against the spec is the target (prsm_alloc_sigma_for_out_fraction);
  * worst case, sum_i |c_oi| T_i <= T_asm,o - wc_fixed,o with T_asm,o = min(U - mu, mu - L). An
- * assembly tolerance may also be given directly (no yield target).
+ * assembly tolerance may also be given directly (no yield target): a hard limit that the
+ * correction never scales, checked on every step's linear stack (assembly_ok).
  *
  * The Monte Carlo correction: the study is run with the allocated widths (each distribution
  * scaled about its centre), same seed, same samples, so the yield is a deterministic function
- * of the widths (common random numbers) and threads do not change it. Every limit T_asm,o is
- * multiplied by one factor f (f = 1 first): if some output misses its target, f shrinks by 0.8
- * until every target is met; if all are met, f grows by 1.25 until one is missed (or every
- * tolerance sits at its upper bound); then a safeguarded secant on ln f between the two
+ * of the widths (common random numbers) and threads do not change it. Every limit T_asm,o that
+ * comes from a yield target is multiplied by one factor f (f = 1 first): if some output misses
+ * its target, f shrinks by 0.8 until every target is met; if all are met, f grows by 1.25 until
+ * one is missed (or every tolerance sits at its upper bound, or every target's constraint is
+ * slack, so a larger f changes nothing); then a safeguarded secant on ln f between the two
  * (clamped to the inner 10..90 % of the bracket) until the bracket is within the relative width
  * asked for. Each f is re-allocated exactly. The result is the largest f that met every target:
  * the cheapest allocation the Monte Carlo accepts.
@@ -63,7 +65,9 @@ typedef struct {
  * the Monte Carlo figures. */
 typedef struct {
 	double scale;                                       /* f */
-	double assembly_tol[PRSM_ALLOC_MAX_CONSTRAINTS];    /* f T_asm,o, output unit */
+	double assembly_tol[PRSM_ALLOC_MAX_CONSTRAINTS];    /* f T_asm,o (a target) or the given T_asm,o, output unit */
+	double limit[PRSM_ALLOC_MAX_CONSTRAINTS];           /* the stack limit solved for: T_asm,o less the
+	                                                       kept tolerances' share, output unit */
 	double sigma_max[PRSM_ALLOC_MAX_CONSTRAINTS];       /* T_asm,o / 3 (RSS); NAN for worst case */
 	prsm_alloc_solution sol;
 	double predicted_sd[PRSM_ALLOC_MAX_CONSTRAINTS];    /* linear sd of the output, output unit */
@@ -73,7 +77,9 @@ typedef struct {
 	double mc_mean[PRSM_ALLOC_MAX_CONSTRAINTS], mc_sd[PRSM_ALLOC_MAX_CONSTRAINTS]; /* output unit */
 	double mc_yield[PRSM_ALLOC_MAX_CONSTRAINTS], mc_low95[PRSM_ALLOC_MAX_CONSTRAINTS],
 	       mc_high95[PRSM_ALLOC_MAX_CONSTRAINTS];      /* fraction in spec, 95 % Wilson interval */
-	int meets;                                          /* every target met (MC when run, else linear) */
+	int assembly_ok;                                    /* every given T_asm,o holds (linear stack) */
+	int meets;                                          /* every target met (MC when run, else linear)
+	                                                       and assembly_ok */
 } prsm_alloc_step;
 
 typedef enum {
@@ -109,14 +115,17 @@ typedef struct {
 	double elapsed_s;
 } prsm_alloc_mc_result;
 
-/* The constraint limits at scale f and the allocation problem. Returns 0 or PRSM_EINVAL (the
- * nominal is outside a spec, the tolerances kept use up the budget: err says which output). */
+/* The constraint limits at scale f and the allocation problem: f multiplies the T_asm,o that
+ * come from yield targets; an assembly tolerance given directly is a hard limit and stays as
+ * given. Returns 0 or PRSM_EINVAL (the nominal is outside a spec: pointer
+ * "/constraints/o/spec"; the tolerances kept use up the budget: "/constraints/o"). */
 int prsm_alloc_model_problem(prsm_alloc_problem *p, prsm_alloc_step *step, const prsm_alloc_model *md,
                              double scale, prsm_error *err);
 
-/* Allocate at scale f and fill the linear prediction of step. Returns as prsm_alloc_solve. */
+/* Allocate at scale f and fill the linear prediction of step. cancel (may be NULL) and
+ * max_time_s (0: none) go to the solve. Returns as prsm_alloc_solve. */
 int prsm_alloc_model_allocate(prsm_alloc_step *step, const prsm_alloc_model *md, double scale,
-                              prsm_error *err);
+                              volatile int *cancel, double max_time_s, prsm_error *err);
 
 /* Fill md's t_ref, k, c, nominal, fixed_var and fixed_wc from the study s (md->n, md->m and
  * md->stack set, the groups and outputs in o). Evaluates the model 2 per variable (8 per radial
@@ -131,9 +140,13 @@ int prsm_alloc_dist_scale(prsm_dist *out, const prsm_dist *d, double r);
 
 /* Allocate, verify and correct (see the top). s is changed while it runs (the distributions,
  * the output specs, no stop targets, no sensitivities) and its distributions are restored
- * before returning. out is large: allocate it on the heap. Returns 0 (also when the target was
- * not met: out->converged 0), PRSM_ECANCELLED (out holds the steps so far), PRSM_EINVAL (the
- * linear allocation at f = 1 is impossible), or the engine's code. */
+ * before returning. out is large: allocate it on the heap. o->cancel and o->max_time_s reach
+ * every allocation's solve as well as the Monte Carlo runs. Returns 0 with out->best >= 0 (also
+ * when the target was not met: out->converged 0; when the time cap ran out before the first
+ * Monte Carlo run finished, the linear allocation unverified, stop time_cap), PRSM_ECANCELLED
+ * (out holds the steps so far, out->best -1 when there is none), PRSM_EINVAL (the linear
+ * allocation at f = 1 is impossible), PRSM_ENOCONVERGE (the time cap ran out before the linear
+ * allocation was solved, or it did not settle), or the engine's code. */
 int prsm_alloc_mc_run(prsm_alloc_mc_result *out, prsm_study *s, const prsm_alloc_model *md,
                       const prsm_alloc_mc_options *o, prsm_error *err);
 
