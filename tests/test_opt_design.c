@@ -61,7 +61,8 @@ static void spec_four(prsm_dp_spec *s, int objective)
 	s->nut_outer_diameter_max_mm = 50.0;
 }
 
-/* Re-analyse the design at (x, levels) from scratch and check every constraint. */
+/* Re-analyse the design at (x, levels) from scratch and check every constraint against its raw
+ * limit (the optimiser's feasibility has no tolerance). */
 static void reanalyse_feasible(const prsm_dp_spec *s, const double *x, const double *levels,
                                const double *objectives)
 {
@@ -80,10 +81,10 @@ static void reanalyse_feasible(const prsm_dp_spec *s, const double *x, const dou
 	assert_int_equal(prsm_analysis_nominal(&a, &d, &w, &err), 0);
 	prsm_performance perf;
 	assert_int_equal(prsm_performance_compute(&perf, &d, &a, &err), 0);
-	assert_true(perf.static_safety >= s->static_safety_min * (1 - 1e-6));
-	assert_true(perf.life.hours >= s->life_min_h * (1 - 1e-6));
+	assert_true(perf.static_safety >= s->static_safety_min);
+	assert_true(perf.life.hours >= s->life_min_h);
 	double od = 2.0 * prsm_compliance_nut_outer_radius_mm(d.nut_outer_radius_mm, &d);
-	assert_true(od <= s->nut_outer_diameter_max_mm * (1 + 1e-6));
+	assert_true(od <= s->nut_outer_diameter_max_mm);
 	for (int k = 0; k < s->n_objectives; k++) {
 		if (s->objective[k] == PRSM_DP_EFFICIENCY)
 			assert_close(objectives[k], perf.losses.eta, 1e-12);
@@ -177,6 +178,49 @@ static void test_pruning(void **state)
 	}
 }
 
+/* The constraints' violations judge the raw limits: the roller fit by the integer Z_max (Z_max + 1
+ * rollers violate it however close Z asin(s)/pi is to 1; Z_max rollers meet it), the pass/fail
+ * ones -1 when met; each g <= 0 exactly when the figure meets its limit. */
+static void test_violation(void **state)
+{
+	(void)state;
+	prsm_dp_spec s;
+	spec_four(&s, PRSM_DP_STIFFNESS);
+	prsm_opt_problem p;
+	prsm_error err = PRSM_ERROR_INIT;
+	assert_int_equal(prsm_dp_problem(&p, &s, &err), 0);
+	const double x[2] = {2.0, 3.2};
+	for (int n = 4; n <= 6; n++) {
+		double lv[2] = {n, 3};
+		prsm_design d;
+		prsm_dp_figures fig;
+		prsm_dp_design_at(&d, &s, x, lv);
+		prsm_dp_analyse(&fig, &d, &s, 0, NULL, NULL);
+		const int z_max = fig.z_max;
+		assert_true(z_max >= 3);
+		for (int z = z_max; z <= z_max + 1; z++) {
+			lv[1] = z;
+			prsm_dp_design_at(&d, &s, x, lv);
+			prsm_dp_analyse(&fig, &d, &s, 0, NULL, NULL);
+			for (int i = 0; i < s.n_constraints; i++) {
+				const int kind = s.constraint_kind[i];
+				const double g = prsm_dp_violation(&s, i, &fig, d.rollers);
+				const double v = fig.constraint_value[kind], l = s.constraint_limit[i];
+				if (kind == PRSM_DP_C_ROLLER_FIT)
+					assert_true(z > z_max ? g >= 1e-3 : g <= 0.0);
+				else if (kind == PRSM_DP_C_ANALYSABLE)
+					assert_true(fig.analysable ? g == -1.0 : g == 1.0);
+				else if (kind == PRSM_DP_C_STANDARD_RULES)
+					assert_true(fig.rule_warnings == 0 ? g == -1.0 : g == fig.rule_warnings);
+				else if (kind == PRSM_DP_C_STATIC_SAFETY || kind == PRSM_DP_C_LIFE_HOURS)
+					assert_int_equal(g <= 0.0, v >= l);
+				else
+					assert_int_equal(g <= 0.0, v <= l);
+			}
+		}
+	}
+}
+
 /* An impossible limit: no feasible design, reported as infeasible with the violation. */
 static void test_infeasible(void **state)
 {
@@ -196,7 +240,7 @@ static void test_infeasible(void **state)
 	assert_int_equal(r.status, PRSM_OPT_INFEASIBLE);
 	int violated = 0;
 	for (int i = 0; i < p.n_constraints; i++)
-		if (r.constraints[i] > o.constraint_tol) {
+		if (r.constraints[i] > 0.0) {
 			violated++;
 			assert_string_equal(p.constraint_name[i], "static_safety");
 		}
@@ -243,9 +287,16 @@ static void test_pareto(void **state)
 		for (int j = 0; j < f->n_points; j++)
 			assert_false(prsm_opt_dominates(&p, 0, 1, f->points[j].objectives, pt->objectives));
 	}
-	/* sorted by efficiency ascending: stiffness must then descend */
+	/* sorted by efficiency ascending: stiffness must then descend; no two points the same
+	 * trade-off (within 1e-4 of the front's range in both) */
 	for (int i = 1; i < f->n_points; i++)
 		assert_true(f->points[i].objectives[1] < f->points[i - 1].objectives[1]);
+	for (int i = 0; i < f->n_points; i++)
+		for (int j = 0; j < i; j++)
+			assert_false(fabs(f->points[i].objectives[0] - f->points[j].objectives[0]) <=
+			                 1e-4 * (f->nadir[0] - f->ideal[0]) &&
+			             fabs(f->points[i].objectives[1] - f->points[j].objectives[1]) <=
+			                 1e-4 * (f->nadir[1] - f->ideal[1]));
 	prsm_opt_result r;
 	double ideal[PRSM_OPT_MAX_OBJECTIVES], range[PRSM_OPT_MAX_OBJECTIVES];
 	o.max_evaluations = 1500;
@@ -294,6 +345,7 @@ int main(void)
 		cmocka_unit_test(test_four_variables), cmocka_unit_test(test_determinism),
 		cmocka_unit_test(test_pruning),        cmocka_unit_test(test_infeasible),
 		cmocka_unit_test(test_pareto),         cmocka_unit_test(test_cancel),
+		cmocka_unit_test(test_violation),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

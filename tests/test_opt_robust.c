@@ -6,8 +6,9 @@
  * design (prsm_io_study_load + prsm_study_run, independently of the optimiser), and meets the
  * target; the constraint binds (the unconstrained optimum misses the target, the robust run
  * returns another design that meets it, at a lower objective); the smooth stand-ins tend to the
- * Monte Carlo yield; invalid robust sections reported with their pointers. Small sample counts
- * keep it fast.
+ * Monte Carlo yield; a run cancelled after some hundreds of evaluations reports its best design
+ * so far as it is (feasible, every robust constraint satisfied by a fresh run of its study);
+ * invalid robust sections reported with their pointers. Small sample counts keep it fast.
  */
 #include "test_support.h"
 
@@ -223,6 +224,64 @@ static void test_unreachable(void **state)
 	cJSON_Delete(doc);
 }
 
+/* Set the cancel flag once progress reaches `at` evaluations. */
+typedef struct {
+	volatile int *flag;
+	size_t at;
+} cancel_at;
+
+static void cancel_progress(void *ctx, const prsm_progress *pr)
+{
+	cancel_at *c = ctx;
+	if (pr->done >= c->at)
+		*c->flag = 1;
+}
+
+/* A cancel after some hundreds of evaluations: the best design found so far is reported as the
+ * search evaluated it (not re-evaluated under the cancel, which would stop its study at once
+ * and call it infeasible), feasible, each robust constraint evaluated afresh and satisfied, the
+ * yield the one an independent study gives and at least the target. */
+static void test_cancel(void **state)
+{
+	(void)state;
+	cJSON *doc = make_doc(1);
+	static const size_t at[] = {300, 450, 600};
+	for (size_t i = 0; i < sizeof at / sizeof *at; i++) {
+		volatile int flag = 0;
+		cancel_at c = {&flag, at[i]};
+		prsm_problems p;
+		prsm_problems_init(&p);
+		prsm_error err = PRSM_ERROR_INIT;
+		cJSON *res = NULL;
+		int rc = prsm_io_optimization_execute(&res, doc, &flag, cancel_progress, &c, 0.0, &p, &err);
+		assert_int_equal(rc, PRSM_ECANCELLED);
+		assert_non_null(res);
+		assert_true(cJSON_IsTrue(cJSON_GetObjectItem(res, "cancelled")));
+		assert_string_equal(cJSON_GetObjectItem(res, "stop_reason")->valuestring, "cancelled");
+		assert_true(num(res, "evaluations") < 700);
+		assert_true(cJSON_IsTrue(cJSON_GetObjectItem(res, "feasible")));
+		assert_string_equal(cJSON_GetObjectItem(res, "status")->valuestring, "feasible");
+		assert_int_equal(cJSON_GetArraySize(cJSON_GetObjectItem(res, "violated")), 0);
+		const cJSON *e = robust_entry(res);
+		assert_true(cJSON_IsTrue(cJSON_GetObjectItem(e, "evaluated")));
+		assert_true(cJSON_IsTrue(cJSON_GetObjectItem(e, "satisfied")));
+		size_t n = 0;
+		double y = study_yield(cJSON_GetObjectItem(cJSON_GetObjectItem(res, "best"), "design"), &n);
+		assert_true(y >= 0.99);
+		assert_close(num(e, "yield_percent"), 100.0 * y, 1e-12);
+		const cJSON *cons = cJSON_GetObjectItem(cJSON_GetObjectItem(res, "best"), "constraints");
+		for (const cJSON *it = cons->child; it; it = it->next)
+			assert_true(cJSON_IsTrue(cJSON_GetObjectItem(it, "satisfied")));
+		print_message("cancel at %zu: %g evaluations, %g N/um, yield %.2f %%\n", at[i],
+		              num(res, "evaluations"),
+		              num(cJSON_GetObjectItem(cJSON_GetObjectItem(res, "best"), "figures"),
+		                  "stiffness_N_per_um"),
+		              num(e, "yield_percent"));
+		cJSON_Delete(res);
+	}
+	cJSON_Delete(doc);
+}
+
 static int has_pointer(const prsm_problems *p, const char *ptr)
 {
 	for (int i = 0; i < p->count; i++)
@@ -334,6 +393,7 @@ int main(void)
 		cmocka_unit_test(test_deterministic),
 		cmocka_unit_test(test_binds_and_holds),
 		cmocka_unit_test(test_unreachable),
+		cmocka_unit_test(test_cancel),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

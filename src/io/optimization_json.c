@@ -683,7 +683,7 @@ static int load(opt_doc *od, const cJSON *doc, size_t max_evaluations, prsm_prob
 		od->robust.release = release_study;
 		od->robust.build_ctx = od;
 		od->spec.robust = &od->robust;
-		od->spec.robust_gate_tol = od->options.constraint_tol;
+		od->spec.robust_gate_tol = 0.0; /* studies only for candidates meeting every other limit */
 	}
 	base_warnings(doc, warnings);
 	prsm_dp_spec *s = &od->spec;
@@ -801,7 +801,8 @@ static cJSON *figures_json(const prsm_dp_figures *f, const prsm_design *d)
 	return o;
 }
 
-/* Every constraint with its value, limit and whether our check passed; violated names to viol. */
+/* Every constraint with its value, limit and whether it meets its raw limit (g the fresh
+ * violations of prsm_dp_violation: no tolerance); violated names to viol. */
 static cJSON *constraints_json(const opt_doc *od, const prsm_dp_figures *f, const double *g,
                                cJSON *viol)
 {
@@ -820,7 +821,7 @@ static cJSON *constraints_json(const opt_doc *od, const prsm_dp_figures *f, cons
 		                                            kind == PRSM_DP_C_LIFE_REVOLUTIONS ||
 		                                            kind == PRSM_DP_C_CRITICAL_SPEED
 		                                        ? "min" : "max");
-		int ok = g[i] <= od->options.constraint_tol;
+		int ok = g[i] <= 0.0;
 		cJSON_AddBoolToObject(c, "satisfied", ok);
 		if (!ok && viol)
 			cJSON_AddItemToArray(viol, cJSON_CreateString(prsm_dp_constraint_names[kind]));
@@ -853,8 +854,10 @@ static double percent(double fraction)
 
 /* The robust constraints of candidate d (unresolved) as the result's "robust" array, re-run
  * from scratch (the cache emptied first: the reported yields are a fresh Monte Carlo run of the
- * study, which must agree with what the search saw). g holds the point's checked violations.
- * Unsatisfied names go to viol. Returns 0, PRSM_ECANCELLED or PRSM_ENOMEM. */
+ * study, with common random numbers the one the search saw). g holds the point's fresh
+ * deterministic violations (the study runs only when they hold). `satisfied` is that fresh
+ * run's yield against its target, no tolerance. Unsatisfied names go to viol. Returns 0,
+ * PRSM_ECANCELLED or PRSM_ENOMEM. */
 static int robust_json(cJSON **out, const opt_doc *od, const prsm_design *d, const double *g,
                        cJSON *viol)
 {
@@ -865,7 +868,6 @@ static int robust_json(cJSON **out, const opt_doc *od, const prsm_design *d, con
 	if (rc == PRSM_ENOMEM)
 		return rc;
 	cJSON *arr = cJSON_CreateArray();
-	const int nd = od->spec.n_constraints;
 	for (int k = 0; k < od->robust.n; k++) {
 		const prsm_robust_constraint *c = &od->robust.c[k];
 		const prsm_robust_value *v = &re.v[k];
@@ -894,9 +896,8 @@ static int robust_json(cJSON **out, const opt_doc *od, const prsm_design *d, con
 		prsm_json_add_number(e, "sd", ok ? v->sd : NAN);
 		prsm_json_add_number(e, "normal_yield_percent", ok ? percent(v->normal_yield) : NAN);
 		prsm_json_add_number(e, "surrogate_yield_percent", ok ? percent(v->smooth_yield) : NAN);
-		/* the search's verdict; a fresh run gives the same yield (common random numbers) */
-		const int sat = g[nd + k] <= od->options.constraint_tol && ok &&
-		                v->g <= od->options.constraint_tol;
+		/* the fresh run's verdict (the search saw the same yield: common random numbers) */
+		const int sat = ok && v->g <= 0.0;
 		cJSON_AddBoolToObject(e, "satisfied", sat);
 		if (!ok)
 			cJSON_AddStringToObject(e, "message", rc ? err.message : re.failure);
@@ -908,11 +909,12 @@ static int robust_json(cJSON **out, const opt_doc *od, const prsm_design *d, con
 	return rc == PRSM_ECANCELLED ? rc : 0;
 }
 
-/* The design at (x, levels) analysed in full: into o as design (+ analysis when full),
- * variables, figures, objectives, constraints and the robust constraints. Returns 0,
- * PRSM_ECANCELLED (a robust study was cancelled) or PRSM_ENOMEM. */
+/* The design at (x, levels) analysed afresh and in full: into o as design (+ analysis when
+ * full), variables, figures, objectives, constraints and the robust constraints, each
+ * constraint judged on this analysis against its raw limit. Returns 0, PRSM_ECANCELLED (a
+ * robust study was cancelled) or PRSM_ENOMEM. */
 static int point_json(cJSON *o, const opt_doc *od, const double *x, const double *levels,
-                      const double *g, int full, cJSON *violated)
+                      int full, cJSON *violated)
 {
 	prsm_design d;
 	prsm_dp_figures fig;
@@ -923,6 +925,9 @@ static int point_json(cJSON *o, const opt_doc *od, const double *x, const double
 	prsm_dp_design_at(&d, &od->spec, x, levels);
 	const prsm_design unresolved = d;
 	int rc = prsm_dp_analyse(&fig, &d, &od->spec, 1, a, &perf);
+	double g[PRSM_OPT_MAX_CONSTRAINTS];
+	for (int i = 0; i < od->spec.n_constraints; i++)
+		g[i] = prsm_dp_violation(&od->spec, i, &fig, d.rollers);
 	cJSON_AddItemToObject(o, "variables", variables_json(&d));
 	double f[PRSM_OPT_MAX_OBJECTIVES];
 	for (int k = 0; k < od->spec.n_objectives; k++)
@@ -957,8 +962,8 @@ static int point_json(cJSON *o, const opt_doc *od, const double *x, const double
 }
 
 static void add_run_figures(cJSON *doc, const opt_doc *od, size_t evaluations, size_t combos,
-                            size_t pruned, size_t runs, size_t runs_feasible, int stop,
-                            int cancelled, double elapsed_s)
+                            size_t pruned, size_t runs, size_t runs_feasible,
+                            size_t runs_truncated, int stop, int cancelled, double elapsed_s)
 {
 	cJSON_AddBoolToObject(doc, "cancelled", cancelled);
 	cJSON_AddStringToObject(doc, "stop_reason", prsm_opt_stop_names[stop]);
@@ -977,6 +982,7 @@ static void add_run_figures(cJSON *doc, const opt_doc *od, size_t evaluations, s
 	cJSON_AddNumberToObject(cb, "pruned", (double)pruned);
 	cJSON_AddNumberToObject(cb, "runs", (double)runs);
 	cJSON_AddNumberToObject(cb, "runs_feasible", (double)runs_feasible);
+	cJSON_AddNumberToObject(cb, "runs_truncated", (double)runs_truncated);
 	prsm_json_add_number(doc, "elapsed_s", elapsed_s);
 }
 
@@ -1024,19 +1030,21 @@ static cJSON *result_head(const opt_doc *od, const prsm_problems *warnings)
 	return doc;
 }
 
-/* The best design of a run as the result's main part. */
-static int add_best(cJSON *doc, const opt_doc *od, int status, const double *x, const double *lv,
-                    const double *g)
+/* The best design of a run as the result's main part: re-analysed, and feasible only when the
+ * optimiser found it so and the fresh check finds no constraint violated. */
+static int add_best(cJSON *doc, const opt_doc *od, int status, const double *x, const double *lv)
 {
-	cJSON_AddStringToObject(doc, "status", status == PRSM_OPT_FEASIBLE     ? "feasible"
-	                                       : status == PRSM_OPT_INFEASIBLE ? "infeasible"
-	                                                                       : "none");
-	cJSON_AddBoolToObject(doc, "feasible", status == PRSM_OPT_FEASIBLE);
 	cJSON *violated = cJSON_CreateArray();
 	cJSON *best = cJSON_CreateObject();
 	int rc = 0;
 	if (status != PRSM_OPT_NOTHING)
-		rc = point_json(best, od, x, lv, g, 1, violated);
+		rc = point_json(best, od, x, lv, 1, violated);
+	if (status == PRSM_OPT_FEASIBLE && cJSON_GetArraySize(violated) > 0)
+		status = PRSM_OPT_INFEASIBLE;
+	cJSON_AddStringToObject(doc, "status", status == PRSM_OPT_FEASIBLE     ? "feasible"
+	                                       : status == PRSM_OPT_INFEASIBLE ? "infeasible"
+	                                                                       : "none");
+	cJSON_AddBoolToObject(doc, "feasible", status == PRSM_OPT_FEASIBLE);
 	cJSON_AddItemToObject(doc, "violated", violated);
 	cJSON_AddItemToObject(doc, "best", status != PRSM_OPT_NOTHING ? best : cJSON_CreateNull());
 	if (status == PRSM_OPT_NOTHING)
@@ -1112,16 +1120,14 @@ int prsm_io_optimization_execute(cJSON **result, const cJSON *doc, volatile int 
 			}
 		}
 		od->robust.cancel = NULL; /* the result's re-checks run to the end */
-		size_t runs = front->anchor[0].runs + front->anchor[1].runs;
-		size_t feas = front->anchor[0].runs_feasible + front->anchor[1].runs_feasible;
 		add_run_figures(out, od, front->evaluations, front->anchor[0].combinations,
-		                front->anchor[0].pruned, runs, feas, front->stop, front->cancelled,
-		                front->elapsed_s);
+		                front->anchor[0].pruned, front->local_runs, front->local_runs_feasible,
+		                front->runs_truncated, front->stop,
+		                front->cancelled, front->elapsed_s);
 		if (lead >= 0)
-			rc = add_best(out, od, PRSM_OPT_FEASIBLE, front->points[lead].x, front->points[lead].levels,
-			              front->points[lead].constraints);
+			rc = add_best(out, od, PRSM_OPT_FEASIBLE, front->points[lead].x, front->points[lead].levels);
 		else
-			rc = add_best(out, od, PRSM_OPT_NOTHING, NULL, NULL, NULL);
+			rc = add_best(out, od, PRSM_OPT_NOTHING, NULL, NULL);
 		cJSON *pf = cJSON_AddObjectToObject(out, "pareto");
 		cJSON_AddStringToObject(pf, "objective_a", prsm_dp_objective_names[od->spec.objective[0]]);
 		cJSON_AddStringToObject(pf, "objective_b", prsm_dp_objective_names[od->spec.objective[1]]);
@@ -1133,8 +1139,7 @@ int prsm_io_optimization_execute(cJSON **result, const cJSON *doc, volatile int 
 		for (int i = 0; i < front->n_points && rc == 0; i++) {
 			cJSON *pt = cJSON_CreateObject();
 			prsm_json_add_number(pt, "epsilon_limit", front->points[i].eps_limit);
-			rc = point_json(pt, od, front->points[i].x, front->points[i].levels,
-			                front->points[i].constraints, 0, NULL);
+			rc = point_json(pt, od, front->points[i].x, front->points[i].levels, 1, NULL);
 			cJSON_AddItemToArray(pts, pt);
 		}
 		if (rc == 0)
@@ -1151,9 +1156,9 @@ int prsm_io_optimization_execute(cJSON **result, const cJSON *doc, volatile int 
 		}
 		od->robust.cancel = NULL; /* the result's re-checks run to the end */
 		add_run_figures(out, od, r->evaluations, r->combinations, r->pruned, r->runs,
-		                r->runs_feasible, r->stop, r->cancelled || run_rc == PRSM_ECANCELLED,
-		                r->elapsed_s);
-		rc = add_best(out, od, r->status, r->x, r->levels, r->constraints);
+		                r->runs_feasible, r->runs_truncated, r->stop,
+		                r->cancelled || run_rc == PRSM_ECANCELLED, r->elapsed_s);
+		rc = add_best(out, od, r->status, r->x, r->levels);
 		if (od->method == METHOD_WEIGHTED) {
 			cJSON *nm = cJSON_AddObjectToObject(out, "normalisation");
 			cJSON_AddStringToObject(nm, "rule", "each objective as (sense f - ideal) / range, "

@@ -12,8 +12,10 @@
  * multi-objective section (weighted sum or an epsilon-constraint Pareto sweep). Every problem
  * of the document is reported at once with its JSON pointer. The result carries the best design
  * as a design document `prsm analyze` accepts, its analysis, every constraint with its value,
- * limit and whether it holds, the objectives, the evaluation count, the stop reason, the time,
- * the versions, and for a sweep the Pareto front with each point's design and figures.
+ * limit and whether it holds (judged on a fresh analysis against the raw limit: the document's
+ * constraint_tolerance only steers the solver), the objectives, the evaluation count, the runs
+ * and those truncated, the stop reason, the time, the versions, and for a sweep the Pareto front
+ * with each point's design, figures and full analysis.
  */
 #ifndef PRSM_IO_OPTIMIZATION_JSON_H
 #define PRSM_IO_OPTIMIZATION_JSON_H

@@ -213,12 +213,28 @@ cleanup:
 static double scaled(int kind, double limit, double v)
 {
 	if (kind == PRSM_DP_C_ANALYSABLE || kind == PRSM_DP_C_STANDARD_RULES)
-		return v; /* 0 or a count */
+		return v > 0.0 ? v : -1.0; /* pass/fail: -1 when met (optimize.h), else 1 or the count */
 	if (isnan(v))
 		return NAN;
 	if (isinf(v))
 		return constraint_side[kind] > 0 ? (v > 0 ? 1.0 : -1.0) : (v > 0 ? -1.0 : 1.0);
 	return constraint_side[kind] * (v - limit) / fabs(limit);
+}
+
+double prsm_dp_violation(const prsm_dp_spec *s, int i, const prsm_dp_figures *fig, int rollers)
+{
+	const int kind = s->constraint_kind[i];
+	double g = scaled(kind, s->constraint_limit[i], fig->constraint_value[kind]);
+	if (kind == PRSM_DP_C_ROLLER_FIT && fig->z_max > 0) {
+		/* Z_max is an integer: the floor decides (MODEL.md §1), the smooth value only steers */
+		if (rollers > fig->z_max)
+			g = g > 1e-3 ? g : 1e-3;
+		else
+			g = g < 0.0 ? g : 0.0;
+	} else if (kind == PRSM_DP_C_ROLLER_FIT && rollers > fig->z_max && !(g > 1e-3)) {
+		g = 1e-3; /* no Z_max at all: nothing fits */
+	}
+	return g;
 }
 
 int prsm_dp_robust(prsm_robust_eval *out, const prsm_dp_spec *s, const prsm_design *d,
@@ -252,13 +268,8 @@ static int dp_eval(void *ctx, const double *x, const double *levels, double *f, 
 	int rc = prsm_dp_analyse(&fig, &d, s, 0, NULL, NULL);
 	for (int k = 0; k < s->n_objectives; k++)
 		f[k] = fig.objective[s->objective[k]];
-	for (int i = 0; i < s->n_constraints; i++) {
-		int kind = s->constraint_kind[i];
-		g[i] = scaled(kind, s->constraint_limit[i], fig.constraint_value[kind]);
-		/* Z_max is an integer: within the tolerance of Z asin(s)/pi = 1 the floor decides */
-		if (kind == PRSM_DP_C_ROLLER_FIT && d.rollers > fig.z_max && !(g[i] > 1e-3))
-			g[i] = 1e-3;
-	}
+	for (int i = 0; i < s->n_constraints; i++)
+		g[i] = prsm_dp_violation(s, i, &fig, d.rollers);
 	if (s->robust) {
 		/* the problem has a surrogate: g holds the checked values, then the solver's */
 		const int nd = s->n_constraints, nc = nd + s->robust->n;

@@ -19,20 +19,23 @@
  * roller orbiting at the carrier ratio r_s/(2a) and spinning at (1 - n) times it (MODEL.md §5).
  *
  * Constraints (scaled: g = (value - limit)/|limit| for an upper limit, the reverse for a lower;
- * feasible when g <= 0): the design can be analysed (no impossible geometry, no edge contact);
- * roller fit Z <= Z_max (as Z asin(s)/pi <= 1, s = (r_ro + c/2)/a, smooth in the radii); the
- * standard rules (no rule warning of prsm_geometry_check); and those the caller sets: nut outer
- * diameter <= max, screw pitch diameter in [min, max], static safety C_0a/F >= s0, L10 >= hours
- * or revolutions, p_max of the most loaded contact <= limit, screw critical speed (beam theory,
- * needs the column data) >= factor x operating speed.
+ * feasible when g <= 0, i.e. exactly when the value meets its raw limit): the design can be
+ * analysed (no impossible geometry, no edge contact; pass/fail: g -1 or 1); roller fit Z <= Z_max
+ * (g = Z asin(s)/pi - 1, s = (r_ro + c/2)/a, smooth in the radii for the solver, but the integer
+ * Z_max decides its sign: g >= 1e-3 when Z > Z_max, g <= 0 otherwise); the standard rules (no
+ * rule warning of prsm_geometry_check; g -1, or the warning count); and those the caller sets:
+ * nut outer diameter <= max, screw pitch diameter in [min, max], static safety C_0a/F >= s0,
+ * L10 >= hours or revolutions, p_max of the most loaded contact <= limit, screw critical speed
+ * (beam theory, needs the column data) >= factor x operating speed. No tolerance anywhere: the
+ * optimiser's constraint_tol only steers NLopt (opt/optimize.h).
  *
  * Robust constraints (opt/robust.h, optional): the Monte Carlo yield of a study output of the
  * candidate design against a spec >= a target, with common random numbers. They follow the
  * deterministic constraints in the problem, named "yield_<output>"; the problem then has a
  * surrogate (the solver sees a smooth stand-in, the check uses the Monte Carlo yield). A
- * candidate's study runs only when every deterministic constraint holds within robust_gate_tol
- * (the optimiser's constraint tolerance); otherwise each robust constraint is reported violated
- * (g = 1) without running it.
+ * candidate's study runs only when every deterministic constraint g <= robust_gate_tol (0 in
+ * prsm optimize: every one met); otherwise each robust constraint is reported violated (g = 1)
+ * without running it.
  *
  * Pruning: a (starts, Z, n_t) combination is skipped when even the most favourable corner of
  * the continuous box cannot fit Z rollers, or puts the screw diameter or the nut outer diameter
@@ -153,6 +156,11 @@ void prsm_dp_design_at(prsm_design *out, const prsm_dp_spec *s, const double *x,
  * model's code (fig->failure says why). */
 int prsm_dp_analyse(prsm_dp_figures *fig, prsm_design *d, const prsm_dp_spec *s, int full,
                     prsm_analysis *a, prsm_performance *perf);
+
+/* The scaled violation g of the problem's deterministic constraint i (0 .. s->n_constraints - 1)
+ * for the figures fig of a design with `rollers` rollers: what the problem's eval reports, <= 0
+ * exactly when the constraint meets its raw limit (no tolerance). */
+double prsm_dp_violation(const prsm_dp_spec *s, int i, const prsm_dp_figures *fig, int rollers);
 
 /* The robust constraints at (x, levels): the design's study when every deterministic constraint
  * g_det (s->n_constraints values, scaled as the problem's) holds within s->robust_gate_tol, else

@@ -1,8 +1,9 @@
 /*
  * optimize.c: the mixed-integer search of optimize.h: discrete combinations enumerated with
- * pruning, each a continuous NLopt problem from Sobol starting points, every evaluation checked
- * against the constraints here (DESIGN.md "Optimisation": never trust NLopt's return code),
- * the best feasible point kept across runs, the evaluation budget shared out as it goes.
+ * pruning, each a continuous NLopt problem from seeded, randomly rotated Sobol starting points,
+ * every evaluation checked against the raw constraints here (DESIGN.md "Optimisation": never
+ * trust NLopt's return code), the best feasible point kept across runs, the evaluation budget
+ * shared out as it goes.
  */
 #include "opt/optimize.h"
 
@@ -15,6 +16,7 @@
 #include <nlopt.h>
 
 #include "util/clock.h"
+#include "util/rng.h"
 
 const char *const prsm_opt_algorithm_names[] = {"cobyla", "slsqp", "mma", "auglag", NULL};
 const char *const prsm_opt_stop_names[] = {"converged", "max_evaluations", "max_time", "cancelled",
@@ -84,6 +86,7 @@ typedef struct {
 	double best_levels[PRSM_OPT_MAX_DISCRETE];
 	double worst_scalar;         /* largest finite scalar seen: the stand-in for a failed point */
 	int cancelled, out_of_budget;
+	size_t truncated;            /* local runs stopped by maxeval, maxtime or a forced stop */
 	double t0;
 } search;
 
@@ -124,6 +127,7 @@ static void eval_raw(search *s, point *pt, const double *x, double *gf, double *
 	const prsm_opt_options *o = s->o;
 	double gbuf[2 * PRSM_OPT_MAX_CONSTRAINTS];
 	const int nc = p->n_constraints;
+	memset(pt, 0, sizeof *pt); /* unused entries stay 0: results compare and copy cleanly */
 	memcpy(pt->x, x, (size_t)s->n * sizeof *x);
 	for (int k = 0; k < p->n_objectives; k++)
 		pt->f[k] = NAN;
@@ -153,7 +157,7 @@ static void eval_raw(search *s, point *pt, const double *x, double *gf, double *
 	for (int i = 0; i < s->m; i++) {
 		if (pt->g[i] > 0.0)
 			pt->violation += pt->g[i];
-		if (!(pt->g[i] <= o->constraint_tol))
+		if (!(pt->g[i] <= 0.0)) /* the raw limit: constraint_tol only steers NLopt */
 			ok = 0;
 	}
 	if (pt->failed)
@@ -264,7 +268,9 @@ static void constraints_cb(unsigned m, double *result, unsigned n, const double 
 		return;
 	}
 	evaluate(s, x, grad != NULL);
-	memcpy(result, s->last.gs, m * sizeof *result); /* the solver's view; we check g */
+	/* the solver's view, aimed constraint_tol inside every limit (optimize.h); we check g <= 0 */
+	for (unsigned i = 0; i < m; i++)
+		result[i] = s->last.gs[i] + s->o->constraint_tol;
 	if (grad)
 		memcpy(grad, s->last_grad_g, (size_t)m * n * sizeof *grad);
 }
@@ -292,7 +298,7 @@ static nlopt_result local_run(search *s, double *x0, int maxeval, double maxtime
 		return r;
 	double tol[NCON_MAX];
 	for (int i = 0; i < s->m; i++)
-		tol[i] = 0.0; /* we check feasibility ourselves */
+		tol[i] = 0.0; /* NLopt's own: none (the margin is in the values; we check g <= 0) */
 	nlopt_set_lower_bounds(opt, p->lower);
 	nlopt_set_upper_bounds(opt, p->upper);
 	nlopt_set_min_objective(opt, objective_cb, s);
@@ -378,6 +384,8 @@ int prsm_opt_run(prsm_opt_result *out, const prsm_opt_problem *p, const prsm_opt
 		return rc;
 	search *s = calloc(1, sizeof *s);
 	gsl_qrng *q = NULL;
+	gsl_rng *shift_rng = NULL;
+	unsigned char *active = NULL;
 	if (!s)
 		return prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
 	s->p = p;
@@ -396,7 +404,7 @@ int prsm_opt_run(prsm_opt_result *out, const prsm_opt_problem *p, const prsm_opt
 	size_t combos = 1;
 	for (int d = 0; d < p->n_discrete; d++)
 		combos *= (size_t)p->n_levels[d];
-	unsigned char *active = calloc(combos, 1);
+	active = calloc(combos, 1);
 	if (!active) {
 		rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
 		goto cleanup;
@@ -417,7 +425,8 @@ int prsm_opt_run(prsm_opt_result *out, const prsm_opt_problem *p, const prsm_opt
 
 	if (s->n > 0) {
 		q = gsl_qrng_alloc(gsl_qrng_sobol, (unsigned)s->n);
-		if (!q) {
+		shift_rng = prsm_rng_alloc((uint64_t)o->seed, 0);
+		if (!q || !shift_rng) {
 			rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory (Sobol generator)");
 			goto cleanup;
 		}
@@ -444,13 +453,21 @@ int prsm_opt_run(prsm_opt_result *out, const prsm_opt_problem *p, const prsm_opt
 			runs_left--;
 			continue;
 		}
-		if (q)
-			gsl_qrng_init(q); /* the same starting points for every combination */
+		/* the Sobol points with this combination's Cranley-Patterson shift (optimize.h): the
+		 * Philox stream (seed, c) whatever was pruned or run before */
+		double shift[PRSM_OPT_MAX_CONTINUOUS];
+		gsl_qrng_init(q);
+		prsm_rng_set_stream(shift_rng, (uint64_t)o->seed, (uint64_t)c);
+		for (int j = 0; j < s->n; j++)
+			shift[j] = gsl_rng_uniform(shift_rng);
 		for (int k = 0; k < o->multistart && !s->cancelled && !timed_out; k++) {
 			double u[PRSM_OPT_MAX_CONTINUOUS], x[PRSM_OPT_MAX_CONTINUOUS];
 			gsl_qrng_get(q, u);
-			for (int j = 0; j < s->n; j++)
-				x[j] = p->lower[j] + u[j] * (p->upper[j] - p->lower[j]);
+			for (int j = 0; j < s->n; j++) {
+				double v = u[j] + shift[j];
+				v -= floor(v);
+				x[j] = fmin(p->upper[j], p->lower[j] + v * (p->upper[j] - p->lower[j]));
+			}
 			if (stop_now(s))
 				goto done;
 			double elapsed = prsm_clock_seconds() - s->t0;
@@ -468,7 +485,16 @@ int prsm_opt_run(prsm_opt_result *out, const prsm_opt_problem *p, const prsm_opt
 			}
 			if (nr == NLOPT_MAXTIME_REACHED)
 				timed_out = 1;
+			if (nr == NLOPT_MAXEVAL_REACHED || nr == NLOPT_MAXTIME_REACHED ||
+			    nr == NLOPT_FORCED_STOP)
+				s->truncated++;
 			out->runs++;
+			if (o->cancel && *o->cancel) {
+				/* a cancelled problem may not evaluate again (a robust study would stop at
+				 * once): the run's end point is not re-checked */
+				s->cancelled = 1;
+				break;
+			}
 			/* re-check the returned point ourselves, whatever NLopt says */
 			point again;
 			eval_raw(s, &again, x, NULL, NULL);
@@ -477,32 +503,40 @@ int prsm_opt_run(prsm_opt_result *out, const prsm_opt_problem *p, const prsm_opt
 	}
 done:
 	if (s->have_best) {
-		/* the reported point, evaluated once more so every figure belongs to it */
-		memcpy(s->levels, s->best_levels, sizeof s->levels);
-		point again;
-		double xb[PRSM_OPT_MAX_CONTINUOUS];
-		memcpy(xb, s->best.x, sizeof xb);
-		int had = s->have_best;
-		point keep = s->best;
-		eval_raw(s, &again, xb, NULL, NULL);
-		s->best = keep;
-		s->have_best = had;
-		out->status = again.feasible ? PRSM_OPT_FEASIBLE : PRSM_OPT_INFEASIBLE;
-		memcpy(out->x, again.x, sizeof out->x);
-		memcpy(out->levels, s->best_levels, sizeof out->levels);
-		memcpy(out->objectives, again.f, sizeof out->objectives);
-		memcpy(out->constraints, again.g, (size_t)p->n_constraints * sizeof *again.g);
-		out->scalar = again.scalar;
+		/* the reported point, evaluated once more so every figure belongs to it; after a
+		 * cancel the stored evaluation is reported as it is (optimize.h) */
+		point fin = s->best;
+		if (!s->cancelled) {
+			memcpy(s->levels, s->best_levels, sizeof s->levels);
+			point again;
+			double xb[PRSM_OPT_MAX_CONTINUOUS];
+			memcpy(xb, s->best.x, sizeof xb);
+			int had = s->have_best;
+			eval_raw(s, &again, xb, NULL, NULL);
+			s->best = fin;
+			s->have_best = had;
+			if (o->cancel && *o->cancel)
+				s->cancelled = 1; /* cancelled during the re-check: keep the stored one */
+			else
+				fin = again;
+		}
+		out->status = fin.feasible ? PRSM_OPT_FEASIBLE : PRSM_OPT_INFEASIBLE;
+		memcpy(out->x, fin.x, (size_t)s->n * sizeof *fin.x);
+		memcpy(out->levels, s->best_levels, (size_t)p->n_discrete * sizeof *s->best_levels);
+		memcpy(out->objectives, fin.f, (size_t)p->n_objectives * sizeof *fin.f);
+		memcpy(out->constraints, fin.g, (size_t)p->n_constraints * sizeof *fin.g);
+		out->scalar = fin.scalar;
 	}
 	out->evaluations = s->evaluations;
 	out->cancelled = s->cancelled;
+	out->runs_truncated = s->truncated;
 	if (s->cancelled)
 		out->stop = PRSM_OPT_STOP_CANCELLED;
 	else if (n_active == 0)
 		out->stop = PRSM_OPT_STOP_ALL_PRUNED;
 	else if (timed_out)
 		out->stop = PRSM_OPT_STOP_MAXTIME;
-	else if (s->out_of_budget || s->evaluations >= s->budget)
+	else if (s->out_of_budget || s->evaluations >= s->budget || s->truncated > 0)
 		out->stop = PRSM_OPT_STOP_MAXEVAL;
 	else
 		out->stop = PRSM_OPT_STOP_CONVERGED;
@@ -516,6 +550,8 @@ cleanup:
 	free(active);
 	if (q)
 		gsl_qrng_free(q);
+	if (shift_rng)
+		gsl_rng_free(shift_rng);
 	free(s);
 	return rc;
 }

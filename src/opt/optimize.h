@@ -10,18 +10,32 @@
  * the continuous box can make it feasible (a cheap bound, e.g. more rollers than fit the most
  * favourable geometry). Each remaining combination is solved as a continuous NLopt problem
  * (COBYLA by default; SLSQP, MMA or AUGLAG selectable; gradients for SLSQP and MMA by central
- * finite differences unless the problem gives exact ones) from `multistart` Sobol points of the
- * box (GSL gsl_qrng_sobol: the first is the box's centre). The evaluation budget is shared out
- * over the remaining runs as it goes (what an early-converged run leaves goes to the next), and
- * NLopt's maxeval and maxtime are always set.
+ * finite differences unless the problem gives exact ones) from `multistart` randomised Sobol
+ * points of the box: GSL's gsl_qrng_sobol sequence (0.5, 0.5, ...; then 0.75/0.25, ...) with a
+ * Cranley-Patterson rotation, u = frac(sobol + shift), the shift uniform on [0, 1)^n drawn from
+ * the Philox stream (seed, combination index) of util/rng.h: each combination gets its own
+ * shift, a seed gives the same starts every time, another seed other (equally well spread)
+ * starts. The evaluation budget is shared out over the remaining runs as it goes (what an
+ * early-converged run leaves goes to the next), and NLopt's maxeval and maxtime are always set.
  *
- * Every evaluation's constraints are checked here, never trusted from NLopt's return code: the
- * reported point is the best evaluated point whose every g <= constraint_tol, re-evaluated at
- * the end; with no feasible point, the least violating one (status PRSM_OPT_INFEASIBLE, the
- * violations in `constraints`). Stochastic algorithms are seeded with nlopt_srand in the calling
- * thread before every run, so the same problem, options and seed give a bit-identical result
- * (unless the time cap stops it). Cancellation: *cancel is polled in every evaluation, which then
- * calls nlopt_force_stop; the best feasible point so far is still returned, flagged.
+ * Every evaluation's constraints are checked here, never trusted from NLopt's return code: a
+ * point is feasible when every g <= 0 (the raw limits, no tolerance). constraint_tol only steers
+ * the solver: NLopt sees each constraint as g + constraint_tol <= 0 (its own tolerance 0), so
+ * the points it converges to sit that far inside an active limit instead of a rounding error
+ * outside it (where gradient methods such as SLSQP end, and where our check would reject them).
+ * A pass/fail constraint should therefore report a negative value when met (e.g. -1), not 0.
+ * The reported point is the
+ * best evaluated feasible point, re-evaluated at the end (not after a cancel: the stored
+ * evaluation is reported as it is, since a cancelled problem may not evaluate again); with no
+ * feasible point, the least violating one (status PRSM_OPT_INFEASIBLE, the violations in
+ * `constraints`). Stochastic algorithms are seeded with nlopt_srand in the calling thread before
+ * every run, so the same problem, options and seed give a bit-identical result (unless the time
+ * cap stops it). Cancellation: *cancel is polled in every evaluation, which then calls
+ * nlopt_force_stop; the best feasible point so far is still returned, flagged.
+ *
+ * A local run is "truncated" when it stopped on its evaluation share (NLOPT_MAXEVAL_REACHED),
+ * the time cap or a forced stop (budget used up, cancel) rather than on its tolerances; the stop
+ * reason says "converged" only when no run was truncated.
  *
  * Multi-objective problems are scalarised by the options: one objective, a normalised weighted
  * sum (each objective as (sense f - ideal)/range), or one objective subject to epsilon limits on
@@ -64,8 +78,8 @@ enum {
 enum { PRSM_OPT_FEASIBLE = 0, PRSM_OPT_INFEASIBLE = 1, PRSM_OPT_NOTHING = 2 };
 /* Why the search stopped. */
 enum {
-	PRSM_OPT_STOP_CONVERGED = 0,   /* every run met its tolerances */
-	PRSM_OPT_STOP_MAXEVAL = 1,     /* the evaluation budget was used up */
+	PRSM_OPT_STOP_CONVERGED = 0,   /* every run met its tolerances (none truncated) */
+	PRSM_OPT_STOP_MAXEVAL = 1,     /* the budget was used up, or a run stopped at its share */
 	PRSM_OPT_STOP_MAXTIME = 2,     /* the time cap */
 	PRSM_OPT_STOP_CANCELLED = 3,   /* *cancel was set */
 	PRSM_OPT_STOP_ALL_PRUNED = 4   /* no combination could be feasible */
@@ -76,8 +90,9 @@ extern const char *const prsm_opt_stop_names[];
 /*
  * Evaluate the problem at the continuous point x (n_continuous values) and the discrete levels
  * (n_discrete values): objectives (n_objectives, each in its own unit) and constraints
- * (n_constraints scaled violations, feasible when <= 0). When grad_objectives is not NULL (the
- * problem has exact gradients and the algorithm needs them) also write the gradients, row-major
+ * (n_constraints scaled violations, feasible when <= 0; a pass/fail one negative when met).
+ * When grad_objectives is not NULL (the problem has exact gradients and the algorithm needs
+ * them) also write the gradients, row-major
  * (n_objectives x n_continuous and n_constraints x n_continuous). Entries that cannot be computed
  * may be NaN. When the problem has_surrogate, constraints holds 2 n_constraints values: the
  * checked violations first, then the smooth stand-ins the solver sees instead (e.g. a smoothed
@@ -118,10 +133,11 @@ typedef struct {
 	size_t max_evaluations;      /* budget over every combination and start, >= 1 */
 	double max_time_s;           /* wall-clock cap of the whole search, s, > 0 */
 	int multistart;              /* local runs per combination, from Sobol points, >= 1 */
-	unsigned long seed;          /* nlopt_srand before every run */
+	unsigned long seed;          /* the starts' rotation (Philox key) and nlopt_srand */
 	double xtol_rel;             /* NLopt's relative x tolerance, - */
 	double ftol_rel;             /* NLopt's relative f tolerance, - */
-	double constraint_tol;       /* a point is feasible when every g <= this, - */
+	double constraint_tol;       /* the solver's margin: NLopt sees g + this <= 0 (steers the
+	                                solver only; feasibility is always g <= 0), >= 0, - */
 	double fd_step_rel;          /* central-difference step as a fraction of the bounds' width */
 	volatile int *cancel;        /* may be NULL; nonzero stops the search */
 	prsm_progress_fn progress;   /* may be NULL */
@@ -145,16 +161,17 @@ typedef struct {
 	int status;                  /* PRSM_OPT_FEASIBLE, _INFEASIBLE or _NOTHING (never evaluated) */
 	int stop;                    /* PRSM_OPT_STOP_* */
 	int cancelled;               /* 1 when *cancel stopped it */
-	double x[PRSM_OPT_MAX_CONTINUOUS];
-	double levels[PRSM_OPT_MAX_DISCRETE];
-	double objectives[PRSM_OPT_MAX_OBJECTIVES];   /* own units */
-	double constraints[PRSM_OPT_MAX_CONSTRAINTS]; /* scaled violations g of the problem's */
+	double x[PRSM_OPT_MAX_CONTINUOUS];           /* n_continuous used, the rest 0 */
+	double levels[PRSM_OPT_MAX_DISCRETE];        /* n_discrete used, the rest 0 */
+	double objectives[PRSM_OPT_MAX_OBJECTIVES];   /* own units; n_objectives used, the rest 0 */
+	double constraints[PRSM_OPT_MAX_CONSTRAINTS]; /* scaled violations g; n_constraints used */
 	double scalar;               /* the scalarised objective that was minimised */
 	size_t evaluations;          /* calls of eval (finite-difference ones included) */
 	size_t combinations;         /* discrete combinations in all */
 	size_t pruned;               /* of which skipped by the prune callback */
 	size_t runs;                 /* NLopt runs */
 	size_t runs_feasible;        /* runs whose returned point we found feasible */
+	size_t runs_truncated;       /* runs stopped by maxeval, maxtime or a forced stop */
 	double elapsed_s;            /* wall clock, s */
 } prsm_opt_result;
 

@@ -17,6 +17,14 @@ int prsm_opt_dominates(const prsm_opt_problem *p, int a, int b, const double *fu
 	return ua <= va && ub <= vb && (ua < va || ub < vb);
 }
 
+/* The stop reason of several runs: the most telling one (cancelled, then the time cap, then the
+ * evaluation budget or a truncated run; converged or all pruned only when every run says so). */
+static int merge_stop(int a, int b)
+{
+	static const int rank[] = {0, 1, 2, 3, 0}; /* indexed by PRSM_OPT_STOP_* */
+	return rank[b] > rank[a] ? b : a;
+}
+
 /* A sub-run with its share of the budget and the progress counted over the whole. */
 static int sub_run(prsm_opt_result *r, const prsm_opt_problem *p, prsm_opt_options *so,
                    size_t *used, size_t share, double t0, const prsm_opt_options *o,
@@ -110,6 +118,16 @@ int prsm_opt_weighted_sum(prsm_opt_result *out, double *ideal, double *range,
 	}
 	rc = sub_run(out, p, &so, &used, o->max_evaluations - used, t0, o, err);
 	out->evaluations = used;
+	/* the counts and the stop reason over the anchors and the weighted run */
+	for (int k = 0; k < p->n_objectives; k++) {
+		if (!want[k])
+			continue;
+		out->runs += anchor[k].runs;
+		out->runs_feasible += anchor[k].runs_feasible;
+		out->runs_truncated += anchor[k].runs_truncated;
+		if (!out->cancelled)
+			out->stop = merge_stop(out->stop, anchor[k].stop);
+	}
 cleanup:
 	out->elapsed_s = prsm_clock_seconds() - t0;
 	free(anchor);
@@ -129,21 +147,31 @@ static void add_point(prsm_opt_front *f, const prsm_opt_problem *p, const prsm_o
 	pt->eps_limit = eps;
 }
 
-/* Drop duplicates and dominated points, sort by objective a. */
+/* Drop dominated points and duplicates, sort by objective a. Two points are the same
+ * trade-off when they differ by at most DUPLICATE_REL of the front's range (ideal to nadir) in
+ * both objectives (two runs ending a rounding error apart); the one with the lower sum of
+ * normalised objectives stays (the earlier one on a tie). */
+#define DUPLICATE_REL 1e-4
 static void filter(prsm_opt_front *f, const prsm_opt_problem *p)
 {
 	int a = f->objective_a, b = f->objective_b, kept = 0;
+	double ra = range_of(f->ideal[a], f->nadir[a]), rb = range_of(f->ideal[b], f->nadir[b]);
+	ra = isfinite(ra) ? ra : 1.0; /* no feasible anchor: no points either */
+	rb = isfinite(rb) ? rb : 1.0;
 	for (int i = 0; i < f->n_points; i++) {
 		const double *fi = f->points[i].objectives;
+		const double si = p->sense[a] * fi[a] / ra + p->sense[b] * fi[b] / rb;
 		int drop = 0;
 		for (int j = 0; j < f->n_points && !drop; j++) {
 			if (j == i)
 				continue;
 			const double *fj = f->points[j].objectives;
+			const double sj = p->sense[a] * fj[a] / ra + p->sense[b] * fj[b] / rb;
 			if (prsm_opt_dominates(p, a, b, fj, fi))
 				drop = 1;
-			else if (j < i && fj[a] == fi[a] && fj[b] == fi[b])
-				drop = 1; /* the same trade-off found twice: keep the first */
+			else if (fabs(fj[a] - fi[a]) <= DUPLICATE_REL * ra &&
+			         fabs(fj[b] - fi[b]) <= DUPLICATE_REL * rb && (sj < si || (sj == si && j < i)))
+				drop = 1; /* the same trade-off found twice */
 		}
 		if (drop) {
 			f->dominated_removed++;
@@ -194,7 +222,13 @@ int prsm_opt_pareto(prsm_opt_front *out, const prsm_opt_problem *p, const prsm_o
 	out->anchor[1] = anchor[objective_b];
 	add_point(out, p, &anchor[objective_a], NAN);
 	add_point(out, p, &anchor[objective_b], NAN);
-	out->stop = anchor[objective_b].stop;
+	out->stop = merge_stop(anchor[objective_a].stop, anchor[objective_b].stop);
+	for (int k = 0; k < 2; k++) {
+		const prsm_opt_result *an = &out->anchor[k];
+		out->local_runs += an->runs;
+		out->local_runs_feasible += an->runs_feasible;
+		out->runs_truncated += an->runs_truncated;
+	}
 	if (rc)
 		goto done;
 	if (anchor[objective_a].status != PRSM_OPT_FEASIBLE ||
@@ -219,7 +253,10 @@ int prsm_opt_pareto(prsm_opt_front *out, const prsm_opt_problem *p, const prsm_o
 		out->runs++;
 		out->runs_feasible += r->status == PRSM_OPT_FEASIBLE;
 		add_point(out, p, r, so.eps_limit[b]);
-		out->stop = r->stop;
+		out->stop = merge_stop(out->stop, r->stop);
+		out->local_runs += r->runs;
+		out->local_runs_feasible += r->runs_feasible;
+		out->runs_truncated += r->runs_truncated;
 		if (rc)
 			break;
 	}

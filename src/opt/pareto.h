@@ -10,8 +10,10 @@
  * positive value when the objectives do not conflict). The weighted sum minimises
  * sum w_k (sense_k f_k - ideal_k) / range_k. The sweep minimises objective a subject to
  * objective b being no worse than points - 2 levels evenly spaced strictly between its values at
- * the two anchors; the anchors and every feasible sweep result are pooled, duplicates and
- * dominated points are removed and the rest sorted by objective a (in its own unit, ascending).
+ * the two anchors; the anchors and every feasible sweep result are pooled, dominated points and
+ * duplicates (two points within 1e-4 of the ideal-to-nadir range in both objectives: the one
+ * with the lower normalised sum stays) are removed and the rest sorted by objective a (in its
+ * own unit, ascending).
  *
  * The evaluation budget o->max_evaluations is shared equally by the anchors and the sweep's
  * (or the weighted sum's) runs; progress counts over all of them. A cancel stops the sweep; the
@@ -41,14 +43,20 @@ typedef struct {
 	int runs, runs_feasible;     /* epsilon runs (the anchors not counted) */
 	int dominated_removed;       /* feasible results dropped as dominated or duplicate */
 	size_t evaluations;
-	int stop;                    /* PRSM_OPT_STOP_* of the last run, or CANCELLED */
+	size_t local_runs;           /* NLopt runs of the anchors and every epsilon run */
+	size_t local_runs_feasible;  /* of which the end point was feasible */
+	size_t runs_truncated;       /* of which stopped by maxeval, maxtime or a forced stop */
+	int stop;                    /* PRSM_OPT_STOP_* over every run: cancelled, else max_time when
+	                                any run hit the time cap, else max_evaluations when any was
+	                                truncated or used its budget, else converged (or all_pruned) */
 	int cancelled;
 	double elapsed_s;
 } prsm_opt_front;
 
 /* The anchors of the objectives with weight > 0 (or all when o->scalarisation is not
  * WEIGHTED_SUM), then the weighted sum with the normalisation they give. out is the weighted
- * run's result; ideal and range (PRSM_OPT_MAX_OBJECTIVES each, minimised sense) receive the
+ * run's result, with evaluations, runs, runs_feasible, runs_truncated and stop over the anchors
+ * and the weighted run together; ideal and range (PRSM_OPT_MAX_OBJECTIVES each, minimised sense) receive the
  * normalisation used. Returns 0, PRSM_ECANCELLED (out holds the best so far), PRSM_EINVAL,
  * PRSM_ENOMEM. */
 int prsm_opt_weighted_sum(prsm_opt_result *out, double *ideal, double *range,
