@@ -242,7 +242,7 @@ static int solve_one(dual_ws *w, size_t o, prsm_error *err)
 	double u0 = isfinite(w->u[o]) ? w->u[o] : 0.0;
 	double f0 = root_fn(u0, w);
 	double lo = u0, hi = u0, flo = f0, fhi = f0;
-	char ptr[32];
+	char ptr[48];
 	snprintf(ptr, sizeof ptr, "/constraints/%zu", o);
 	for (double step = 1.0; f0 > 0.0 ? fhi > 0.0 : flo < 0.0; step *= 2.0) {
 		if (f0 > 0.0) {
@@ -285,7 +285,7 @@ static int solve_one(dual_ws *w, size_t o, prsm_error *err)
 
 int prsm_alloc_check(const prsm_alloc_problem *p, prsm_error *err)
 {
-	char ptr[32];
+	char ptr[48];
 	if (p->n < 1 || p->n > PRSM_ALLOC_MAX_TOLERANCES)
 		return prsm_error_set(err, PRSM_EINVAL, NULL, "1 to %d tolerances", PRSM_ALLOC_MAX_TOLERANCES);
 	if (p->m < 1 || p->m > PRSM_ALLOC_MAX_CONSTRAINTS)
