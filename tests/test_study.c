@@ -12,6 +12,7 @@
 #include <gsl/gsl_errno.h>
 
 #include "io/study_json.h"
+#include "model/performance.h"
 
 static const char *design_json =
 	"\"design\": {\"geometry\": {\"starts\": 5, \"pitch_mm\": 2, \"flank_angle_deg\": 45,"
@@ -217,6 +218,78 @@ static void test_ls1(void **state)
 	free(s);
 }
 
+/* nut_unit_stiffness_N_per_um: the sample's contacts in series with the nominal unit's other
+ * compliance (MODEL.md §6). An error-free sample is the nominal nut unit of prsm_performance
+ * (prsm analyze's stiffness); with errors the extra compliance is the same for every sample, so
+ * the unit stiffness varies less than the contacts' (dk_unit/dk_c = (k_unit/k_c)^2 < 1). */
+static void test_nut_unit_stiffness(void **state)
+{
+	(void)state;
+	const char *rest = ", \"outputs\": [\"stiffness_N_per_um\", \"nut_unit_stiffness_N_per_um\"],"
+	                   " \"monte_carlo\": {\"samples\": 64, \"block_size\": 16, \"seed\": 5}";
+	/* error-free: a tolerance too narrow to move anything */
+	char *t = study_text("{\"parameter\": \"nut.pitch_radius_um\", \"distribution\": \"normal\", \"sd\": 1e-9}", rest);
+	prsm_problems pr;
+	prsm_io_study *s = load(t, &pr);
+	free(t);
+	assert_non_null(s);
+	prsm_analysis a;
+	prsm_problems w;
+	prsm_problems_init(&w);
+	prsm_error err = PRSM_ERROR_INIT;
+	assert_int_equal(prsm_analysis_nominal(&a, &s->design, &w, &err), 0);
+	prsm_performance perf;
+	assert_int_equal(prsm_performance_compute(&perf, &s->design, &a, &err), 0);
+	double k_unit = perf.stiffness_N_per_um;
+	prsm_performance_free(&perf);
+	prsm_mc_result r;
+	assert_int_equal(prsm_mc_run(&r, &s->study.model, s->study.vars, s->study.d, NULL, 0, &s->study.mc, &err), 0);
+	for (size_t j = 0; j < r.n; j++) {
+		assert_close(r.y[j * 2 + 1], k_unit, 1e-9 * k_unit);
+		assert_close(r.y[j * 2], s->assembly.nominal_stiffness_N_per_mm * 1e-3, 1e-6 * r.y[j * 2]);
+	}
+	assert_true(k_unit < r.y[0]); /* the threads, cores and body only add compliance */
+	prsm_mc_result_free(&r);
+	free(s);
+
+	/* with errors: one extra compliance for every sample, and a narrower spread */
+	t = study_text("{\"parameter\": \"nut.pitch_radius_um\", \"distribution\": \"uniform\", \"lower\": -4.3, \"upper\": 4.3},"
+	               "{\"parameter\": \"roller.thickness_um\", \"tol_um\": 2.7, \"cpk\": 0.9},"
+	               "{\"parameter\": \"screw.runout_um\", \"tol_um\": 5.5}", rest);
+	s = load(t, &pr);
+	free(t);
+	assert_non_null(s);
+	assert_int_equal(prsm_mc_run(&r, &s->study.model, s->study.vars, s->study.d, NULL, 0, &s->study.mc, &err), 0);
+	double rest0 = 1.0 / k_unit - 1.0 / (s->assembly.nominal_stiffness_N_per_mm * 1e-3); /* um/N */
+	prsm_moments mc, mu;
+	prsm_moments_init(&mc);
+	prsm_moments_init(&mu);
+	for (size_t j = 0; j < r.n; j++) {
+		double kc = r.y[j * 2], ku = r.y[j * 2 + 1];
+		assert_close(1.0 / ku - 1.0 / kc, rest0, 1e-9 * rest0);
+		prsm_moments_add(&mc, kc);
+		prsm_moments_add(&mu, ku);
+	}
+	assert_true(prsm_moments_sd(&mc) > 1.0);
+	assert_true(prsm_moments_sd(&mu) < prsm_moments_sd(&mc));
+	prsm_mc_result_free(&r);
+	free(s);
+
+	/* it needs an operating load, at its pointer */
+	cJSON *doc = cJSON_Parse("{\"design\": {\"geometry\": {\"starts\": 5, \"pitch_mm\": 2, \"flank_angle_deg\": 45,"
+	                         " \"roller_radius_mm\": 3.25, \"rollers\": 10, \"engaged_threads\": 10},"
+	                         " \"target_axial_clearance_um\": 20},"
+	                         " \"tolerances\": [{\"parameter\": \"nut.pitch_radius_um\", \"tol_um\": 3}],"
+	                         " \"outputs\": [\"backlash_um\", \"nut_unit_stiffness_N_per_um\"]}");
+	s = calloc(1, sizeof *s);
+	prsm_problems_init(&pr);
+	assert_int_equal(prsm_io_study_load(s, doc, NULL, &pr), PRSM_EINVAL);
+	assert_string_equal(pr.items[0].pointer, "/outputs/1");
+	assert_string_equal(pr.items[0].code, "no_load");
+	cJSON_Delete(doc);
+	free(s);
+}
+
 int main(void)
 {
 	gsl_set_error_handler_off();
@@ -225,6 +298,7 @@ int main(void)
 		cmocka_unit_test(test_per_roller_and_shared),
 		cmocka_unit_test(test_copula),
 		cmocka_unit_test(test_ls1),
+		cmocka_unit_test(test_nut_unit_stiffness),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

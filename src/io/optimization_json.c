@@ -493,9 +493,7 @@ static int read_robust_constraint(opt_doc *od, const cJSON *it, const char *ip, 
 		prsm_output_kind kind;
 		if (prsm_output_parse(name, &kind))
 			prsm_problems_add(pr, op, "unknown_output",
-			                  "unknown output '%s': backlash_um, backlash_min_um, backlash_max_um, "
-			                  "load_sharing_factor, stiffness_N_per_um, stiffness_ratio, te_pp_um, "
-			                  "te_rms_um, efficiency, efficiency_back", name);
+			                  "unknown output '%s': " PRSM_OUTPUT_NAMES_TEXT, name);
 		else
 			for (int k = 0; k < od->robust.n; k++)
 				if (strcmp(od->robust.c[k].output, name) == 0)

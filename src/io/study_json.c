@@ -23,6 +23,7 @@
 #include "io/errors_json.h"
 #include "io/json_util.h"
 #include "model/analysis.h"
+#include "model/performance.h"
 
 #ifndef PRSM_VERSION
 #define PRSM_VERSION "0.0.0"
@@ -523,6 +524,33 @@ static int output_index(const prsm_io_study *s, const char *name)
 	return -1;
 }
 
+/* The nut unit's compliance beyond its contacts at the operating load, for output o
+ * (nut_unit_stiffness_N_per_um): 1/k_unit - 1/k_contacts of the nominal design, mm/N, with
+ * k_unit the load distribution's stiffness (prsm_performance, MODEL.md §6) and k_contacts the
+ * assembly's contact stiffness with nominal gaps. Returns 0, or 1 with a problem at the output. */
+static int unit_rest_compliance(prsm_io_study *s, size_t o, prsm_problems *pr)
+{
+	char ip[PRSM_JSON_POINTER_MAX];
+	prsm_json_pointer_append_index(ip, sizeof ip, "/outputs", (int)o);
+	prsm_performance perf;
+	prsm_error err = PRSM_ERROR_INIT;
+	if (prsm_performance_compute(&perf, &s->design, &s->analysis, &err)) {
+		prsm_problems_add(pr, ip, "computation", "the nominal nut unit's stiffness: %s", err.message);
+		return 1;
+	}
+	double k_unit = perf.stiffness_N_per_um * 1e3;            /* N/mm */
+	double k_contacts = s->assembly.nominal_stiffness_N_per_mm; /* N/mm */
+	prsm_performance_free(&perf);
+	if (!(k_unit > 0.0) || !(k_contacts > 0.0)) {
+		prsm_problems_add(pr, ip, "computation", "the nominal nut unit has no stiffness at the operating load");
+		return 1;
+	}
+	/* the thread, core and body springs only add compliance; a contact model stiffer in the
+	 * assembly than in the load distribution would make this negative: then contacts only */
+	s->prsm.unit_rest_compliance_mm_per_N = fmax(0.0, 1.0 / k_unit - 1.0 / k_contacts);
+	return 0;
+}
+
 /* design_ok: the design loaded, so its operating load is known. */
 static void read_outputs(prsm_io_study *s, const cJSON *doc, int design_ok, prsm_problems *pr)
 {
@@ -563,9 +591,7 @@ static void read_outputs(prsm_io_study *s, const cJSON *doc, int design_ok, prsm
 				prsm_problems_add(pr, ip, "unknown_output", "a benchmark has one output, y");
 			else
 				prsm_problems_add(pr, ip, "unknown_output",
-				                  "unknown output '%s': backlash_um, backlash_min_um, backlash_max_um, "
-				                  "load_sharing_factor, stiffness_N_per_um, stiffness_ratio, te_pp_um, "
-				                  "te_rms_um, efficiency, efficiency_back", name);
+				                  "unknown output '%s': " PRSM_OUTPUT_NAMES_TEXT, name);
 			continue;
 		}
 		if (output_index(s, name) >= 0) {
@@ -573,7 +599,8 @@ static void read_outputs(prsm_io_study *s, const cJSON *doc, int design_ok, prsm
 			continue;
 		}
 		if (!s->is_benchmark && design_ok && !(s->design.axial_load_N > 0.0) &&
-		    (k == PRSM_OUT_SHARING || k == PRSM_OUT_STIFFNESS || k == PRSM_OUT_STIFFNESS_RATIO)) {
+		    (k == PRSM_OUT_SHARING || k == PRSM_OUT_STIFFNESS || k == PRSM_OUT_STIFFNESS_RATIO ||
+		     k == PRSM_OUT_UNIT_STIFFNESS)) {
 			prsm_problems_add(pr, ip, "no_load", "%s needs an operating axial load "
 			                  "(/design/operating_point/axial_load_N > 0)", name);
 			continue;
@@ -971,6 +998,9 @@ int prsm_io_study_load(prsm_io_study *out, const cJSON *doc, prsm_problems *warn
 		p->n_bindings = st->d;
 		p->bindings = out->bindings;
 		p->n_outputs = st->m;
+		for (size_t o = 0; o < st->m; o++)
+			if (p->outputs[o] == PRSM_OUT_UNIT_STIFFNESS && unit_rest_compliance(out, o, pr))
+				return PRSM_EINVAL;
 		prsm_prsm_mc_model(&st->model, p);
 	}
 	return 0;

@@ -14,7 +14,7 @@
 static const char *const output_names[PRSM_OUT_COUNT] = {
 	"backlash_um", "backlash_min_um", "backlash_max_um", "load_sharing_factor",
 	"stiffness_N_per_um", "stiffness_ratio", "te_pp_um", "te_rms_um", "efficiency",
-	"efficiency_back"};
+	"efficiency_back", "nut_unit_stiffness_N_per_um"};
 
 const char *prsm_output_name(prsm_output_kind k)
 {
@@ -148,7 +148,8 @@ static int prsm_eval(double *y, unsigned *flags, const void *ctx, void *wsp, con
 	}
 	/* theta = 0 last, so the "+" gaps are there for the elastic solve */
 	int need0 = wants(p, PRSM_OUT_BACKLASH, PRSM_OUT_SHARING) ||
-	            wants(p, PRSM_OUT_STIFFNESS, PRSM_OUT_STIFFNESS_RATIO);
+	            wants(p, PRSM_OUT_STIFFNESS, PRSM_OUT_STIFFNESS_RATIO) ||
+	            wants(p, PRSM_OUT_UNIT_STIFFNESS, PRSM_OUT_UNIT_STIFFNESS);
 	if (need0) {
 		prsm_assembly_gaps_at(&w->plus, as, &w->e, PRSM_DIR_PLUS, 0.0, p->mode);
 		prsm_assembly_gaps_at(&w->minus, as, &w->e, PRSM_DIR_MINUS, 0.0, p->mode);
@@ -157,7 +158,7 @@ static int prsm_eval(double *y, unsigned *flags, const void *ctx, void *wsp, con
 		B0 = prsm_assembly_backlash(as, &w->plus, &w->minus, NULL, NULL);
 	}
 	int need_solve = wants(p, PRSM_OUT_SHARING, PRSM_OUT_STIFFNESS) ||
-	                 wants(p, PRSM_OUT_STIFFNESS_RATIO, PRSM_OUT_STIFFNESS_RATIO);
+	                 wants(p, PRSM_OUT_STIFFNESS_RATIO, PRSM_OUT_UNIT_STIFFNESS);
 	if (need_solve && as->design.axial_load_N > 0.0)
 		prsm_assembly_solve(&w->st, as, &w->plus, as->design.axial_load_N, 0);
 	if (wants(p, PRSM_OUT_EFFICIENCY, PRSM_OUT_EFFICIENCY_BACK)) {
@@ -188,6 +189,11 @@ static int prsm_eval(double *y, unsigned *flags, const void *ctx, void *wsp, con
 		case PRSM_OUT_TE_RMS: v = te_rms * 1e3; break;
 		case PRSM_OUT_EFFICIENCY: v = eta; break;
 		case PRSM_OUT_EFFICIENCY_BACK: v = eta_back; break;
+		case PRSM_OUT_UNIT_STIFFNESS: /* springs in series (MODEL.md §6), N/mm to N/um */
+			v = w->st.stiffness_N_per_mm > 0.0
+			        ? 1e-3 / (1.0 / w->st.stiffness_N_per_mm + p->unit_rest_compliance_mm_per_N)
+			        : NAN;
+			break;
 		case PRSM_OUT_COUNT: break;
 		}
 		y[i] = v;

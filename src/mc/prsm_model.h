@@ -42,8 +42,18 @@ typedef enum {
 	PRSM_OUT_TE_RMS,                /* te_rms_um */
 	PRSM_OUT_EFFICIENCY,            /* efficiency: direct, sliding (MODEL.md §5) */
 	PRSM_OUT_EFFICIENCY_BACK,       /* efficiency_back */
+	PRSM_OUT_UNIT_STIFFNESS,        /* nut_unit_stiffness_N_per_um: the sampled contacts' dF/du in
+	                                   series with the rest of the nut unit's compliance (threads,
+	                                   cores, nut body: MODEL.md §6) as the nominal design has it,
+	                                   so that the error-free sample is prsm analyze's
+	                                   stiffness.axial_N_per_um */
 	PRSM_OUT_COUNT
 } prsm_output_kind;
+
+/* Every output name, for messages. */
+#define PRSM_OUTPUT_NAMES_TEXT                                                                     \
+	"backlash_um, backlash_min_um, backlash_max_um, load_sharing_factor, stiffness_N_per_um, "    \
+	"stiffness_ratio, te_pp_um, te_rms_um, efficiency, efficiency_back, nut_unit_stiffness_N_per_um"
 
 const char *prsm_output_name(prsm_output_kind k);
 int prsm_output_parse(const char *name, prsm_output_kind *out); /* 0 or PRSM_ENOTFOUND */
@@ -55,6 +65,9 @@ typedef struct {
 	int mode;                       /* PRSM_MODE_LINEAR or _EXACT */
 	int angles_per_revolution;      /* for the outputs over a revolution */
 	double measuring_load_N;        /* TE measuring load, N */
+	double unit_rest_compliance_mm_per_N; /* nut unit minus contacts at the operating load:
+	                                   1/k_unit - 1/k_contacts of the nominal design, mm/N (>= 0;
+	                                   set by the loader when nut_unit_stiffness_N_per_um is asked) */
 	size_t n_bindings;
 	const prsm_mc_binding *bindings;/* one per variable */
 	size_t n_outputs;
