@@ -225,7 +225,7 @@ static void test_ls1(void **state)
 static void test_nut_unit_stiffness(void **state)
 {
 	(void)state;
-	const char *rest = ", \"outputs\": [\"stiffness_N_per_um\", \"nut_unit_stiffness_N_per_um\"],"
+	const char *rest = ", \"outputs\": [\"stiffness_N_per_um\", \"nut_unit_stiffness_N_per_um\", \"efficiency_with_losses\"],"
 	                   " \"monte_carlo\": {\"samples\": 64, \"block_size\": 16, \"seed\": 5}";
 	/* error-free: a tolerance too narrow to move anything */
 	char *t = study_text("{\"parameter\": \"nut.pitch_radius_um\", \"distribution\": \"normal\", \"sd\": 1e-9}", rest);
@@ -240,13 +240,14 @@ static void test_nut_unit_stiffness(void **state)
 	assert_int_equal(prsm_analysis_nominal(&a, &s->design, &w, &err), 0);
 	prsm_performance perf;
 	assert_int_equal(prsm_performance_compute(&perf, &s->design, &a, &err), 0);
-	double k_unit = perf.stiffness_N_per_um;
+	double k_unit = perf.stiffness_N_per_um, eta = perf.losses.eta;
 	prsm_performance_free(&perf);
 	prsm_mc_result r;
 	assert_int_equal(prsm_mc_run(&r, &s->study.model, s->study.vars, s->study.d, NULL, 0, &s->study.mc, &err), 0);
 	for (size_t j = 0; j < r.n; j++) {
-		assert_close(r.y[j * 2 + 1], k_unit, 1e-9 * k_unit);
-		assert_close(r.y[j * 2], s->assembly.nominal_stiffness_N_per_mm * 1e-3, 1e-6 * r.y[j * 2]);
+		assert_close(r.y[j * 3 + 1], k_unit, 1e-9 * k_unit);
+		assert_close(r.y[j * 3], s->assembly.nominal_stiffness_N_per_mm * 1e-3, 1e-6 * r.y[j * 3]);
+		assert_close(r.y[j * 3 + 2], eta, 1e-12);
 	}
 	assert_true(k_unit < r.y[0]); /* the threads, cores and body only add compliance */
 	prsm_mc_result_free(&r);
@@ -255,7 +256,9 @@ static void test_nut_unit_stiffness(void **state)
 	/* with errors: one extra compliance for every sample, and a narrower spread */
 	t = study_text("{\"parameter\": \"nut.pitch_radius_um\", \"distribution\": \"uniform\", \"lower\": -4.3, \"upper\": 4.3},"
 	               "{\"parameter\": \"roller.thickness_um\", \"tol_um\": 2.7, \"cpk\": 0.9},"
-	               "{\"parameter\": \"screw.runout_um\", \"tol_um\": 5.5}", rest);
+	               "{\"parameter\": \"screw.runout_um\", \"tol_um\": 5.5},"
+	               "{\"parameter\": \"friction.screw_roller_mu\", \"distribution\": \"uniform\", \"lower\": -0.013, \"upper\": 0.021}",
+	               rest);
 	s = load(t, &pr);
 	free(t);
 	assert_non_null(s);
@@ -265,10 +268,19 @@ static void test_nut_unit_stiffness(void **state)
 	prsm_moments_init(&mc);
 	prsm_moments_init(&mu);
 	for (size_t j = 0; j < r.n; j++) {
-		double kc = r.y[j * 2], ku = r.y[j * 2 + 1];
+		double kc = r.y[j * 3], ku = r.y[j * 3 + 1];
 		assert_close(1.0 / ku - 1.0 / kc, rest0, 1e-9 * rest0);
 		prsm_moments_add(&mc, kc);
 		prsm_moments_add(&mu, ku);
+	}
+	/* the efficiency with every loss at the sample's friction is the nominal unit's with that
+	 * friction (the load distribution does not depend on friction): the friction variable is last */
+	for (size_t j = 0; j < r.n; j += 13) {
+		prsm_design d2 = s->design;
+		d2.mu_screw_roller += r.x[j * r.d + r.d - 1];
+		assert_int_equal(prsm_performance_compute(&perf, &d2, &a, &err), 0);
+		assert_close(r.y[j * 3 + 2], perf.losses.eta, 1e-12);
+		prsm_performance_free(&perf);
 	}
 	assert_true(prsm_moments_sd(&mc) > 1.0);
 	assert_true(prsm_moments_sd(&mu) < prsm_moments_sd(&mc));

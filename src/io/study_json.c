@@ -524,31 +524,59 @@ static int output_index(const prsm_io_study *s, const char *name)
 	return -1;
 }
 
-/* The nut unit's compliance beyond its contacts at the operating load, for output o
- * (nut_unit_stiffness_N_per_um): 1/k_unit - 1/k_contacts of the nominal design, mm/N, with
- * k_unit the load distribution's stiffness (prsm_performance, MODEL.md §6) and k_contacts the
- * assembly's contact stiffness with nominal gaps. Returns 0, or 1 with a problem at the output. */
-static int unit_rest_compliance(prsm_io_study *s, size_t o, prsm_problems *pr)
+/* What the outputs at the nominal operating point need from the nut unit's performance
+ * (prsm_performance, MODEL.md §5, §6), computed once: for nut_unit_stiffness_N_per_um the
+ * compliance beyond the contacts, 1/k_unit - 1/k_contacts of the nominal design (mm/N, k_unit the
+ * load distribution's stiffness, k_contacts the assembly's with nominal gaps); for
+ * efficiency_with_losses the distribution's normal loads of one roller's contacts. Returns 0, or
+ * 1 with a problem at the first output that needed them. */
+static int nominal_unit_terms(prsm_io_study *s, prsm_problems *pr)
 {
+	int first = -1, unit = 0, losses = 0;
+	for (size_t o = 0; o < s->study.m; o++) {
+		int u = s->prsm.outputs[o] == PRSM_OUT_UNIT_STIFFNESS, l = s->prsm.outputs[o] == PRSM_OUT_EFFICIENCY_LOSSES;
+		if ((u || l) && first < 0)
+			first = (int)o;
+		unit |= u;
+		losses |= l;
+	}
+	if (first < 0)
+		return 0;
 	char ip[PRSM_JSON_POINTER_MAX];
-	prsm_json_pointer_append_index(ip, sizeof ip, "/outputs", (int)o);
+	prsm_json_pointer_append_index(ip, sizeof ip, "/outputs", first);
 	prsm_performance perf;
 	prsm_error err = PRSM_ERROR_INIT;
 	if (prsm_performance_compute(&perf, &s->design, &s->analysis, &err)) {
-		prsm_problems_add(pr, ip, "computation", "the nominal nut unit's stiffness: %s", err.message);
+		prsm_problems_add(pr, ip, "computation", "the nominal nut unit at the operating load: %s", err.message);
 		return 1;
 	}
-	double k_unit = perf.stiffness_N_per_um * 1e3;            /* N/mm */
-	double k_contacts = s->assembly.nominal_stiffness_N_per_mm; /* N/mm */
+	int bad = 0;
+	if (unit) {
+		double k_unit = perf.stiffness_N_per_um * 1e3;            /* N/mm */
+		double k_contacts = s->assembly.nominal_stiffness_N_per_mm; /* N/mm */
+		if (!(k_unit > 0.0) || !(k_contacts > 0.0)) {
+			prsm_problems_add(pr, ip, "computation", "the nominal nut unit has no stiffness at the operating load");
+			bad = 1;
+		}
+		/* the thread, core and body springs only add compliance; a contact model stiffer in
+		 * the assembly than in the load distribution would make this negative: contacts only */
+		s->prsm.unit_rest_compliance_mm_per_N = fmax(0.0, 1.0 / k_unit - 1.0 / k_contacts);
+	}
+	if (losses && !bad) {
+		int nt = perf.threads;
+		if (nt < 1 || nt > PRSM_IO_STUDY_MAX_LOSS_THREADS) {
+			prsm_problems_add(pr, ip, "computation", "the nominal load distribution has no contact loads");
+			bad = 1;
+		} else {
+			s->loss_threads = nt;
+			memcpy(s->loss_loads_N[0], perf.thread_normal_screw_N, (size_t)nt * sizeof(double));
+			memcpy(s->loss_loads_N[1], perf.thread_normal_nut_N, (size_t)nt * sizeof(double));
+			s->prsm.loss_screw_loads_N = s->loss_loads_N[0];
+			s->prsm.loss_nut_loads_N = s->loss_loads_N[1];
+		}
+	}
 	prsm_performance_free(&perf);
-	if (!(k_unit > 0.0) || !(k_contacts > 0.0)) {
-		prsm_problems_add(pr, ip, "computation", "the nominal nut unit has no stiffness at the operating load");
-		return 1;
-	}
-	/* the thread, core and body springs only add compliance; a contact model stiffer in the
-	 * assembly than in the load distribution would make this negative: then contacts only */
-	s->prsm.unit_rest_compliance_mm_per_N = fmax(0.0, 1.0 / k_unit - 1.0 / k_contacts);
-	return 0;
+	return bad;
 }
 
 /* design_ok: the design loaded, so its operating load is known. */
@@ -600,7 +628,7 @@ static void read_outputs(prsm_io_study *s, const cJSON *doc, int design_ok, prsm
 		}
 		if (!s->is_benchmark && design_ok && !(s->design.axial_load_N > 0.0) &&
 		    (k == PRSM_OUT_SHARING || k == PRSM_OUT_STIFFNESS || k == PRSM_OUT_STIFFNESS_RATIO ||
-		     k == PRSM_OUT_UNIT_STIFFNESS)) {
+		     k == PRSM_OUT_UNIT_STIFFNESS || k == PRSM_OUT_EFFICIENCY_LOSSES)) {
 			prsm_problems_add(pr, ip, "no_load", "%s needs an operating axial load "
 			                  "(/design/operating_point/axial_load_N > 0)", name);
 			continue;
@@ -998,9 +1026,8 @@ int prsm_io_study_load(prsm_io_study *out, const cJSON *doc, prsm_problems *warn
 		p->n_bindings = st->d;
 		p->bindings = out->bindings;
 		p->n_outputs = st->m;
-		for (size_t o = 0; o < st->m; o++)
-			if (p->outputs[o] == PRSM_OUT_UNIT_STIFFNESS && unit_rest_compliance(out, o, pr))
-				return PRSM_EINVAL;
+		if (nominal_unit_terms(out, pr))
+			return PRSM_EINVAL;
 		prsm_prsm_mc_model(&st->model, p);
 	}
 	return 0;

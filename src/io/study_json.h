@@ -23,6 +23,7 @@
 
 /* Limits of the document (the schema states the same numbers). */
 #define PRSM_IO_STUDY_MAX_TOLERANCES 64
+#define PRSM_IO_STUDY_MAX_LOSS_THREADS 500 /* = PRSM_DESIGN_ENGAGED_THREADS_MAX */
 #define PRSM_IO_STUDY_SOBOL_MAX_SAMPLES 1048576
 #define PRSM_IO_STUDY_MAX_BOOTSTRAP 10000
 
@@ -50,6 +51,10 @@ typedef struct {
 	size_t n_tolerances;
 	prsm_io_tolerance tolerances[PRSM_IO_STUDY_MAX_TOLERANCES];
 	prsm_study study;
+	/* efficiency_with_losses: the nominal load distribution's normal loads of one roller's
+	 * contacts, screw side then nut side, N (prsm.loss_*_loads_N point here) */
+	int loss_threads;
+	double loss_loads_N[2][PRSM_IO_STUDY_MAX_LOSS_THREADS];
 } prsm_io_study;
 
 /* Read and check the study document doc, load its design (nominal analysis and assembly) and

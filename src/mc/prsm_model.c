@@ -10,11 +10,12 @@
 
 #include "model/assembly_report.h"
 #include "model/efficiency.h"
+#include "model/losses.h"
 
 static const char *const output_names[PRSM_OUT_COUNT] = {
 	"backlash_um", "backlash_min_um", "backlash_max_um", "load_sharing_factor",
 	"stiffness_N_per_um", "stiffness_ratio", "te_pp_um", "te_rms_um", "efficiency",
-	"efficiency_back", "nut_unit_stiffness_N_per_um"};
+	"efficiency_back", "nut_unit_stiffness_N_per_um", "efficiency_with_losses"};
 
 const char *prsm_output_name(prsm_output_kind k)
 {
@@ -169,6 +170,20 @@ static int prsm_eval(double *y, unsigned *flags, const void *ctx, void *wsp, con
 		eta = eff.eta;
 		eta_back = eff.eta_back;
 	}
+	double eta_losses = NAN;
+	if (wants(p, PRSM_OUT_EFFICIENCY_LOSSES, PRSM_OUT_EFFICIENCY_LOSSES)) {
+		if (!(w->design.mu_screw_roller >= 0.0) || !(w->design.mu_nut_roller >= 0.0))
+			return PRSM_EINVAL;
+		prsm_losses_options lo;
+		prsm_losses_options_from_design(&lo, &w->design);
+		prsm_losses_result lr;
+		prsm_error lerr = PRSM_ERROR_INIT;
+		int lrc = prsm_losses_compute(&lr, &w->design, &p->an->kinematics, &p->an->screw, &p->an->nut,
+		                              p->loss_screw_loads_N, p->loss_nut_loads_N, &lo, &lerr);
+		if (lrc)
+			return lrc;
+		eta_losses = lr.eta;
+	}
 	if (failed)
 		return PRSM_ENOCONVERGE;
 	if (edge)
@@ -189,6 +204,7 @@ static int prsm_eval(double *y, unsigned *flags, const void *ctx, void *wsp, con
 		case PRSM_OUT_TE_RMS: v = te_rms * 1e3; break;
 		case PRSM_OUT_EFFICIENCY: v = eta; break;
 		case PRSM_OUT_EFFICIENCY_BACK: v = eta_back; break;
+		case PRSM_OUT_EFFICIENCY_LOSSES: v = eta_losses; break;
 		case PRSM_OUT_UNIT_STIFFNESS: /* springs in series (MODEL.md §6), N/mm to N/um */
 			v = w->st.stiffness_N_per_mm > 0.0
 			        ? 1e-3 / (1.0 / w->st.stiffness_N_per_mm + p->unit_rest_compliance_mm_per_N)

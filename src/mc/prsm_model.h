@@ -47,13 +47,18 @@ typedef enum {
 	                                   cores, nut body: MODEL.md §6) as the nominal design has it,
 	                                   so that the error-free sample is prsm analyze's
 	                                   stiffness.axial_N_per_um */
+	PRSM_OUT_EFFICIENCY_LOSSES,     /* efficiency_with_losses: direct efficiency with every loss of
+	                                   MODEL.md §5 (sliding, spin, gear mesh, drag) at the sample's
+	                                   friction and the nominal load distribution, so the error-free
+	                                   sample is prsm analyze's efficiency.eta */
 	PRSM_OUT_COUNT
 } prsm_output_kind;
 
 /* Every output name, for messages. */
 #define PRSM_OUTPUT_NAMES_TEXT                                                                     \
 	"backlash_um, backlash_min_um, backlash_max_um, load_sharing_factor, stiffness_N_per_um, "    \
-	"stiffness_ratio, te_pp_um, te_rms_um, efficiency, efficiency_back, nut_unit_stiffness_N_per_um"
+	"stiffness_ratio, te_pp_um, te_rms_um, efficiency, efficiency_back, nut_unit_stiffness_N_per_um, " \
+	"efficiency_with_losses"
 
 const char *prsm_output_name(prsm_output_kind k);
 int prsm_output_parse(const char *name, prsm_output_kind *out); /* 0 or PRSM_ENOTFOUND */
@@ -68,6 +73,8 @@ typedef struct {
 	double unit_rest_compliance_mm_per_N; /* nut unit minus contacts at the operating load:
 	                                   1/k_unit - 1/k_contacts of the nominal design, mm/N (>= 0;
 	                                   set by the loader when nut_unit_stiffness_N_per_um is asked) */
+	const double *loss_screw_loads_N; /* efficiency_with_losses: the nominal distribution's normal */
+	const double *loss_nut_loads_N;   /* loads of one roller's n_t contacts, N (set by the loader) */
 	size_t n_bindings;
 	const prsm_mc_binding *bindings;/* one per variable */
 	size_t n_outputs;

@@ -191,8 +191,11 @@ int prsm_performance_compute(prsm_performance *out, const prsm_design *d, const 
 	out->threads = nt;
 	out->thread_load_screw_N = calloc((size_t)nt, sizeof(double));
 	out->thread_load_nut_N = calloc((size_t)nt, sizeof(double));
+	out->thread_normal_screw_N = calloc((size_t)nt, sizeof(double));
+	out->thread_normal_nut_N = calloc((size_t)nt, sizeof(double));
 	prsm_loaddist_workspace *ws = prsm_loaddist_alloc(nt);
-	if (!out->thread_load_screw_N || !out->thread_load_nut_N || !ws) {
+	if (!out->thread_load_screw_N || !out->thread_load_nut_N || !out->thread_normal_screw_N ||
+	    !out->thread_normal_nut_N || !ws) {
 		rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory for the load distribution");
 		goto cleanup;
 	}
@@ -202,6 +205,8 @@ int prsm_performance_compute(prsm_performance *out, const prsm_design *d, const 
 			goto cleanup;
 		memcpy(out->thread_load_screw_N, out->dist.axial_screw_N, (size_t)nt * sizeof(double));
 		memcpy(out->thread_load_nut_N, out->dist.axial_nut_N, (size_t)nt * sizeof(double));
+		memcpy(out->thread_normal_screw_N, out->dist.normal_screw_N, (size_t)nt * sizeof(double));
+		memcpy(out->thread_normal_nut_N, out->dist.normal_nut_N, (size_t)nt * sizeof(double));
 		out->stiffness_N_per_um = out->dist.stiffness_N_per_mm * 1e-3;
 		/* efficiency with every loss, spin at the distributed loads (MODEL.md §5) */
 		rc = torque_with_losses(&out->losses, d, a, &out->dist, err);
@@ -246,10 +251,13 @@ void prsm_performance_free(prsm_performance *p)
 {
 	free(p->thread_load_screw_N);
 	free(p->thread_load_nut_N);
+	free(p->thread_normal_screw_N);
+	free(p->thread_normal_nut_N);
 	free(p->curve_load_N);
 	free(p->curve_approach_um);
 	free(p->curve_stiffness_N_per_um);
 	p->thread_load_screw_N = p->thread_load_nut_N = NULL;
+	p->thread_normal_screw_N = p->thread_normal_nut_N = NULL;
 	p->curve_load_N = p->curve_approach_um = p->curve_stiffness_N_per_um = NULL;
 }
 

@@ -42,6 +42,8 @@ typedef struct {
 	int threads;                 /* n_t */
 	double *thread_load_screw_N; /* axial load of each thread, screw side, per roller, N */
 	double *thread_load_nut_N;   /* axial load of each thread, nut side, per roller, N */
+	double *thread_normal_screw_N; /* normal load of each contact, screw side, per roller, N (0 at F = 0) */
+	double *thread_normal_nut_N;   /* normal load of each contact, nut side, per roller, N (0 at F = 0) */
 	prsm_loaddist_result dist;   /* factors, most loaded contact, approach, stiffness */
 	double stiffness_N_per_um;   /* axial stiffness of the nut unit at the load, N/um */
 	/* load-deflection curve (when asked) */
