@@ -6,7 +6,7 @@ ASAN_BUILD ?= build-asan
 JOBS ?= 2
 EXAMPLE ?= studies/case-a.json
 
-.PHONY: all deps build run test test-asan clean
+.PHONY: all deps build run example test test-asan clean
 
 all: build
 
@@ -17,8 +17,14 @@ build: deps
 	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPRSM_WERROR=ON >/dev/null
 	@cmake --build $(BUILD) -j$(JOBS)
 
-# The main job: for now the nominal analysis of an example design.
+# The main job: the service with its web form, http://127.0.0.1:8080/ (database ./prsm.db);
+# SERVE_ARGS passes options, e.g. make run SERVE_ARGS="--port 9000 --workers 2".
+SERVE_ARGS ?=
 run: build
+	$(BUILD)/prsm serve $(SERVE_ARGS)
+
+# The nominal analysis of an example design, as a one-page summary.
+example: build
 	$(BUILD)/prsm analyze $(EXAMPLE) --format text
 
 test: build
