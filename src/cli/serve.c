@@ -192,9 +192,9 @@ int prsm_cli_serve(int argc, char **argv)
 		prsm_jobs_close(jobs);
 		return PRSM_EXIT_FAILED;
 	}
-	fprintf(stderr, "prsm serve: listening on http://%s%s%s:%d/ (database %s, %d workers%s%s)\n",
+	fprintf(stderr, "prsm serve: listening on http://%s%s%s:%d/ (database %s, %d worker%s%s%s)\n",
 	        strchr(ho.host, ':') ? "[" : "", ho.host, strchr(ho.host, ':') ? "]" : "", prsm_http_port(http),
-	        jo.db_path, jo.workers, ho.token ? ", token required for POST and DELETE" : "",
+	        jo.db_path, jo.workers, jo.workers == 1 ? "" : "s", ho.token ? ", token required for POST and DELETE" : "",
 	        recovered ? ", resuming interrupted jobs" : "");
 	int sig = 0;
 	sigwait(&set, &sig);
