@@ -13,46 +13,6 @@
 #include "cli/commands.h"
 #include "io/allocation_json.h"
 #include "io/analysis_json.h"
-#include "mc/engine.h"
-
-typedef struct {
-	const char *path, *out_path;
-	int threads;     /* 0: the document's */
-	int quiet;
-} allocate_options;
-
-static int parse(allocate_options *o, int argc, char **argv)
-{
-	memset(o, 0, sizeof *o);
-	for (int i = 1; i < argc; i++) {
-		if (strcmp(argv[i], "--out") == 0 && i + 1 < argc) {
-			o->out_path = argv[++i];
-		} else if (strcmp(argv[i], "--threads") == 0 && i + 1 < argc) {
-			char *end;
-			long v = strtol(argv[++i], &end, 10);
-			if (*end || v < 1 || v > PRSM_MC_MAX_THREADS) {
-				fprintf(stderr, "prsm allocate: --threads takes 1..%d\n", PRSM_MC_MAX_THREADS);
-				return -1;
-			}
-			o->threads = (int)v;
-		} else if (strcmp(argv[i], "--quiet") == 0) {
-			o->quiet = 1;
-		} else if (argv[i][0] == '-' && argv[i][1] != '\0') {
-			fprintf(stderr, "prsm allocate: unknown option '%s'\n", argv[i]);
-			return -1;
-		} else if (!o->path) {
-			o->path = argv[i];
-		} else {
-			fprintf(stderr, "prsm allocate: more than one file given\n");
-			return -1;
-		}
-	}
-	if (!o->path) {
-		fprintf(stderr, "usage: prsm allocate FILE|- [--out FILE] [--threads N] [--quiet]\n");
-		return -1;
-	}
-	return 0;
-}
 
 static void progress(void *ctx, const prsm_progress *p)
 {
@@ -65,8 +25,8 @@ static void progress(void *ctx, const prsm_progress *p)
 
 int prsm_cli_allocate(int argc, char **argv)
 {
-	allocate_options o;
-	if (parse(&o, argc, argv))
+	prsm_cli_doc_options o;
+	if (prsm_cli_doc_options_parse(&o, argc, argv, "allocate", PRSM_CLI_WITH_THREADS))
 		return PRSM_EXIT_USAGE;
 	prsm_problems problems;
 	prsm_problems_init(&problems);

@@ -18,7 +18,6 @@
  * Exit: 0 when every line is done, 1 when some line was invalid, 2 when some job failed (or the
  * database failed), 64 usage, 130 when stopped by a signal (run again to resume).
  */
-#include <errno.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -64,19 +63,6 @@ static void batch_usage(FILE *f)
 	           "  one result per line, in input order, on stdout or --out; run again to resume\n");
 }
 
-static int int_arg(int *out, const char *name, const char *v, int lo, int hi)
-{
-	char *end = NULL;
-	errno = 0;
-	long n = v ? strtol(v, &end, 10) : 0;
-	if (!v || errno || end == v || *end || n < lo || n > hi) {
-		fprintf(stderr, "prsm batch: %s needs a whole number in %d..%d\n", name, lo, hi);
-		return -1;
-	}
-	*out = (int)n;
-	return 0;
-}
-
 static int parse_options(batch_options *o, int argc, char **argv)
 {
 	long cores = sysconf(_SC_NPROCESSORS_ONLN);
@@ -84,6 +70,7 @@ static int parse_options(batch_options *o, int argc, char **argv)
 	for (int i = 1; i < argc; i++) {
 		const char *a = argv[i];
 		const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+		long long n;
 		if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
 			batch_usage(stdout);
 			return 1;
@@ -96,12 +83,14 @@ static int parse_options(batch_options *o, int argc, char **argv)
 			o->db_path = v;
 			i++;
 		} else if (strcmp(a, "--workers") == 0) {
-			if (int_arg(&o->workers, a, v, 1, PRSM_JOBS_MAX_WORKERS))
+			if (prsm_cli_int_option(&n, "batch", a, v, 1, PRSM_JOBS_MAX_WORKERS))
 				return -1;
+			o->workers = (int)n;
 			i++;
 		} else if (strcmp(a, "--threads") == 0) {
-			if (int_arg(&o->threads, a, v, 1, 256))
+			if (prsm_cli_int_option(&n, "batch", a, v, 1, 256))
 				return -1;
+			o->threads = (int)n;
 			i++;
 		} else if (a[0] == '-' && a[1]) {
 			fprintf(stderr, "prsm batch: unknown option '%s'\n", a);

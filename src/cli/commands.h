@@ -34,6 +34,24 @@ void prsm_cli_bench_study(cJSON *list, double budget_s);
 /* The design-optimisation entry of `prsm bench` (src/cli/bench_opt.c). */
 void prsm_cli_bench_opt(cJSON *list);
 
+/* A whole-number option value in lo..hi into *out; otherwise says so ("prsm COMMAND: OPT takes
+ * an integer lo..hi") and returns -1. value may be NULL (missing). */
+int prsm_cli_int_option(long long *out, const char *command, const char *opt, const char *value, long long lo,
+                        long long hi);
+
+/* The options of a command that runs one document: FILE|- (required), --out FILE, --quiet, and
+ * with PRSM_CLI_WITH_CSV --csv FILE, with PRSM_CLI_WITH_THREADS --threads N (1..PRSM_MC_MAX_THREADS). */
+typedef struct {
+	const char *path, *out_path, *csv_path;
+	int threads;     /* 0: the document's */
+	int quiet;
+} prsm_cli_doc_options;
+
+enum { PRSM_CLI_WITH_CSV = 1, PRSM_CLI_WITH_THREADS = 2 };
+
+/* Parse argv (argv[0] is the command); problems and the usage line go to stderr. 0 or -1. */
+int prsm_cli_doc_options_parse(prsm_cli_doc_options *o, int argc, char **argv, const char *command, int with);
+
 /* Read and parse a request file ("-": stdin) into *doc (the caller frees it); problems of the
  * file or its JSON go to problems. Returns 0 or an exit code. */
 int prsm_cli_read_document(cJSON **doc, const char *path, prsm_problems *problems);

@@ -14,36 +14,6 @@
 #include "cli/commands.h"
 #include "io/optimization_json.h"
 
-typedef struct {
-	const char *path, *out_path;
-	int quiet;
-} optimize_options;
-
-static int parse(optimize_options *o, int argc, char **argv)
-{
-	memset(o, 0, sizeof *o);
-	for (int i = 1; i < argc; i++) {
-		if (strcmp(argv[i], "--out") == 0 && i + 1 < argc) {
-			o->out_path = argv[++i];
-		} else if (strcmp(argv[i], "--quiet") == 0) {
-			o->quiet = 1;
-		} else if (argv[i][0] == '-' && argv[i][1] != '\0') {
-			fprintf(stderr, "prsm optimize: unknown option '%s'\n", argv[i]);
-			return -1;
-		} else if (!o->path) {
-			o->path = argv[i];
-		} else {
-			fprintf(stderr, "prsm optimize: more than one file given\n");
-			return -1;
-		}
-	}
-	if (!o->path) {
-		fprintf(stderr, "usage: prsm optimize FILE|- [--out FILE] [--quiet]\n");
-		return -1;
-	}
-	return 0;
-}
-
 static void progress(void *ctx, const prsm_progress *p)
 {
 	(void)ctx;
@@ -57,8 +27,8 @@ static void progress(void *ctx, const prsm_progress *p)
 
 int prsm_cli_optimize(int argc, char **argv)
 {
-	optimize_options o;
-	if (parse(&o, argc, argv))
+	prsm_cli_doc_options o;
+	if (prsm_cli_doc_options_parse(&o, argc, argv, "optimize", 0))
 		return PRSM_EXIT_USAGE;
 	prsm_problems problems;
 	prsm_problems_init(&problems);

@@ -7,7 +7,6 @@
  * queued again and resumes at the next start — and exits 0. Signals are blocked in every
  * thread and taken by sigwait() here, so no handler runs inside the libraries.
  */
-#include <errno.h>
 #include <pthread.h>
 #include <signal.h>
 #include <stdio.h>
@@ -49,19 +48,6 @@ static void serve_usage(FILE *f)
 	        "  --job-time-cap-s S   time cap per job (default 600)\n"
 	        "  --data-dir DIR       directory with schemas/, api/ and web/ (default %s)\n",
 	        PRSM_DATA_DIR);
-}
-
-static int number_arg(long long *out, const char *opt, const char *s, long long lo, long long hi)
-{
-	char *end;
-	errno = 0;
-	long long v = strtoll(s, &end, 10);
-	if (!*s || *end || errno || v < lo || v > hi) {
-		fprintf(stderr, "prsm serve: %s takes an integer %lld..%lld\n", opt, lo, hi);
-		return -1;
-	}
-	*out = v;
-	return 0;
 }
 
 static int read_token(char *out, size_t size, const char *path)
@@ -109,47 +95,47 @@ int prsm_cli_serve(int argc, char **argv)
 		if (strcmp(a, "--host") == 0) {
 			ho.host = v;
 		} else if (strcmp(a, "--port") == 0) {
-			if (number_arg(&n, a, v, 0, 65535))
+			if (prsm_cli_int_option(&n, "serve", a, v, 0, 65535))
 				return PRSM_EXIT_USAGE;
 			ho.port = (int)n;
 		} else if (strcmp(a, "--db") == 0) {
 			jo.db_path = v;
 		} else if (strcmp(a, "--threads") == 0) {
-			if (number_arg(&n, a, v, 1, 64))
+			if (prsm_cli_int_option(&n, "serve", a, v, 1, 64))
 				return PRSM_EXIT_USAGE;
 			ho.threads = (int)n;
 		} else if (strcmp(a, "--workers") == 0) {
-			if (number_arg(&n, a, v, 1, PRSM_JOBS_MAX_WORKERS))
+			if (prsm_cli_int_option(&n, "serve", a, v, 1, PRSM_JOBS_MAX_WORKERS))
 				return PRSM_EXIT_USAGE;
 			jo.workers = (int)n;
 		} else if (strcmp(a, "--job-threads") == 0) {
-			if (number_arg(&n, a, v, 1, 64))
+			if (prsm_cli_int_option(&n, "serve", a, v, 1, 64))
 				return PRSM_EXIT_USAGE;
 			jo.limits.threads = (int)n;
 		} else if (strcmp(a, "--token-file") == 0) {
 			token_file = v;
 		} else if (strcmp(a, "--max-body-bytes") == 0) {
-			if (number_arg(&n, a, v, 1024, 256LL * 1024 * 1024))
+			if (prsm_cli_int_option(&n, "serve", a, v, 1024, 256LL * 1024 * 1024))
 				return PRSM_EXIT_USAGE;
 			ho.max_body_bytes = (size_t)n;
 		} else if (strcmp(a, "--timeout-s") == 0) {
-			if (number_arg(&n, a, v, 1, 3600))
+			if (prsm_cli_int_option(&n, "serve", a, v, 1, 3600))
 				return PRSM_EXIT_USAGE;
 			ho.timeout_s = (unsigned)n;
 		} else if (strcmp(a, "--max-connections") == 0) {
-			if (number_arg(&n, a, v, 1, 100000))
+			if (prsm_cli_int_option(&n, "serve", a, v, 1, 100000))
 				return PRSM_EXIT_USAGE;
 			ho.max_connections = (unsigned)n;
 		} else if (strcmp(a, "--max-queued") == 0) {
-			if (number_arg(&n, a, v, 1, 1000000))
+			if (prsm_cli_int_option(&n, "serve", a, v, 1, 1000000))
 				return PRSM_EXIT_USAGE;
 			jo.max_queued = (size_t)n;
 		} else if (strcmp(a, "--max-samples") == 0) {
-			if (number_arg(&n, a, v, 2, 4000000))
+			if (prsm_cli_int_option(&n, "serve", a, v, 2, 4000000))
 				return PRSM_EXIT_USAGE;
 			jo.limits.max_samples = (size_t)n;
 		} else if (strcmp(a, "--job-time-cap-s") == 0) {
-			if (number_arg(&n, a, v, 1, 86400 * 7))
+			if (prsm_cli_int_option(&n, "serve", a, v, 1, 86400 * 7))
 				return PRSM_EXIT_USAGE;
 			jo.limits.max_time_s = (double)n;
 		} else if (strcmp(a, "--data-dir") == 0) {

@@ -13,47 +13,6 @@
 #include "io/analysis_json.h"
 #include "io/study_json.h"
 
-typedef struct {
-	const char *path, *out_path, *csv_path;
-	int threads;     /* 0: the document's */
-	int quiet;
-} study_options;
-
-static int parse(study_options *o, int argc, char **argv)
-{
-	memset(o, 0, sizeof *o);
-	for (int i = 1; i < argc; i++) {
-		if (strcmp(argv[i], "--out") == 0 && i + 1 < argc) {
-			o->out_path = argv[++i];
-		} else if (strcmp(argv[i], "--csv") == 0 && i + 1 < argc) {
-			o->csv_path = argv[++i];
-		} else if (strcmp(argv[i], "--threads") == 0 && i + 1 < argc) {
-			char *end;
-			long v = strtol(argv[++i], &end, 10);
-			if (*end || v < 1 || v > PRSM_MC_MAX_THREADS) {
-				fprintf(stderr, "prsm study: --threads takes 1..%d\n", PRSM_MC_MAX_THREADS);
-				return -1;
-			}
-			o->threads = (int)v;
-		} else if (strcmp(argv[i], "--quiet") == 0) {
-			o->quiet = 1;
-		} else if (argv[i][0] == '-' && argv[i][1] != '\0') {
-			fprintf(stderr, "prsm study: unknown option '%s'\n", argv[i]);
-			return -1;
-		} else if (!o->path) {
-			o->path = argv[i];
-		} else {
-			fprintf(stderr, "prsm study: more than one file given\n");
-			return -1;
-		}
-	}
-	if (!o->path) {
-		fprintf(stderr, "usage: prsm study FILE|- [--out FILE] [--csv FILE] [--threads N] [--quiet]\n");
-		return -1;
-	}
-	return 0;
-}
-
 static void progress(void *ctx, const prsm_progress *p)
 {
 	(void)ctx;
@@ -79,8 +38,8 @@ int prsm_cli_study_check(const cJSON *doc, prsm_problems *warnings, prsm_problem
 
 int prsm_cli_study(int argc, char **argv)
 {
-	study_options o;
-	if (parse(&o, argc, argv))
+	prsm_cli_doc_options o;
+	if (prsm_cli_doc_options_parse(&o, argc, argv, "study", PRSM_CLI_WITH_CSV | PRSM_CLI_WITH_THREADS))
 		return PRSM_EXIT_USAGE;
 	prsm_problems warnings, problems;
 	prsm_problems_init(&warnings);
