@@ -20,11 +20,8 @@
 #include "model/performance.h"
 #include "util/clock.h"
 
-/* Case A of MODEL.md §2 with Z = 10 and 10 engaged threads, 20 um target clearance. */
-static void case_a(prsm_design *d)
+void prsm_cli_bench_case_a(prsm_design *d)
 {
-	prsm_problems e;
-	prsm_problems_init(&e);
 	prsm_design_init(d);
 	d->starts = 5;
 	d->pitch_mm = 2.0;
@@ -34,6 +31,14 @@ static void case_a(prsm_design *d)
 	d->target_axial_clearance_mm = 0.020;
 	d->axial_load_N = 7000.0;
 	d->screw_speed_rad_s = 100.0;
+}
+
+/* Case A, resolved by the standard rules. */
+static void case_a(prsm_design *d)
+{
+	prsm_problems e;
+	prsm_problems_init(&e);
+	prsm_cli_bench_case_a(d);
 	prsm_design_resolve(d, &e);
 }
 

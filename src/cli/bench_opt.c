@@ -19,15 +19,7 @@
 void prsm_cli_bench_opt(cJSON *list)
 {
 	prsm_design base;
-	prsm_design_init(&base);
-	base.starts = 5;
-	base.pitch_mm = 2.0;
-	base.roller_radius_mm = 3.25;
-	base.rollers = 10;
-	base.engaged_threads = 10;
-	base.target_axial_clearance_mm = 0.020;
-	base.axial_load_N = 7000.0;
-	base.screw_speed_rad_s = 100.0;
+	prsm_cli_bench_case_a(&base);
 	prsm_dp_spec s;
 	prsm_dp_spec_init(&s, &base);
 	for (int n = 3; n <= 6; n++)

@@ -9,6 +9,7 @@
 
 #include <cJSON.h>
 
+#include "model/design.h"
 #include "util/problems.h"
 
 enum { PRSM_EXIT_OK = 0, PRSM_EXIT_INVALID = 1, PRSM_EXIT_FAILED = 2, PRSM_EXIT_USAGE = 64 };
@@ -33,6 +34,9 @@ void prsm_cli_bench_add(cJSON *list, const char *name, double value, const char 
 void prsm_cli_bench_study(cJSON *list, double budget_s);
 /* The design-optimisation entry of `prsm bench` (src/cli/bench_opt.c). */
 void prsm_cli_bench_opt(cJSON *list);
+/* Case A of MODEL.md §2 as the benches take it (Z = 10, 10 engaged threads, 20 um target
+ * clearance, 7000 N at 100 rad/s), not yet resolved by the standard rules. */
+void prsm_cli_bench_case_a(prsm_design *d);
 
 /* A whole-number option value in lo..hi into *out; otherwise says so ("prsm COMMAND: OPT takes
  * an integer lo..hi") and returns -1. value may be NULL (missing). */
