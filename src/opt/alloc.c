@@ -213,6 +213,29 @@ static void allocate_ln(dual_ws *w, size_t o, double uo)
 	(*w->evaluations)++;
 }
 
+/* Brent's method on fn over the bracket [lo, hi] until the bracket is within epsabs + epsrel
+ * |x| or ROOT_MAX_ITER iterations; *root gets the last estimate (it keeps its value when the
+ * first iteration fails). Returns 0, or -1 when the solver cannot be allocated. */
+static int brent_root(double *root, double (*fn)(double, void *), void *ctx, double lo, double hi, double epsabs,
+                      double epsrel)
+{
+	gsl_function F = {fn, ctx};
+	gsl_root_fsolver *s = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
+	if (!s)
+		return -1;
+	gsl_root_fsolver_set(s, &F, lo, hi);
+	for (int it = 0; it < ROOT_MAX_ITER; it++) {
+		if (gsl_root_fsolver_iterate(s))
+			break;
+		*root = gsl_root_fsolver_root(s);
+		if (gsl_root_test_interval(gsl_root_fsolver_x_lower(s), gsl_root_fsolver_x_upper(s), epsabs, epsrel) ==
+		    GSL_SUCCESS)
+			break;
+	}
+	gsl_root_fsolver_free(s);
+	return 0;
+}
+
 static double root_fn(double u, void *params)
 {
 	dual_ws *w = params;
@@ -263,22 +286,8 @@ static int solve_one(dual_ws *w, size_t o, prsm_error *err)
 		}
 	}
 	double u = flo == 0.0 ? lo : hi;
-	if (flo != 0.0 && fhi != 0.0) {
-		gsl_function F = {root_fn, w};
-		gsl_root_fsolver *s = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
-		if (!s)
-			return prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
-		gsl_root_fsolver_set(s, &F, lo, hi);
-		for (int it = 0; it < ROOT_MAX_ITER; it++) {
-			if (gsl_root_fsolver_iterate(s))
-				break;
-			u = gsl_root_fsolver_root(s);
-			if (gsl_root_test_interval(gsl_root_fsolver_x_lower(s), gsl_root_fsolver_x_upper(s),
-			                           U_EPSABS, U_EPSREL) == GSL_SUCCESS)
-				break;
-		}
-		gsl_root_fsolver_free(s);
-	}
+	if (flo != 0.0 && fhi != 0.0 && brent_root(&u, root_fn, w, lo, hi, U_EPSABS, U_EPSREL))
+		return prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
 	w->u[o] = u;
 	return 0;
 }
@@ -800,21 +809,8 @@ int prsm_alloc_sigma_for_out_fraction(double *sigma, const prsm_spec *spec, doub
 	double flo = sigma_fn(lo, &c), fhi = sigma_fn(hi, &c), v = hi;
 	if (flo >= 0.0) {
 		v = lo;
-	} else if (fhi > 0.0) {
-		gsl_function F = {sigma_fn, &c};
-		gsl_root_fsolver *s = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
-		if (!s)
-			return prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
-		gsl_root_fsolver_set(s, &F, lo, hi);
-		for (int it = 0; it < ROOT_MAX_ITER; it++) {
-			if (gsl_root_fsolver_iterate(s))
-				break;
-			v = gsl_root_fsolver_root(s);
-			if (gsl_root_test_interval(gsl_root_fsolver_x_lower(s), gsl_root_fsolver_x_upper(s), 1e-15,
-			                           1e-15) == GSL_SUCCESS)
-				break;
-		}
-		gsl_root_fsolver_free(s);
+	} else if (fhi > 0.0 && brent_root(&v, sigma_fn, &c, lo, hi, 1e-15, 1e-15)) {
+		return prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
 	}
 	*sigma = exp(v);
 	return 0;
