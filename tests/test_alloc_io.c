@@ -10,7 +10,6 @@
 #include "test_support.h"
 
 #include <gsl/gsl_errno.h>
-#include <libgen.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -146,18 +145,7 @@ static void test_exponential(void **state)
 /* studies/allocate-case-a.json with samples cut to n. */
 static cJSON *alloc_case_a(size_t samples)
 {
-	char path[4096];
-	snprintf(path, sizeof path, "%s", __FILE__);
-	char *dir = dirname(path);
-	char file[4200];
-	snprintf(file, sizeof file, "%s/../studies/allocate-case-a.json", dir);
-	FILE *f = fopen(file, "rb");
-	assert_non_null(f);
-	static char buf[1 << 16];
-	size_t n = fread(buf, 1, sizeof buf - 1, f);
-	fclose(f);
-	buf[n] = 0;
-	cJSON *doc = parse(buf);
+	cJSON *doc = prsm_test_read_study("allocate-case-a.json");
 	cJSON *mc = cJSON_GetObjectItemCaseSensitive(doc, "monte_carlo");
 	cJSON_ReplaceItemInObject(mc, "samples", cJSON_CreateNumber((double)samples));
 	return doc;

@@ -372,15 +372,7 @@ static void test_optimization_kind_caps(void **state)
 	const prsm_job_kind *k = prsm_job_kind_by_collection("optimizations");
 	assert_ptr_equal(k, &prsm_job_kind_optimization);
 	assert_ptr_equal(prsm_job_kind_by_collection("allocations"), &prsm_job_kind_allocation);
-	char dir[512], path[1024];
-	prsm_test_source_dir(dir, sizeof dir);
-	snprintf(path, sizeof path, "%s/studies/optimize-case-a-robust.json", dir);
-	size_t len = 0;
-	char *text = prsm_test_read_file(path, &len);
-	assert_non_null(text);
-	cJSON *doc = cJSON_ParseWithLength(text, len);
-	free(text);
-	assert_non_null(doc);
+	cJSON *doc = prsm_test_read_study("optimize-case-a-robust.json");
 	prsm_job_limits lim = {100, 60.0, 1}; /* 100 samples or evaluations */
 	prsm_problems pr;
 	prsm_problems_init(&pr);

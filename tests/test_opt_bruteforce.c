@@ -62,15 +62,7 @@ static grid_point evaluate(const cJSON *design, int starts, double pitch_mm, dou
 static void test_no_grid_point_beats_the_optimum(void **state)
 {
 	(void)state;
-	char dir[512], path[1024];
-	prsm_test_source_dir(dir, sizeof dir);
-	snprintf(path, sizeof path, "%s/studies/optimize-case-a.json", dir);
-	size_t len = 0;
-	char *text = prsm_test_read_file(path, &len);
-	assert_non_null(text);
-	cJSON *doc = cJSON_ParseWithLength(text, len);
-	free(text);
-	assert_non_null(doc);
+	cJSON *doc = prsm_test_read_study("optimize-case-a.json");
 
 	cJSON *res = NULL;
 	prsm_problems problems;

@@ -9,6 +9,7 @@
 #include <setjmp.h>
 #include <stdint.h>
 #include <cmocka.h>
+#include <cJSON.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -53,6 +54,22 @@ static inline char *prsm_test_read_file(const char *path, size_t *len)
 	}
 	fclose(f);
 	return buf;
+}
+
+/* studies/NAME of the source tree, parsed; fails the test when it cannot be read or parsed.
+ * The caller owns the tree (cJSON_Delete). */
+static inline cJSON *prsm_test_read_study(const char *name)
+{
+	char dir[512], path[1024];
+	prsm_test_source_dir(dir, sizeof dir);
+	snprintf(path, sizeof path, "%s/studies/%s", dir, name);
+	size_t len = 0;
+	char *text = prsm_test_read_file(path, &len);
+	assert_non_null(text);
+	cJSON *doc = cJSON_ParseWithLength(text, len);
+	free(text);
+	assert_non_null(doc);
+	return doc;
 }
 
 /* |actual - expected| <= tol, with a readable failure message. */
