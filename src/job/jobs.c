@@ -18,6 +18,7 @@
 
 #include "io/analysis_json.h"
 #include "io/canonical.h"
+#include "io/json_util.h"
 #include "util/clock.h"
 #include "util/sha256.h"
 
@@ -398,14 +399,6 @@ static void add_time(cJSON *o, const char *name, double unix_s)
 	cJSON_AddStringToObject(o, name, out);
 }
 
-static void add_number_or_null(cJSON *o, const char *name, double x)
-{
-	if (isfinite(x))
-		cJSON_AddNumberToObject(o, name, x);
-	else
-		cJSON_AddNullToObject(o, name);
-}
-
 cJSON *prsm_job_view_to_json(const prsm_job_view *v)
 {
 	const prsm_store_job *r = &v->row;
@@ -427,13 +420,10 @@ cJSON *prsm_job_view_to_json(const prsm_job_view *v)
 	else
 		cJSON_AddNullToObject(p, "fraction");
 	cJSON_AddStringToObject(p, "unit", v->kind->progress_unit ? v->kind->progress_unit : "samples");
-	add_number_or_null(p, "interval_width", v->interval_width);
-	add_number_or_null(p, "interval_goal", v->interval_goal);
-	add_number_or_null(p, "best_objective", v->best);
-	if (isfinite(v->eta_s))
-		cJSON_AddNumberToObject(p, "eta_s", v->eta_s);
-	else
-		cJSON_AddNullToObject(p, "eta_s");
+	prsm_json_add_number(p, "interval_width", v->interval_width);
+	prsm_json_add_number(p, "interval_goal", v->interval_goal);
+	prsm_json_add_number(p, "best_objective", v->best);
+	prsm_json_add_number(p, "eta_s", v->eta_s);
 	cJSON_AddBoolToObject(o, "cache_hit", v->cache_hit);
 	cJSON *l = cJSON_AddObjectToObject(o, "links");
 	char url[160];
