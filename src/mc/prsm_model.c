@@ -38,6 +38,7 @@ typedef struct {
 	prsm_assembly_gaps plus, minus;
 	prsm_assembly_state st;
 	prsm_design design;             /* copy whose friction the samples change */
+	prsm_losses_options loss_options; /* the design's losses section (no friction in it) */
 	double *te_mm;                  /* angles_per_revolution */
 } workspace;
 
@@ -54,6 +55,7 @@ static int ws_alloc(void **out, const void *ctx)
 		return PRSM_ENOMEM;
 	}
 	w->design = p->as->design;
+	prsm_losses_options_from_design(&w->loss_options, &w->design);
 	*out = w;
 	return 0;
 }
@@ -174,12 +176,10 @@ static int prsm_eval(double *y, unsigned *flags, const void *ctx, void *wsp, con
 	if (wants(p, PRSM_OUT_EFFICIENCY_LOSSES, PRSM_OUT_EFFICIENCY_LOSSES)) {
 		if (!(w->design.mu_screw_roller >= 0.0) || !(w->design.mu_nut_roller >= 0.0))
 			return PRSM_EINVAL;
-		prsm_losses_options lo;
-		prsm_losses_options_from_design(&lo, &w->design);
 		prsm_losses_result lr;
 		prsm_error lerr = PRSM_ERROR_INIT;
 		int lrc = prsm_losses_compute(&lr, &w->design, &p->an->kinematics, &p->an->screw, &p->an->nut,
-		                              p->loss_screw_loads_N, p->loss_nut_loads_N, &lo, &lerr);
+		                              p->loss_screw_loads_N, p->loss_nut_loads_N, &w->loss_options, &lerr);
 		if (lrc)
 			return lrc;
 		eta_losses = lr.eta;
