@@ -164,18 +164,19 @@ static int prsm_eval(double *y, unsigned *flags, const void *ctx, void *wsp, con
 	                 wants(p, PRSM_OUT_STIFFNESS_RATIO, PRSM_OUT_UNIT_STIFFNESS);
 	if (need_solve && as->design.axial_load_N > 0.0)
 		prsm_assembly_solve(&w->st, as, &w->plus, as->design.axial_load_N, 0);
-	if (wants(p, PRSM_OUT_EFFICIENCY, PRSM_OUT_EFFICIENCY_BACK)) {
+	int wants_sliding = wants(p, PRSM_OUT_EFFICIENCY, PRSM_OUT_EFFICIENCY_BACK);
+	int wants_losses = wants(p, PRSM_OUT_EFFICIENCY_LOSSES, PRSM_OUT_EFFICIENCY_LOSSES);
+	if ((wants_sliding || wants_losses) &&
+	    (!(w->design.mu_screw_roller >= 0.0) || !(w->design.mu_nut_roller >= 0.0)))
+		return PRSM_EINVAL; /* a friction tolerance drew a negative coefficient */
+	if (wants_sliding) {
 		prsm_efficiency eff;
-		if (!(w->design.mu_screw_roller >= 0.0) || !(w->design.mu_nut_roller >= 0.0))
-			return PRSM_EINVAL; /* a friction tolerance drew a negative coefficient */
 		prsm_efficiency_sliding(&eff, &w->design, &p->an->kinematics, &p->an->screw, &p->an->nut);
 		eta = eff.eta;
 		eta_back = eff.eta_back;
 	}
 	double eta_losses = NAN;
-	if (wants(p, PRSM_OUT_EFFICIENCY_LOSSES, PRSM_OUT_EFFICIENCY_LOSSES)) {
-		if (!(w->design.mu_screw_roller >= 0.0) || !(w->design.mu_nut_roller >= 0.0))
-			return PRSM_EINVAL;
+	if (wants_losses) {
 		prsm_losses_result lr;
 		prsm_error lerr = PRSM_ERROR_INIT;
 		int lrc = prsm_losses_compute(&lr, &w->design, &p->an->kinematics, &p->an->screw, &p->an->nut,
