@@ -312,7 +312,7 @@ static void test_cancel_time_cap(void **state)
 	static prsm_alloc_problem p;
 	static prsm_alloc_solution s;
 	prsm_error err = PRSM_ERROR_INIT;
-	volatile int cancel = 1;
+	prsm_cancel_flag cancel = 1;
 	many_constraints(&p, PRSM_ALLOC_RSS, 0.6);
 	p.cancel = &cancel;
 	assert_int_equal(prsm_alloc_solve(&s, &p, PRSM_ALLOC_SOLVER_EXACT, &err), PRSM_ECANCELLED);

@@ -211,7 +211,7 @@ static void test_threads(void **state)
 }
 
 typedef struct {
-	volatile int *cancel;
+	prsm_cancel_flag *cancel;
 	size_t cancel_at;      /* samples done at which to cancel */
 	size_t calls;
 } cancel_ctx;
@@ -232,7 +232,7 @@ static void test_cancel(void **state)
 	prsm_problems pr;
 	prsm_error err = PRSM_ERROR_INIT;
 	cJSON *res = NULL;
-	volatile int cancel = 1;
+	prsm_cancel_flag cancel = 1;
 	prsm_problems_init(&pr);
 	assert_int_equal(prsm_io_allocation_execute(&res, doc, &cancel, NULL, NULL, 0.0, 1, &pr, &err),
 	                 PRSM_ECANCELLED);

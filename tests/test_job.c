@@ -16,6 +16,8 @@
 #include <unistd.h>
 
 #include "job/jobs.h"
+#include "util/sha256.h"
+#include "util/version.h"
 
 #include "test_db.h"
 
@@ -88,10 +90,14 @@ static const prsm_job_kind sleepy = {
 
 static const prsm_job_kind *const test_kinds[] = {&sleepy};
 
+/* The engine build the next open_jobs gives (NULL: this binary's). */
+static const char *engine_build;
+
 static prsm_jobs *open_jobs(int workers, size_t max_queued, int use_test_kind, int *recovered)
 {
 	prsm_jobs_options o = PRSM_JOBS_OPTIONS_INIT;
 	o.db_path = db_path;
+	o.engine_build = engine_build;
 	o.workers = workers;
 	o.max_queued = max_queued;
 	if (use_test_kind) {
@@ -364,6 +370,55 @@ static void test_shutdown_resume(void **state)
 	prsm_jobs_close(j);
 }
 
+/* A database written by another build of the engine is never served: the same request under
+ * another engine build runs again (a stale cache would serve old physics); under the same
+ * build it is the cache hit. The key is the documented hash and names the binary's build. */
+static void test_engine_build_in_key(void **state)
+{
+	(void)state;
+	const char *text = "{\"steps\": 2, \"tag\": \"build\"}";
+	engine_build = "00000000000000a1";
+	prsm_jobs *j = open_jobs(1, 8, 1, NULL);
+	prsm_submit_outcome oc;
+	prsm_job_view v = submit(j, &sleepy, text, &oc);
+	assert_int_equal(oc, PRSM_SUBMIT_CREATED);
+	char old_id[PRSM_STORE_ID_MAX], old_key[PRSM_STORE_KEY_MAX];
+	snprintf(old_id, sizeof old_id, "%s", v.row.id);
+	snprintf(old_key, sizeof old_key, "%s", v.row.key);
+	prsm_job_view_clear(&v);
+	wait_state(j, &sleepy, old_id, PRSM_JOB_DONE);
+	prsm_jobs_close(j);
+
+	j = open_jobs(1, 8, 1, NULL); /* the same build again: the cache */
+	v = submit(j, &sleepy, text, &oc);
+	assert_int_equal(oc, PRSM_SUBMIT_CACHED);
+	assert_string_equal(v.row.id, old_id);
+	prsm_job_view_clear(&v);
+	prsm_jobs_close(j);
+
+	engine_build = "00000000000000b2"; /* a new engine: runs again, under another key */
+	j = open_jobs(1, 8, 1, NULL);
+	v = submit(j, &sleepy, text, &oc);
+	assert_int_equal(oc, PRSM_SUBMIT_CREATED);
+	assert_string_not_equal(v.row.id, old_id);
+	assert_string_not_equal(v.row.key, old_key);
+	char canon[] = "{\"steps\":2,\"tag\":\"build\"}";
+	char key[PRSM_SHA256_HEX];
+	prsm_jobs_cache_key(key, &sleepy, "00000000000000b2", canon, strlen(canon));
+	assert_string_equal(v.row.key, key);
+	prsm_jobs_cache_key(key, &sleepy, "00000000000000a1", canon, strlen(canon));
+	assert_string_equal(old_key, key);
+	wait_state(j, &sleepy, v.row.id, PRSM_JOB_DONE);
+	prsm_job_view_clear(&v);
+	prsm_jobs_close(j);
+
+	engine_build = NULL; /* the binary's own build is a 16-digit hash and keys differently */
+	assert_int_equal(strlen(prsm_engine_build()), 16);
+	assert_int_equal(strspn(prsm_engine_build(), "0123456789abcdef"), 16);
+	prsm_jobs_cache_key(key, &sleepy, prsm_engine_build(), canon, strlen(canon));
+	assert_string_not_equal(key, old_key);
+}
+
 /* The optimisation kind applies the service's sample cap to a robust constraint's study, and
  * its evaluation cap to the solver, each at its field. */
 static void test_optimization_kind_caps(void **state)
@@ -476,6 +531,7 @@ int main(void)
 		cmocka_unit_test_setup_teardown(test_cancel_and_queue_cap, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_cancel_keeps_best, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_shutdown_resume, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_engine_build_in_key, setup, teardown),
 		cmocka_unit_test(test_optimization_kind_caps),
 		cmocka_unit_test_setup_teardown(test_study_kind, setup, teardown),
 	};

@@ -308,7 +308,7 @@ static void test_pareto(void **state)
 }
 
 /* Cancelled in the middle: the best feasible design so far, flagged. */
-static volatile int cancel_flag;
+static prsm_cancel_flag cancel_flag;
 static void cancel_after(void *ctx, const prsm_progress *pr)
 {
 	(void)ctx;

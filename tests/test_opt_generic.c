@@ -134,7 +134,7 @@ static void test_tutorial_auglag(void **state)
 #define MI_RECORD 4
 typedef struct {
 	int evaluations_pruned; /* evaluations of combinations the pruner rejects (must stay 0) */
-	volatile int *cancel_at;
+	prsm_cancel_flag *cancel_at;
 	int cancel_after, calls;
 	double first[MI_RECORD][2]; /* the first points evaluated (the first run's start first) */
 } mi_ctx;
@@ -330,7 +330,7 @@ static void test_seed(void **state)
 static void test_cancel(void **state)
 {
 	(void)state;
-	volatile int flag = 0;
+	prsm_cancel_flag flag = 0;
 	mi_ctx c = {0};
 	c.cancel_at = &flag;
 	c.cancel_after = 300;

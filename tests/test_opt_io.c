@@ -221,7 +221,7 @@ static void test_truncated_runs(void **state)
 }
 
 typedef struct {
-	volatile int *flag;
+	prsm_cancel_flag *flag;
 	size_t last_done, planned;
 	double best;
 } watch;
@@ -245,7 +245,7 @@ static void test_cancel(void **state)
 	prsm_problems_init(&p);
 	prsm_error err = PRSM_ERROR_INIT;
 	cJSON *res = NULL;
-	volatile int flag = 0;
+	prsm_cancel_flag flag = 0;
 	watch w = {&flag, 0, 0, NAN};
 	assert_int_equal(prsm_io_optimization_execute(&res, doc, &flag, on_progress, &w, 0.0, &p, &err),
 	                 PRSM_ECANCELLED);

@@ -226,7 +226,7 @@ static void test_unreachable(void **state)
 
 /* Set the cancel flag once progress reaches `at` evaluations. */
 typedef struct {
-	volatile int *flag;
+	prsm_cancel_flag *flag;
 	size_t at;
 } cancel_at;
 
@@ -247,7 +247,7 @@ static void test_cancel(void **state)
 	cJSON *doc = make_doc(1);
 	static const size_t at[] = {300, 450, 600};
 	for (size_t i = 0; i < sizeof at / sizeof *at; i++) {
-		volatile int flag = 0;
+		prsm_cancel_flag flag = 0;
 		cancel_at c = {&flag, at[i]};
 		prsm_problems p;
 		prsm_problems_init(&p);

@@ -13,6 +13,7 @@
 #include "io/json_util.h"
 #include "io/optimization_json.h"
 #include "util/file.h"
+#include "util/version.h"
 
 typedef struct {
 	const char *path;
@@ -202,6 +203,8 @@ int prsm_cli_version(int argc, char **argv)
 {
 	(void)argc;
 	(void)argv;
-	printf("{\"engine\": \"prsm\", \"version\": \"%s\", \"model\": \"MODEL.md 2026-11\"}\n", PRSM_VERSION);
+	printf("{\"engine\": \"prsm\", \"version\": \"%s\", \"build\": \"%s\", \"git_revision\": \"%s\", "
+	       "\"model\": \"MODEL.md 2026-11\"}\n",
+	       PRSM_VERSION, prsm_engine_build(), prsm_git_revision());
 	return 0;
 }

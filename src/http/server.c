@@ -38,6 +38,7 @@
 #include "io/analyze_request.h"
 #include "util/clock.h"
 #include "util/file.h"
+#include "util/version.h"
 
 #define MAX_SCHEMAS 64
 #define SCHEMA_NAME_MAX 96
@@ -748,6 +749,8 @@ static int build_version(prsm_http *h)
 {
 	cJSON *v = cJSON_CreateObject();
 	cJSON_AddStringToObject(v, "prsm", PRSM_VERSION);
+	cJSON_AddStringToObject(v, "build", prsm_engine_build());
+	cJSON_AddStringToObject(v, "git_revision", prsm_git_revision());
 	cJSON_AddStringToObject(v, "api", "v1");
 	cJSON *an = cJSON_AddObjectToObject(v, "analysis");
 	const char *design = "{\"geometry\": {\"starts\": 5, \"pitch_mm\": 2, \"roller_radius_mm\": 3.25, \"flank_angle_deg\": 45,"

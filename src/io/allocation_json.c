@@ -20,6 +20,7 @@
 #include "io/study_json.h"
 #include "opt/alloc_mc.h"
 #include "util/clock.h"
+#include "util/version.h"
 
 #define PRSM_ALLOC_ENGINE "prsm-alloc 2 (KKT: Brent roots on ln of the multipliers, projected Newton on the dual; NLopt 2.7 SLSQP/COBYLA; Monte Carlo correction of the yield targets with common random numbers)"
 #define DEFAULT_MAX_CORRECTIONS 8
@@ -584,6 +585,7 @@ static cJSON *result_json(const doc_state *d, const prsm_alloc_mc_result *r, int
 	cJSON *ver = cJSON_AddObjectToObject(doc, "versions");
 	cJSON_AddStringToObject(ver, "prsm", PRSM_VERSION);
 	cJSON_AddStringToObject(ver, "engine", PRSM_ALLOC_ENGINE);
+	cJSON_AddStringToObject(ver, "build", prsm_engine_build());
 	cJSON_AddStringToObject(doc, "stack", prsm_alloc_stack_name(md->stack));
 	cJSON_AddStringToObject(doc, "solver", prsm_alloc_solver_name(best->sol.solver));
 	cJSON_AddStringToObject(doc, "convention",
@@ -696,7 +698,7 @@ static cJSON *result_json(const doc_state *d, const prsm_alloc_mc_result *r, int
 	return doc;
 }
 
-int prsm_io_allocation_execute(cJSON **result, const cJSON *doc, volatile int *cancel,
+int prsm_io_allocation_execute(cJSON **result, const cJSON *doc, prsm_cancel_flag *cancel,
                                prsm_progress_fn progress, void *progress_ctx, double max_time_s,
                                int threads, prsm_problems *problems, prsm_error *err)
 {
@@ -727,7 +729,7 @@ int prsm_io_allocation_execute(cJSON **result, const cJSON *doc, volatile int *c
 		}
 	} else {
 		double t0 = prsm_clock_seconds();
-		if (cancel && *cancel) {
+		if (prsm_cancel_requested(cancel)) {
 			rc = prsm_error_set(err, PRSM_ECANCELLED, NULL, "the allocation was cancelled");
 			goto cleanup;
 		}

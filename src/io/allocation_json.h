@@ -20,6 +20,7 @@
 
 #include <cJSON.h>
 
+#include "util/cancel.h"
 #include "util/error.h"
 #include "util/problems.h"
 #include "util/progress.h"
@@ -50,7 +51,7 @@ int prsm_io_allocation_check(const cJSON *doc, size_t max_samples, prsm_problems
  * within the bounds can meet), PRSM_ENOCONVERGE (the time cap ended before the linear
  * allocation was solved), PRSM_ECANCELLED (*result set to the best-so-far document when
  * there is one, flagged "cancelled": true), PRSM_ENOMEM, or another PRSM_E* code with err. */
-int prsm_io_allocation_execute(cJSON **result, const cJSON *doc, volatile int *cancel,
+int prsm_io_allocation_execute(cJSON **result, const cJSON *doc, prsm_cancel_flag *cancel,
                                prsm_progress_fn progress, void *progress_ctx, double max_time_s,
                                int threads, prsm_problems *problems, prsm_error *err);
 

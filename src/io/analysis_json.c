@@ -11,6 +11,7 @@
 
 #include "model/geometry.h"
 #include "model/life.h"
+#include "util/version.h"
 
 #define DEG (180.0 / M_PI)
 #define RPM_PER_RAD_S (60.0 / (2.0 * M_PI))
@@ -420,6 +421,7 @@ cJSON *prsm_io_analysis_to_json(const prsm_analysis *a, const prsm_design *d,
 	cJSON_AddStringToObject(eng, "name", "prsm");
 	cJSON_AddStringToObject(eng, "version", PRSM_VERSION);
 	cJSON_AddStringToObject(eng, "model", PRSM_MODEL_VERSION);
+	cJSON_AddStringToObject(eng, "build", prsm_engine_build());
 
 	cJSON_AddItemToObject(root, "design", design_json(d));
 	cJSON_AddItemToObject(root, "warnings", prsm_io_problems_to_json(warnings));

@@ -24,6 +24,7 @@
 #include "opt/pareto.h"
 #include "opt/robust.h"
 #include "util/clock.h"
+#include "util/version.h"
 
 #define PRSM_OPT_MODEL_VERSION "MODEL.md 2026-11 (§1, §2, §5, §6)"
 #define PRSM_OPT_ENGINE_NAME "prsm-opt 1 (NLopt local runs from GSL Sobol starts, integers enumerated with pruning)"
@@ -1017,6 +1018,7 @@ static cJSON *result_head(const opt_doc *od, const prsm_problems *warnings)
 	cJSON *ver = cJSON_AddObjectToObject(doc, "versions");
 	cJSON_AddStringToObject(ver, "prsm", PRSM_VERSION);
 	cJSON_AddStringToObject(ver, "engine", PRSM_OPT_ENGINE_NAME);
+	cJSON_AddStringToObject(ver, "build", prsm_engine_build());
 	char nl[32];
 	int maj, min, bug;
 	nlopt_version(&maj, &min, &bug);
@@ -1056,7 +1058,7 @@ static void progress_forward(prsm_opt_options *o, prsm_progress_fn fn, void *ctx
 	o->progress_ctx = ctx;
 }
 
-int prsm_io_optimization_execute(cJSON **result, const cJSON *doc, volatile int *cancel,
+int prsm_io_optimization_execute(cJSON **result, const cJSON *doc, prsm_cancel_flag *cancel,
                                  prsm_progress_fn progress, void *progress_ctx, double max_time_s,
                                  prsm_problems *problems, prsm_error *err)
 {

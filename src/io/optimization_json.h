@@ -24,6 +24,7 @@
 
 #include <cJSON.h>
 
+#include "util/cancel.h"
 #include "util/error.h"
 #include "util/problems.h"
 #include "util/progress.h"
@@ -49,7 +50,7 @@ int prsm_io_optimization_check(const cJSON *doc, size_t max_evaluations, prsm_pr
  * Returns 0 (the result may still say "feasible": false, with the violated constraints named),
  * PRSM_EINVAL (problems filled, *result NULL), PRSM_ECANCELLED (*result still set to the best
  * result so far, flagged "cancelled": true), PRSM_ENOMEM, or another PRSM_E* code with err. */
-int prsm_io_optimization_execute(cJSON **result, const cJSON *doc, volatile int *cancel,
+int prsm_io_optimization_execute(cJSON **result, const cJSON *doc, prsm_cancel_flag *cancel,
                                  prsm_progress_fn progress, void *progress_ctx, double max_time_s,
                                  prsm_problems *problems, prsm_error *err);
 

@@ -24,6 +24,7 @@
 #include "io/json_util.h"
 #include "model/analysis.h"
 #include "model/performance.h"
+#include "util/version.h"
 
 #ifndef PRSM_VERSION
 #define PRSM_VERSION "0.0.0"
@@ -1178,6 +1179,7 @@ cJSON *prsm_io_study_result_to_json(const prsm_io_study *s, const prsm_study_res
 	cJSON *ver = cJSON_AddObjectToObject(doc, "versions");
 	cJSON_AddStringToObject(ver, "prsm", PRSM_VERSION);
 	cJSON_AddStringToObject(ver, "engine", PRSM_ENGINE_NAME);
+	cJSON_AddStringToObject(ver, "build", prsm_engine_build());
 	cJSON_AddStringToObject(ver, "model", PRSM_STUDY_MODEL_VERSION);
 	if (!s->is_benchmark)
 		cJSON_AddStringToObject(doc, "assembly_mode", s->prsm.mode == PRSM_MODE_EXACT ? "exact" : "linear");

@@ -1,11 +1,16 @@
 /*
  * jobs.c: submissions, the worker pool and live progress (see jobs.h).
  *
- * Locking: j->mu guards the workers' slots (which job each runs, its cancel flag and
- * progress) and the stopping flag; a claim from the store and the registration of the
- * claimed job happen under it, as do a cancel in the store and the raising of the running
- * worker's flag, so a cancel can never fall between a claim and its registration. Workers
- * sleep on j->cv; a submission that creates a job wakes one. The store has its own locks.
+ * Locking: j->mu guards the workers' slots (which job each runs, its progress), the work
+ * generation and the stopping flag, and is never held across a call into the store (whose
+ * writes may wait for SQLite's busy timeout): a claim happens outside it and the claimed job
+ * is registered under it afterwards. A cancel writes the store first, then raises the flag of
+ * the worker that runs the job; a worker, once registered, reads its job's state back from
+ * the store, so a cancel that fell between the claim and the registration is seen there and
+ * one after the registration finds the flag. The flags are C11 atomics (util/cancel.h): the
+ * running computation polls them without the lock. Idle workers sleep on j->cv until a
+ * submission raises the work generation (no polling of the store); after a store error they
+ * retry after a second. The store has its own locks.
  */
 #include "job/jobs.h"
 
@@ -21,13 +26,14 @@
 #include "io/json_util.h"
 #include "util/clock.h"
 #include "util/sha256.h"
+#include "util/version.h"
 
 typedef struct {
 	struct prsm_jobs *jobs;
 	pthread_t thread;
 	int started;
 	char id[PRSM_STORE_ID_MAX];          /* the job running here, "" when idle */
-	volatile int cancel;                 /* raised by a cancel or by closing */
+	prsm_cancel_flag cancel;             /* raised by a cancel or by closing */
 	prsm_progress progress;              /* of the running job */
 	double started_clock_s;              /* prsm_clock_seconds() at its start */
 } worker;
@@ -37,6 +43,7 @@ struct prsm_jobs {
 	prsm_jobs_options opt;
 	pthread_mutex_t mu;
 	pthread_cond_t cv;
+	unsigned long work_generation;       /* raised by every submission that queues a job */
 	int stopping;
 	int n_workers;
 	worker w[PRSM_JOBS_MAX_WORKERS];
@@ -85,7 +92,7 @@ static void run_one(worker *w, prsm_store_job *job)
 		rc = k->run(&out, job->request, &ctx, &err);
 	}
 	pthread_mutex_lock(&j->mu);
-	int cancelled = w->cancel, stopping = j->stopping;
+	int cancelled = prsm_cancel_requested(&w->cancel), stopping = j->stopping;
 	w->id[0] = '\0';
 	pthread_mutex_unlock(&j->mu);
 	prsm_error serr = PRSM_ERROR_INIT;
@@ -114,33 +121,58 @@ static void run_one(worker *w, prsm_store_job *job)
 	prsm_job_output_free(&out);
 }
 
+/* Under j->mu: take job (just claimed from the store) as w's. A worker registered after
+ * prsm_jobs_close began is cancelled at once (its job is then queued again). */
+static void register_claim(worker *w, const prsm_store_job *job)
+{
+	snprintf(w->id, sizeof w->id, "%s", job->id);
+	prsm_cancel_set(&w->cancel, w->jobs->stopping);
+	w->progress = (prsm_progress)PRSM_PROGRESS_INIT;
+	w->started_clock_s = prsm_clock_seconds();
+}
+
+/* A cancel that reached the store between the claim and the registration (see the top). */
+static void read_back_cancel(worker *w, const char *id)
+{
+	prsm_store_job row;
+	prsm_error err = PRSM_ERROR_INIT;
+	if (prsm_store_get(w->jobs->store, &row, id, 0, &err) == 0) {
+		if (row.state == PRSM_JOB_CANCELLED)
+			prsm_cancel_set(&w->cancel, 1);
+		prsm_store_job_clear(&row);
+	}
+}
+
 static void *worker_main(void *arg)
 {
 	worker *w = arg;
 	prsm_jobs *j = w->jobs;
 	pthread_mutex_lock(&j->mu);
 	while (!j->stopping) {
+		const unsigned long generation = j->work_generation;
+		pthread_mutex_unlock(&j->mu);
 		prsm_store_job job;
 		prsm_error err = PRSM_ERROR_INIT;
 		int rc = prsm_store_claim(j->store, &job, &err);
+		pthread_mutex_lock(&j->mu);
 		if (rc == 0) {
-			snprintf(w->id, sizeof w->id, "%s", job.id);
-			w->cancel = 0;
-			w->progress = (prsm_progress)PRSM_PROGRESS_INIT;
-			w->started_clock_s = prsm_clock_seconds();
+			register_claim(w, &job);
 			pthread_mutex_unlock(&j->mu);
+			read_back_cancel(w, job.id);
 			run_one(w, &job);
 			prsm_store_job_clear(&job);
 			pthread_mutex_lock(&j->mu);
 			continue;
 		}
-		if (rc != PRSM_ENOTFOUND)
+		if (rc != PRSM_ENOTFOUND) {
+			/* the store failed (busy past its timeout, disk): try again in a second */
 			fprintf(stderr, "prsm serve: worker: %s\n", err.message);
-		/* nothing queued: sleep until a submission (or a second, as a safety net) */
-		struct timespec ts;
-		clock_gettime(CLOCK_REALTIME, &ts);
-		ts.tv_sec += 1;
-		pthread_cond_timedwait(&j->cv, &j->mu, &ts);
+			prsm_cond_wait_for(&j->cv, &j->mu, 1.0);
+			continue;
+		}
+		/* nothing queued: sleep until a submission queues a job (or closing) */
+		while (!j->stopping && j->work_generation == generation)
+			pthread_cond_wait(&j->cv, &j->mu);
 	}
 	pthread_mutex_unlock(&j->mu);
 	return NULL;
@@ -155,6 +187,8 @@ int prsm_jobs_open(prsm_jobs **out, const prsm_jobs_options *o, int *recovered, 
 	if (!j)
 		return prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
 	j->opt = *o;
+	if (!j->opt.engine_build)
+		j->opt.engine_build = prsm_engine_build();
 	if (!j->opt.kinds) {
 		j->opt.kinds = prsm_job_kinds;
 		j->opt.n_kinds = prsm_job_kind_count;
@@ -177,7 +211,7 @@ int prsm_jobs_open(prsm_jobs **out, const prsm_jobs_options *o, int *recovered, 
 	for (size_t i = 0; i < j->opt.n_kinds; i++)
 		j->opt.kinds[i]->version();
 	pthread_mutex_init(&j->mu, NULL);
-	pthread_cond_init(&j->cv, NULL);
+	prsm_cond_init_monotonic(&j->cv);
 	j->n_workers = o->workers;
 	for (int i = 0; i < j->n_workers; i++) {
 		j->w[i].jobs = j;
@@ -199,7 +233,7 @@ void prsm_jobs_close(prsm_jobs *j)
 	j->stopping = 1;
 	for (int i = 0; i < j->n_workers; i++)
 		if (j->w[i].id[0])
-			j->w[i].cancel = 1;
+			prsm_cancel_set(&j->w[i].cancel, 1);
 	pthread_cond_broadcast(&j->cv);
 	pthread_mutex_unlock(&j->mu);
 	for (int i = 0; i < j->n_workers; i++)
@@ -242,6 +276,21 @@ static void add_live(prsm_jobs *j, prsm_job_view *v)
 	pthread_mutex_unlock(&j->mu);
 }
 
+void prsm_jobs_cache_key(char *key, const prsm_job_kind *k, const char *engine_build, const char *canon,
+                         size_t len)
+{
+	prsm_sha256 h;
+	uint8_t d[PRSM_SHA256_BYTES];
+	const char *version = k->version();
+	prsm_sha256_init(&h);
+	prsm_sha256_update(&h, k->name, strlen(k->name) + 1);
+	prsm_sha256_update(&h, version, strlen(version) + 1);
+	prsm_sha256_update(&h, engine_build, strlen(engine_build) + 1);
+	prsm_sha256_update(&h, canon, len);
+	prsm_sha256_final(&h, d);
+	prsm_sha256_to_hex(key, d);
+}
+
 int prsm_jobs_submit(prsm_jobs *j, prsm_job_view *out, prsm_submit_outcome *outcome,
                      const prsm_job_kind *k, const cJSON *doc, prsm_problems *problems, prsm_error *err)
 {
@@ -260,22 +309,15 @@ int prsm_jobs_submit(prsm_jobs *j, prsm_job_view *out, prsm_submit_outcome *outc
 		prsm_problems_add(problems, err->pointer, "canonical", "%s", err->message);
 		return rc;
 	}
-	prsm_sha256 h;
-	uint8_t d[PRSM_SHA256_BYTES];
 	char key[PRSM_SHA256_HEX];
-	const char *version = k->version();
-	prsm_sha256_init(&h);
-	prsm_sha256_update(&h, k->name, strlen(k->name) + 1);
-	prsm_sha256_update(&h, version, strlen(version) + 1);
-	prsm_sha256_update(&h, canon, len);
-	prsm_sha256_final(&h, d);
-	prsm_sha256_to_hex(key, d);
+	prsm_jobs_cache_key(key, k, j->opt.engine_build, canon, len);
 	rc = prsm_store_submit(j->store, &out->row, outcome, k->name, key, canon, j->opt.max_queued, err);
 	free(canon);
 	if (rc)
 		return rc;
 	if (*outcome == PRSM_SUBMIT_CREATED) {
 		pthread_mutex_lock(&j->mu);
+		j->work_generation++;
 		pthread_cond_signal(&j->cv);
 		pthread_mutex_unlock(&j->mu);
 	} else if (*outcome == PRSM_SUBMIT_CACHED) {
@@ -317,13 +359,15 @@ int prsm_jobs_cancel(prsm_jobs *j, prsm_job_view *out, const prsm_job_kind *k, c
 	memset(out, 0, sizeof *out);
 	out->kind = k;
 	out->eta_s = out->interval_width = out->interval_goal = out->best = NAN;
-	pthread_mutex_lock(&j->mu);
+	/* the store first, then the flag: see the top of the file */
 	rc = prsm_store_cancel(j->store, &out->row, id, err);
-	if (rc == 0)
+	if (rc == 0) {
+		pthread_mutex_lock(&j->mu);
 		for (int i = 0; i < j->n_workers; i++)
 			if (j->w[i].id[0] && strcmp(j->w[i].id, id) == 0)
-				j->w[i].cancel = 1;
-	pthread_mutex_unlock(&j->mu);
+				prsm_cancel_set(&j->w[i].cancel, 1);
+		pthread_mutex_unlock(&j->mu);
+	}
 	out->samples_done = out->row.samples_done;
 	out->samples_planned = out->row.samples_planned;
 	return rc;

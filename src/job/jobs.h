@@ -32,9 +32,12 @@ typedef struct {
 	const prsm_job_kind *const *kinds; /* the kinds run here; NULL: prsm_job_kinds (tests
 	                                      give their own) */
 	size_t n_kinds;
+	const char *engine_build;  /* part of every cache key; NULL: this binary's
+	                              prsm_engine_build() (tests give another to act as an
+	                              older or newer engine) */
 } prsm_jobs_options;
 
-#define PRSM_JOBS_OPTIONS_INIT {"prsm.db", 1, 4, 64, {200000, 600.0, 1}, NULL, 0}
+#define PRSM_JOBS_OPTIONS_INIT {"prsm.db", 1, 4, 64, {200000, 600.0, 1}, NULL, 0, NULL}
 
 typedef struct prsm_jobs prsm_jobs;
 
@@ -53,6 +56,13 @@ typedef struct {
 } prsm_job_view;
 
 void prsm_job_view_clear(prsm_job_view *v);
+
+/* The cache key (PRSM_SHA256_HEX bytes into key) of the canonical request text canon (len
+ * bytes) of kind k for the engine build engine_build: the SHA-256 of the kind's name, the
+ * kind's version, the engine build and the text. A cache written by another build of the
+ * engine (another model, engine, reader or schema source) never matches. */
+void prsm_jobs_cache_key(char *key, const prsm_job_kind *k, const char *engine_build, const char *canon,
+                         size_t len);
 
 /* Open the store (recovering jobs left running) and start the workers. *out owned by the
  * caller (prsm_jobs_close). Returns 0 or the store's code. *recovered (may be NULL) gets the

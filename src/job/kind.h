@@ -22,6 +22,7 @@
 
 #include <cJSON.h>
 
+#include "util/cancel.h"
 #include "util/error.h"
 #include "util/problems.h"
 #include "util/progress.h"
@@ -38,7 +39,7 @@ typedef struct {
 typedef prsm_progress_fn prsm_job_progress_fn;
 
 typedef struct {
-	volatile int *cancel;              /* nonzero: stop as soon as possible (PRSM_ECANCELLED) */
+	prsm_cancel_flag *cancel;              /* nonzero: stop as soon as possible (PRSM_ECANCELLED) */
 	prsm_job_progress_fn progress;     /* may be NULL */
 	void *progress_ctx;
 	prsm_job_limits limits;

@@ -135,7 +135,7 @@ static int run_document(prsm_job_output *out, const char *request, const prsm_jo
 	if (rc == PRSM_EINVAL && problems.count)
 		prsm_error_set(err, rc, problems.items[0].pointer, "%s", problems.items[0].message);
 	if (rc == 0 || rc == PRSM_ECANCELLED) {
-		if (ctx->cancel && *ctx->cancel && rc == 0)
+		if (prsm_cancel_requested(ctx->cancel) && rc == 0)
 			rc = prsm_error_set(err, PRSM_ECANCELLED, NULL, "the job was cancelled");
 		if (res) {
 			out->result = cJSON_PrintUnformatted(res); /* handed to the caller */

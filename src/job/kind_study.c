@@ -43,10 +43,11 @@ static void study_version_init(void)
 		const cJSON *v = cJSON_GetObjectItemCaseSensitive(res, "versions");
 		const cJSON *p = cJSON_GetObjectItemCaseSensitive(v, "prsm");
 		const cJSON *e = cJSON_GetObjectItemCaseSensitive(v, "engine");
+		const cJSON *b = cJSON_GetObjectItemCaseSensitive(v, "build");
 		const cJSON *m = cJSON_GetObjectItemCaseSensitive(v, "model");
-		if (cJSON_IsString(p) && cJSON_IsString(e) && cJSON_IsString(m))
-			snprintf(study_version_text, sizeof study_version_text, "prsm %s; %s; %s", p->valuestring,
-			         e->valuestring, m->valuestring);
+		if (cJSON_IsString(p) && cJSON_IsString(e) && cJSON_IsString(b) && cJSON_IsString(m))
+			snprintf(study_version_text, sizeof study_version_text, "prsm %s; %s; build %s; %s", p->valuestring,
+			         e->valuestring, b->valuestring, m->valuestring);
 		cJSON_Delete(res);
 		prsm_study_result_free(r);
 	}
@@ -164,7 +165,7 @@ static int study_run(prsm_job_output *out, const char *request, const prsm_job_r
 	rc = prsm_study_run(r, &s->study, err);
 	if (rc)
 		goto done;
-	if (ctx->cancel && *ctx->cancel) {
+	if (prsm_cancel_requested(ctx->cancel)) {
 		prsm_study_result_free(r);
 		rc = prsm_error_set(err, PRSM_ECANCELLED, NULL, "the study was cancelled");
 		goto done;

@@ -649,7 +649,7 @@ static int run(prsm_mc_result *out, const prsm_mc_model *model, const prsm_mc_va
 	c->res = out;
 	c->stop_blocks = c->n_blocks;
 	pthread_mutex_init(&c->mu, NULL);
-	pthread_cond_init(&c->cv, NULL);
+	prsm_cond_init_monotonic(&c->cv);
 
 	/* workers */
 	int want = o->threads;
@@ -751,16 +751,9 @@ static int run(prsm_mc_result *out, const prsm_mc_model *model, const prsm_mc_va
 			continue;
 		}
 		/* wait for the next block, waking now and then for the caps and the progress */
-		struct timespec ts;
-		clock_gettime(CLOCK_REALTIME, &ts);
-		ts.tv_nsec += 100000000L;
-		if (ts.tv_nsec >= 1000000000L) {
-			ts.tv_sec++;
-			ts.tv_nsec -= 1000000000L;
-		}
-		pthread_cond_timedwait(&c->cv, &c->mu, &ts);
+		prsm_cond_wait_for(&c->cv, &c->mu, 0.1);
 		double now = prsm_clock_seconds();
-		if (o->cancel && *o->cancel) {
+		if (prsm_cancel_requested(o->cancel)) {
 			c->stop_blocks = prefix;
 			out->stop = PRSM_STOP_CANCELLED;
 			break;

@@ -33,6 +33,7 @@
 #include <stdint.h>
 
 #include "mc/dist.h"
+#include "util/cancel.h"
 #include "util/error.h"
 #include "util/progress.h"
 
@@ -117,7 +118,7 @@ typedef struct {
 	 * (block_count 0: to the cap); targets are not checked in a split run */
 	size_t first_block, block_count;
 	uint64_t stream_offset;           /* added to block indices as stream keys (distinct runs of one seed) */
-	volatile int *cancel;             /* may be NULL; nonzero cancels */
+	prsm_cancel_flag *cancel;             /* may be NULL; nonzero cancels */
 	prsm_progress_fn progress;        /* may be NULL; called from the calling thread about every
 	                                     0.2 s and once at the end: samples done of the cap, and with
 	                                     targets the stop rule's current figure (util/progress.h) */

@@ -367,7 +367,7 @@ static double kkt_residual(const prsm_alloc_problem *p, const double *u, const d
 /* Cancelled or out of time? Fills err. */
 static int interrupted(const dual_ws *w, prsm_alloc_solution *out, prsm_error *err)
 {
-	if (w->p->cancel && *w->p->cancel)
+	if (prsm_cancel_requested(w->p->cancel))
 		return prsm_error_set(err, PRSM_ECANCELLED, NULL, "the allocation was cancelled");
 	if (prsm_clock_seconds() >= w->deadline) {
 		out->time_cap = 1;
@@ -608,7 +608,7 @@ static double nl_objective(unsigned n, const double *x, double *grad, void *data
 	nl_ctx *c = data;
 	double f = 0.0;
 	(*c->evaluations)++;
-	if (c->p->cancel && *c->p->cancel)
+	if (prsm_cancel_requested(c->p->cancel))
 		nlopt_force_stop(c->opt);
 	for (unsigned i = 0; i < n; i++) {
 		double t = exp(x[i]);
@@ -695,7 +695,7 @@ static int solve_nlopt(prsm_alloc_solution *out, const prsm_alloc_problem *p, pr
 	double f;
 	nlopt_result r = nlopt_optimize(opt, x, &f);
 	nlopt_destroy(opt);
-	if (r == NLOPT_FORCED_STOP && p->cancel && *p->cancel) {
+	if (r == NLOPT_FORCED_STOP && prsm_cancel_requested(p->cancel)) {
 		rc = prsm_error_set(err, PRSM_ECANCELLED, NULL, "the allocation was cancelled");
 		goto cleanup;
 	}
@@ -730,7 +730,7 @@ int prsm_alloc_solve(prsm_alloc_solution *out, const prsm_alloc_problem *p, prsm
 	int rc = prsm_alloc_check(p, err);
 	if (rc)
 		return rc;
-	if (p->cancel && *p->cancel)
+	if (prsm_cancel_requested(p->cancel))
 		return prsm_error_set(err, PRSM_ECANCELLED, NULL, "the allocation was cancelled");
 	out->solver = solver;
 	if (solver == PRSM_ALLOC_SOLVER_EXACT) {

@@ -39,6 +39,7 @@
 #include <stddef.h>
 
 #include "mc/stats.h"
+#include "util/cancel.h"
 #include "util/error.h"
 
 #define PRSM_ALLOC_MAX_TOLERANCES 64
@@ -76,7 +77,7 @@ typedef struct {
 	double t_max[PRSM_ALLOC_MAX_TOLERANCES]; /* tolerance unit, > t_min; INFINITY: none */
 	double c[PRSM_ALLOC_MAX_CONSTRAINTS][PRSM_ALLOC_MAX_TOLERANCES]; /* output unit per tolerance unit */
 	double limit[PRSM_ALLOC_MAX_CONSTRAINTS]; /* L_o > 0, output unit */
-	volatile int *cancel;        /* may be NULL: polled between iterations (PRSM_ECANCELLED) */
+	prsm_cancel_flag *cancel;        /* may be NULL: polled between iterations (PRSM_ECANCELLED) */
 	double max_time_s;           /* 0: none; the solve's own time cap (PRSM_ENOCONVERGE, time_cap set) */
 } prsm_alloc_problem;
 

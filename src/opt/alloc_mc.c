@@ -94,7 +94,7 @@ int prsm_alloc_model_problem(prsm_alloc_problem *p, prsm_alloc_step *step, const
 }
 
 int prsm_alloc_model_allocate(prsm_alloc_step *step, const prsm_alloc_model *md, double scale,
-                              volatile int *cancel, double max_time_s, prsm_error *err)
+                              prsm_cancel_flag *cancel, double max_time_s, prsm_error *err)
 {
 	memset(step, 0, sizeof *step);
 	prsm_alloc_problem *p = malloc(sizeof *p);
@@ -381,7 +381,7 @@ int prsm_alloc_mc_run(prsm_alloc_mc_result *out, prsm_study *s, const prsm_alloc
 	double f = 1.0, f_ok = NAN, f_fail = NAN, g_ok = NAN, g_fail = NAN;
 	out->stop = verify ? PRSM_ALLOC_STOP_MAX_CORRECTIONS : PRSM_ALLOC_STOP_LINEAR;
 	for (int k = 0; k < (verify ? o->max_corrections + 1 : 1) && k < PRSM_ALLOC_MAX_STEPS; k++) {
-		if (o->cancel && *o->cancel) {
+		if (prsm_cancel_requested(o->cancel)) {
 			out->stop = PRSM_ALLOC_STOP_CANCELLED;
 			break;
 		}

@@ -38,6 +38,7 @@
 
 #include "mc/study.h"
 #include "opt/alloc.h"
+#include "util/cancel.h"
 #include "util/progress.h"
 
 #define PRSM_ALLOC_MAX_STEPS 32      /* the linear allocation and up to 31 corrections */
@@ -99,7 +100,7 @@ typedef struct {
 	int verify;                                 /* run the Monte Carlo correction */
 	int max_corrections;                        /* Monte Carlo runs after the first */
 	double scale_rtol;                          /* bracket width on f that ends the correction */
-	volatile int *cancel;                       /* may be NULL */
+	prsm_cancel_flag *cancel;                       /* may be NULL */
 	prsm_progress_fn progress;                  /* may be NULL: samples done / planned, best cost */
 	void *progress_ctx;
 	double max_time_s;                          /* 0: none */
@@ -125,7 +126,7 @@ int prsm_alloc_model_problem(prsm_alloc_problem *p, prsm_alloc_step *step, const
 /* Allocate at scale f and fill the linear prediction of step. cancel (may be NULL) and
  * max_time_s (0: none) go to the solve. Returns as prsm_alloc_solve. */
 int prsm_alloc_model_allocate(prsm_alloc_step *step, const prsm_alloc_model *md, double scale,
-                              volatile int *cancel, double max_time_s, prsm_error *err);
+                              prsm_cancel_flag *cancel, double max_time_s, prsm_error *err);
 
 /* Fill md's t_ref, k, c, nominal, fixed_var and fixed_wc from the study s (md->n, md->m and
  * md->stack set, the groups and outputs in o). Evaluates the model 2 per variable (8 per radial

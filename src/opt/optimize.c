@@ -229,7 +229,7 @@ static void evaluate(search *s, const double *x, int want_grad)
 
 static int stop_now(search *s)
 {
-	if (s->o->cancel && *s->o->cancel) {
+	if (prsm_cancel_requested(s->o->cancel)) {
 		s->cancelled = 1;
 		return 1;
 	}
@@ -489,7 +489,7 @@ int prsm_opt_run(prsm_opt_result *out, const prsm_opt_problem *p, const prsm_opt
 			    nr == NLOPT_FORCED_STOP)
 				s->truncated++;
 			out->runs++;
-			if (o->cancel && *o->cancel) {
+			if (prsm_cancel_requested(o->cancel)) {
 				/* a cancelled problem may not evaluate again (a robust study would stop at
 				 * once): the run's end point is not re-checked */
 				s->cancelled = 1;
@@ -515,7 +515,7 @@ done:
 			eval_raw(s, &again, xb, NULL, NULL);
 			s->best = fin;
 			s->have_best = had;
-			if (o->cancel && *o->cancel)
+			if (prsm_cancel_requested(o->cancel))
 				s->cancelled = 1; /* cancelled during the re-check: keep the stored one */
 			else
 				fin = again;

@@ -49,6 +49,7 @@
 
 #include <stddef.h>
 
+#include "util/cancel.h"
 #include "util/error.h"
 #include "util/progress.h"
 
@@ -139,7 +140,7 @@ typedef struct {
 	double constraint_tol;       /* the solver's margin: NLopt sees g + this <= 0 (steers the
 	                                solver only; feasibility is always g <= 0), >= 0, - */
 	double fd_step_rel;          /* central-difference step as a fraction of the bounds' width */
-	volatile int *cancel;        /* may be NULL; nonzero stops the search */
+	prsm_cancel_flag *cancel;        /* may be NULL; nonzero stops the search */
 	prsm_progress_fn progress;   /* may be NULL */
 	void *progress_ctx;
 	size_t progress_offset;      /* added to done (a sweep's earlier runs), evaluations */

@@ -38,6 +38,7 @@
 
 #include "mc/study.h"
 #include "model/design.h"
+#include "util/cancel.h"
 #include "util/error.h"
 
 #define PRSM_ROBUST_MAX 8          /* robust constraints of one problem */
@@ -102,7 +103,7 @@ typedef struct {
 	prsm_robust_build_fn build;
 	prsm_robust_release_fn release;
 	void *build_ctx;
-	volatile int *cancel;                     /* may be NULL: handed to every study run */
+	prsm_cancel_flag *cancel;                     /* may be NULL: handed to every study run */
 	/* settings echoed by the result (the builder's study uses them) */
 	uint64_t seed;
 	size_t samples;
