@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "opt/alloc.h"
+#include "io/global.h"
 #include "opt/alloc_mc.h"
 
 /* A four-tolerance stack with "high-entropy" figures. */
@@ -485,7 +486,7 @@ static void test_errors(void **state)
 
 int main(void)
 {
-	gsl_set_error_handler_off();
+	prsm_global_init();
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_rss_reciprocal_power),
 		cmocka_unit_test(test_worst_case_reciprocal_power),

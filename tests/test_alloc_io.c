@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "io/allocation_json.h"
+#include "io/global.h"
 #include "util/file.h"
 
 static cJSON *parse(const char *text)
@@ -445,7 +446,7 @@ static void test_errors(void **state)
 
 int main(void)
 {
-	gsl_set_error_handler_off();
+	prsm_global_init();
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_ls1),
 		cmocka_unit_test(test_worst_case_power),

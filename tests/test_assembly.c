@@ -380,7 +380,9 @@ static void test_elastic_equilibrium(void **state)
 		for (int l = 0; l < 4; l++) {
 			const double F = loads[l];
 			prsm_assembly_state st, warm;
-			prsm_assembly_solve(&st, &f->as, &f->plus, F, 0);
+			assert_int_equal(prsm_assembly_solve(&st, &f->as, &f->plus, F, 0), 0);
+			assert_int_equal(st.converged, 1);
+			assert_true(st.iterations < PRSM_ASSEMBLY_MAX_ITERATIONS);
 			double sum = 0.0;
 			for (int j = 0; j < f->as.rollers; j++) {
 				double S = 0.0, N = 0.0;
@@ -429,6 +431,37 @@ static void test_open_roller_carries_less(void **state)
 	prsm_assembly_solve(&st, &f->as, &f->plus, 50.0, 0);
 	assert_close(st.roller_load_N[4], 0.0, 0.0);
 	assert_int_equal(st.loaded_rollers, 9);
+	free(f);
+}
+
+/* MODEL.md §9: a solve that cannot balance is reported, never returned as a result. A gap that
+ * is not finite (a corrupted perturbation), a load that is not finite or not positive: each
+ * returns PRSM_ENOCONVERGE with converged 0, and the TE record counts it as failed. Before this
+ * check the solver ran its 200 iterations and returned 0 with NaN loads. */
+static void test_nonconvergence_reported(void **state)
+{
+	(void)state;
+	fixture *f = make_case_a();
+	prsm_errors e;
+	prsm_errors_zero(&e, f->as.rollers);
+	prsm_assembly_gaps_at(&f->plus, &f->as, &e, PRSM_DIR_PLUS, 0.0, PRSM_MODE_LINEAR);
+	prsm_assembly_state st;
+	memset(&st, 0, sizeof st);
+	const double bad_loads[] = {NAN, INFINITY, 0.0, -5.0};
+	for (int i = 0; i < 4; i++) {
+		assert_int_equal(prsm_assembly_solve(&st, &f->as, &f->plus, bad_loads[i], 0), PRSM_ENOCONVERGE);
+		assert_int_equal(st.converged, 0);
+	}
+	const double bad_gaps[] = {NAN, INFINITY, -INFINITY};
+	for (int i = 0; i < 3; i++) {
+		prsm_assembly_gaps g = f->plus;
+		g.gap_mm[1][3 * f->as.threads + 2] = bad_gaps[i]; /* roller 3, thread 2, nut side */
+		assert_int_equal(prsm_assembly_solve(&st, &f->as, &g, 7000.0, 0), PRSM_ENOCONVERGE);
+		assert_int_equal(st.converged, 0);
+	}
+	/* the same gaps, all finite: converges */
+	assert_int_equal(prsm_assembly_solve(&st, &f->as, &f->plus, 7000.0, 0), 0);
+	assert_int_equal(st.converged, 1);
 	free(f);
 }
 
@@ -636,6 +669,7 @@ int main(void)
 		cmocka_unit_test(test_equal_sharing_closed_form),
 		cmocka_unit_test(test_elastic_equilibrium),
 		cmocka_unit_test(test_open_roller_carries_less),
+		cmocka_unit_test(test_nonconvergence_reported),
 		cmocka_unit_test(test_zero_errors_te),
 		cmocka_unit_test(test_lead_error_linear_te),
 		cmocka_unit_test(test_signal_amplitude),

@@ -12,6 +12,7 @@
 #include "test_support.h"
 
 #include "model/analysis.h"
+#include "io/global.h"
 #include "model/compliance.h"
 #include "model/hertz.h"
 #include "model/loaddist.h"
@@ -236,7 +237,7 @@ static void brute_force(double *ps, double *pn, const prsm_loaddist_params *p, d
 static void test_energy_minimum(void **state)
 {
 	(void)state;
-	gsl_set_error_handler_off();
+	prsm_global_init();
 	prsm_loaddist_workspace *ws = prsm_loaddist_alloc(5);
 	prsm_error err = PRSM_ERROR_INIT;
 	/* soft bodies so the distribution is far from uniform; a gap that opens fully (screw-side
@@ -574,7 +575,7 @@ static void test_curve(void **state)
 static void test_gaps_engage(void **state)
 {
 	(void)state;
-	gsl_set_error_handler_off();
+	prsm_global_init();
 	prsm_loaddist_workspace *ws = prsm_loaddist_alloc(5);
 	prsm_error err = PRSM_ERROR_INIT;
 	prsm_loaddist_params p;

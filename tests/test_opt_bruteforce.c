@@ -13,6 +13,7 @@
 #include <cJSON.h>
 
 #include "io/design_json.h"
+#include "io/global.h"
 #include "io/optimization_json.h"
 #include "model/analysis.h"
 #include "model/compliance.h"
@@ -113,7 +114,7 @@ static void test_no_grid_point_beats_the_optimum(void **state)
 
 int main(void)
 {
-	gsl_set_error_handler_off();
+	prsm_global_init();
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_no_grid_point_beats_the_optimum),
 	};

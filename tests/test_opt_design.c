@@ -13,6 +13,7 @@
 #include <gsl/gsl_errno.h>
 
 #include "model/analysis.h"
+#include "io/global.h"
 #include "model/performance.h"
 #include "opt/design_problem.h"
 #include "opt/pareto.h"
@@ -340,7 +341,7 @@ static void test_cancel(void **state)
 
 int main(void)
 {
-	gsl_set_error_handler_off();
+	prsm_global_init();
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_four_variables), cmocka_unit_test(test_determinism),
 		cmocka_unit_test(test_pruning),        cmocka_unit_test(test_infeasible),

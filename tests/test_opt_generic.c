@@ -23,6 +23,7 @@
 #include <gsl/gsl_errno.h>
 
 #include "opt/optimize.h"
+#include "io/global.h"
 
 static const double F_STAR = 0.5443310540;
 
@@ -481,7 +482,7 @@ static void test_errors(void **state)
 
 int main(void)
 {
-	gsl_set_error_handler_off();
+	prsm_global_init();
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_tutorial_cobyla), cmocka_unit_test(test_tutorial_mma),
 		cmocka_unit_test(test_tutorial_slsqp),  cmocka_unit_test(test_tutorial_auglag),

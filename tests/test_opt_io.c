@@ -14,6 +14,7 @@
 #include <gsl/gsl_errno.h>
 
 #include "io/optimization_json.h"
+#include "io/global.h"
 
 static const char *doc_text =
 	"{\"design\": {\"geometry\": {\"starts\": 5, \"pitch_mm\": 2, \"flank_angle_deg\": 45,"
@@ -264,7 +265,7 @@ static void test_cancel(void **state)
 
 int main(void)
 {
-	gsl_set_error_handler_off();
+	prsm_global_init();
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_check),
 		cmocka_unit_test(test_every_problem),

@@ -16,6 +16,7 @@
 #include <gsl/gsl_errno.h>
 
 #include "io/optimization_json.h"
+#include "io/global.h"
 #include "io/study_json.h"
 #include "opt/robust.h"
 
@@ -386,7 +387,7 @@ static void test_surrogates(void **state)
 
 int main(void)
 {
-	gsl_set_error_handler_off();
+	prsm_global_init();
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_surrogates),
 		cmocka_unit_test(test_invalid),

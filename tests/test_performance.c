@@ -11,6 +11,7 @@
 #include "test_support.h"
 
 #include "model/analysis.h"
+#include "io/global.h"
 #include "model/loaddist.h"
 #include "model/performance.h"
 
@@ -312,7 +313,7 @@ static void test_errors(void **state)
 
 int main(void)
 {
-	gsl_set_error_handler_off();
+	prsm_global_init();
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_efficiency),
 		cmocka_unit_test(test_stiffness_trends),

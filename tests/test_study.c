@@ -12,6 +12,7 @@
 #include <gsl/gsl_errno.h>
 
 #include "io/study_json.h"
+#include "io/global.h"
 #include "model/performance.h"
 
 static const char *design_json =
@@ -304,7 +305,7 @@ static void test_nut_unit_stiffness(void **state)
 
 int main(void)
 {
-	gsl_set_error_handler_off();
+	prsm_global_init();
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_prsm_threads),
 		cmocka_unit_test(test_per_roller_and_shared),

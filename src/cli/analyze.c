@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "cli/commands.h"
+#include "io/global.h"
 #include "io/allocation_json.h"
 #include "io/analysis_json.h"
 #include "io/analyze_request.h"
@@ -67,9 +68,13 @@ void prsm_cli_print_problems(FILE *f, const char *path, const prsm_problems *p)
 
 int prsm_cli_print_json(const cJSON *doc, const char *out_path)
 {
-	char *text = cJSON_Print(doc);
-	if (text == NULL)
+	/* a command builds one document on the main thread: any cJSON allocation that failed since
+	 * the process started may have dropped a member of it, so it is not printed (global.h) */
+	char *text = prsm_json_print_whole(doc, 0, 1);
+	if (text == NULL) {
+		fprintf(stderr, "prsm: out of memory writing the result\n");
 		return PRSM_EXIT_FAILED;
+	}
 	FILE *f = out_path ? fopen(out_path, "w") : stdout;
 	if (f == NULL) {
 		perror(out_path);

@@ -26,6 +26,7 @@
 #include <unistd.h>
 
 #include "cli/commands.h"
+#include "io/global.h"
 #include "io/analysis_json.h"
 #include "job/jobs.h"
 #include "util/file.h"
@@ -315,6 +316,7 @@ int prsm_cli_batch(int argc, char **argv)
 	for (size_t i = 0; i < n_lines && !batch_stop; i++) {
 		batch_line *l = &lines[i];
 		cJSON *row = NULL;
+		const unsigned long mark = prsm_json_alloc_failures();
 		if (!l->kind) {
 			row = result_line(i + 1, l, NULL);
 			if (exit_code == PRSM_EXIT_OK)
@@ -334,7 +336,7 @@ int prsm_cli_batch(int argc, char **argv)
 				exit_code = PRSM_EXIT_FAILED;
 			prsm_job_view_clear(&v);
 		}
-		char *s = row ? cJSON_PrintUnformatted(row) : NULL;
+		char *s = prsm_json_print_whole(row, mark, 0);
 		cJSON_Delete(row);
 		if (!s || fprintf(out, "%s\n", s) < 0 || fflush(out)) {
 			free(s);

@@ -291,9 +291,7 @@ int prsm_cli_bench(int argc, char **argv)
 	add(list, "te_curve_64_exact", bench_assembly(budget, PRSM_MODE_EXACT, 1), "curves/s", 1);
 	prsm_cli_bench_study(list, budget);
 	prsm_cli_bench_opt(list);
-	char *text = cJSON_Print(doc);
-	printf("%s\n", text);
-	free(text);
+	int rc = prsm_cli_print_json(doc, NULL);
 	cJSON_Delete(doc);
-	return 0;
+	return rc;
 }

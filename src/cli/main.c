@@ -7,9 +7,9 @@
 #include <stdio.h>
 #include <string.h>
 
-#include <gsl/gsl_errno.h>
 
 #include "cli/commands.h"
+#include "io/global.h"
 
 static void usage(FILE *out)
 {
@@ -46,8 +46,8 @@ int main(int argc, char **argv)
 		usage(stderr);
 		return PRSM_EXIT_USAGE;
 	}
-	/* GSL reports errors by return code; its default handler would abort the process */
-	gsl_set_error_handler_off();
+	/* GSL's error handler off, cJSON's allocation hooks (io/global.h) */
+	prsm_global_init();
 	const char *cmd = argv[1];
 	if (strcmp(cmd, "analyze") == 0)
 		return prsm_cli_analyze(argc - 1, argv + 1);

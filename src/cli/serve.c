@@ -15,10 +15,10 @@
 #include <time.h>
 #include <unistd.h>
 
-#include <gsl/gsl_errno.h>
 #include <microhttpd.h>
 
 #include "cli/commands.h"
+#include "io/global.h"
 #include "http/server.h"
 #include "job/jobs.h"
 #include "util/file.h"
@@ -72,7 +72,7 @@ static int read_token(char *out, size_t size, const char *path)
 
 int prsm_cli_serve(int argc, char **argv)
 {
-	gsl_set_error_handler_off();
+	prsm_global_init();
 	prsm_http_options ho = PRSM_HTTP_OPTIONS_INIT;
 	prsm_jobs_options jo = PRSM_JOBS_OPTIONS_INIT;
 	ho.data_dir = PRSM_DATA_DIR;

@@ -20,6 +20,7 @@
 #include <netdb.h>
 #include <stdarg.h>
 #include <stdatomic.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -36,6 +37,7 @@
 #include "http/request.h"
 #include "io/analysis_json.h"
 #include "io/analyze_request.h"
+#include "io/global.h"
 #include "util/clock.h"
 #include "util/file.h"
 #include "util/version.h"
@@ -125,13 +127,27 @@ static enum MHD_Result send_json_text(struct MHD_Connection *c, unsigned status,
 	return send_response(c, status, "application/json", text, len, MHD_RESPMEM_MUST_FREE, hname, hvalue);
 }
 
+/* cJSON allocation failures on this thread when the request being answered was dispatched: a
+ * response document built since then is sent only when nothing was dropped from it (global.h). */
+static _Thread_local unsigned long response_mark;
+
+/* The answer when a response document could not be built whole: static text, no allocation. */
+static enum MHD_Result send_out_of_memory(struct MHD_Connection *c)
+{
+	static const char body[] = "{\"type\":\"about:blank\",\"title\":\"Service Unavailable\",\"status\":503,"
+	                           "\"detail\":\"out of memory writing the response\",\"errors\":[{\"pointer\":\"\","
+	                           "\"code\":\"memory\",\"message\":\"out of memory writing the response\"}]}";
+	return send_response(c, 503, "application/problem+json", (void *)(uintptr_t)body, sizeof body - 1,
+	                     MHD_RESPMEM_PERSISTENT, "Retry-After", "1");
+}
+
 static enum MHD_Result send_tree(struct MHD_Connection *c, unsigned status, cJSON *tree, const char *hname,
                                  const char *hvalue)
 {
-	char *text = tree ? cJSON_PrintUnformatted(tree) : NULL; /* freed by libmicrohttpd */
+	char *text = prsm_json_print_whole(tree, response_mark, 0); /* freed by libmicrohttpd */
 	cJSON_Delete(tree);
 	if (!text)
-		return MHD_NO;
+		return send_out_of_memory(c);
 	return send_json_text(c, status, text, strlen(text), hname, hvalue);
 }
 
@@ -162,10 +178,10 @@ static enum MHD_Result send_problems(struct MHD_Connection *c, unsigned status, 
 		p = &one;
 	}
 	cJSON *doc = prsm_io_problem_document((int)status, status_title(status), p);
-	char *text = doc ? cJSON_PrintUnformatted(doc) : NULL; /* freed by libmicrohttpd */
+	char *text = prsm_json_print_whole(doc, response_mark, 0); /* freed by libmicrohttpd */
 	cJSON_Delete(doc);
 	if (!text)
-		return MHD_NO;
+		return send_out_of_memory(c);
 	return send_response(c, status, "application/problem+json", text, strlen(text), MHD_RESPMEM_MUST_FREE, hname,
 	                     hvalue);
 }
@@ -637,6 +653,7 @@ static enum MHD_Result on_static(prsm_http *h, struct MHD_Connection *c, const c
 static enum MHD_Result dispatch(prsm_http *h, struct MHD_Connection *c, const char *url, const char *method,
                                 request *r)
 {
+	response_mark = prsm_json_alloc_failures();
 	if (r->too_large)
 		return send_problem(c, 413, "", "too_large", "Connection", "close",
 		                    "the body is over %zu bytes, the most this service takes", h->o.max_body_bytes);

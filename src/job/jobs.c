@@ -13,6 +13,7 @@
  * retry after a second. The store has its own locks.
  */
 #include "job/jobs.h"
+#include "io/global.h"
 
 #include <math.h>
 #include <pthread.h>
@@ -69,8 +70,9 @@ static char *failure_problem(const prsm_error *err)
 	prsm_problems_init(&p);
 	prsm_problems_add(&p, err->pointer, "computation", "%s", err->message[0] ? err->message : prsm_error_name(err->code));
 	int status = prsm_error_http_status(err->code);
+	const unsigned long mark = prsm_json_alloc_failures();
 	cJSON *doc = prsm_io_problem_document(status, status == 422 ? "Unprocessable Content" : "Computation failed", &p);
-	char *text = doc ? cJSON_PrintUnformatted(doc) : NULL;
+	char *text = prsm_json_print_whole(doc, mark, 0);
 	cJSON_Delete(doc);
 	return text;
 }
@@ -487,6 +489,7 @@ int prsm_job_view_to_text(char **out, size_t *len, const prsm_job_view *v)
 {
 	*out = NULL;
 	*len = 0;
+	const unsigned long mark = prsm_json_alloc_failures();
 	cJSON *o = prsm_job_view_to_json(v);
 	if (!o)
 		return PRSM_ENOMEM;
@@ -495,7 +498,7 @@ int prsm_job_view_to_text(char **out, size_t *len, const prsm_job_view *v)
 		if (p)
 			cJSON_AddItemToObject(o, "problem", p);
 	}
-	char *env = cJSON_PrintUnformatted(o); /* freed below */
+	char *env = prsm_json_print_whole(o, mark, 0); /* freed below */
 	cJSON_Delete(o);
 	if (!env)
 		return PRSM_ENOMEM;
@@ -506,7 +509,7 @@ int prsm_job_view_to_text(char **out, size_t *len, const prsm_job_view *v)
 		cJSON *res = cJSON_Parse(result);
 		if (res && cJSON_GetObjectItemCaseSensitive(res, "cache_hit"))
 			cJSON_ReplaceItemInObjectCaseSensitive(res, "cache_hit", cJSON_CreateTrue());
-		marked = res ? cJSON_PrintUnformatted(res) : NULL;
+		marked = prsm_json_print_whole(res, mark, 0);
 		cJSON_Delete(res);
 		if (marked)
 			result = marked;

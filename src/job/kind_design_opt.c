@@ -9,6 +9,7 @@
  * Thread counts cannot change a result, so they are dropped from the cache key.
  */
 #include "job/kind.h"
+#include "io/global.h"
 
 #include <pthread.h>
 #include <stdio.h>
@@ -128,6 +129,7 @@ static int run_document(prsm_job_output *out, const char *request, const prsm_jo
 	prsm_problems_init(&problems);
 	relay r = {ctx, PRSM_PROGRESS_INIT};
 	cJSON *res = NULL;
+	const unsigned long mark = prsm_json_alloc_failures();
 	int rc = allocation ? prsm_io_allocation_execute(&res, doc, ctx->cancel, relay_progress, &r,
 	                                                 ctx->limits.max_time_s, ctx->limits.threads, &problems, err)
 	                    : prsm_io_optimization_execute(&res, doc, ctx->cancel, relay_progress, &r,
@@ -138,7 +140,8 @@ static int run_document(prsm_job_output *out, const char *request, const prsm_jo
 		if (prsm_cancel_requested(ctx->cancel) && rc == 0)
 			rc = prsm_error_set(err, PRSM_ECANCELLED, NULL, "the job was cancelled");
 		if (res) {
-			out->result = cJSON_PrintUnformatted(res); /* handed to the caller */
+			/* whole or nothing: a member cJSON dropped for want of memory fails the run */
+			out->result = prsm_json_print_whole(res, mark, 0); /* handed to the caller */
 			if (!out->result && rc == 0)
 				rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory writing the result");
 			out->result_len = out->result ? strlen(out->result) : 0;

@@ -8,6 +8,7 @@
  * the cache key.
  */
 #include "job/kind.h"
+#include "io/global.h"
 
 #include <pthread.h>
 #include <stdio.h>
@@ -170,10 +171,12 @@ static int study_run(prsm_job_output *out, const char *request, const prsm_job_r
 		rc = prsm_error_set(err, PRSM_ECANCELLED, NULL, "the study was cancelled");
 		goto done;
 	}
+	const unsigned long mark = prsm_json_alloc_failures();
 	cJSON *res = prsm_io_study_result_to_json(s, r);
 	if (res && warnings.count)
 		cJSON_AddItemToObject(res, "design_warnings", prsm_io_problems_to_json(&warnings));
-	out->result = res ? cJSON_PrintUnformatted(res) : NULL; /* handed to the caller */
+	/* whole or nothing: a member cJSON dropped for want of memory fails the run (global.h) */
+	out->result = prsm_json_print_whole(res, mark, 0); /* handed to the caller */
 	cJSON_Delete(res);
 	if (!out->result) {
 		prsm_study_result_free(r);

@@ -163,7 +163,7 @@ static int prsm_eval(double *y, unsigned *flags, const void *ctx, void *wsp, con
 	int need_solve = wants(p, PRSM_OUT_SHARING, PRSM_OUT_STIFFNESS) ||
 	                 wants(p, PRSM_OUT_STIFFNESS_RATIO, PRSM_OUT_UNIT_STIFFNESS);
 	if (need_solve && as->design.axial_load_N > 0.0)
-		prsm_assembly_solve(&w->st, as, &w->plus, as->design.axial_load_N, 0);
+		failed += prsm_assembly_solve(&w->st, as, &w->plus, as->design.axial_load_N, 0) != 0;
 	int wants_sliding = wants(p, PRSM_OUT_EFFICIENCY, PRSM_OUT_EFFICIENCY_BACK);
 	int wants_losses = wants(p, PRSM_OUT_EFFICIENCY_LOSSES, PRSM_OUT_EFFICIENCY_LOSSES);
 	if ((wants_sliding || wants_losses) &&

@@ -391,8 +391,9 @@ static double side_force(const double *g, int n, double K, double x, double *der
  * entry; *dF gets dF_j/du = S'N'/(S' + N') (the two sides in series), *dw dw/du = N'/(S' + N'). */
 static double roller_balance(const double *gs, const double *gn, int n, double Ks, double Kn,
                              double u, double gs_min, double gn_min, double *w, double *dF,
-                             double *dw)
+                             double *dw, int *converged)
 {
+	*converged = 1;
 	double lo = gs_min, hi = u - gn_min;
 	if (!(hi > lo)) {
 		/* the chain is open: the roller carries nothing */
@@ -404,15 +405,18 @@ static double roller_balance(const double *gs, const double *gn, int n, double K
 	if (!(x > lo && x < hi))
 		x = 0.5 * (lo + hi);
 	double S = 0.0, dS = 0.0, N = 0.0, dN = 0.0;
-	for (int it = 0; it < 200; it++) {
+	int done = 0;
+	for (int it = 0; it < PRSM_ASSEMBLY_MAX_ITERATIONS && !done; it++) {
 		S = side_force(gs, n, Ks, x, &dS);
 		N = side_force(gn, n, Kn, u - x, &dN);
 		const double h = S - N, dh = dS + dN;
 		/* balanced to 1e-12 of the load, or the bracket has closed */
 		if (fabs(h) <= 1e-12 * (S + N) || hi - lo <= 1e-15 * (1.0 + fabs(x)))
-			break;
-		x = safeguarded_step(x, h, dh, &lo, &hi);
+			done = 1;
+		else
+			x = safeguarded_step(x, h, dh, &lo, &hi);
 	}
+	*converged = done && isfinite(S) && isfinite(N);
 	*w = x;
 	*dF = dS + dN > 0.0 ? dS * dN / (dS + dN) : 0.0;
 	*dw = dS + dN > 0.0 ? dN / (dS + dN) : 0.5;
@@ -426,6 +430,18 @@ int prsm_assembly_solve(prsm_assembly_state *st, const prsm_assembly *as,
 	const double Ks = as->k_axial[0], Kn = as->k_axial[1];
 	double gs_min[PRSM_ERRORS_MAX_ROLLERS], gn_min[PRSM_ERRORS_MAX_ROLLERS];
 	double chain_lo = INFINITY, chain_hi = -INFINITY, chain_mean = 0.0;
+	int finite = isfinite(F) && F > 0.0;
+	for (int i = 0; i < Z * nt && finite; i++)
+		finite = isfinite(g->gap_mm[0][i]) && isfinite(g->gap_mm[1][i]);
+	if (!finite) {
+		/* MODEL.md §9: nothing to balance; reported, and the state says so */
+		memset(st, 0, sizeof *st);
+		st->load_N = F;
+		st->u_mm = NAN;
+		st->stiffness_N_per_mm = NAN;
+		st->sharing_factor = NAN;
+		return PRSM_ENOCONVERGE;
+	}
 	for (int j = 0; j < Z; j++) {
 		gs_min[j] = min_of(&g->gap_mm[0][j * nt], nt);
 		gn_min[j] = min_of(&g->gap_mm[1][j * nt], nt);
@@ -452,23 +468,29 @@ int prsm_assembly_solve(prsm_assembly_state *st, const prsm_assembly *as,
 			st->w_mm[j] = gs_min[j] + pow(f / Ks, 2.0 / 3.0);
 	}
 	double total = 0.0, dtotal = 0.0, dw[PRSM_ERRORS_MAX_ROLLERS];
-	int it;
-	for (it = 1; it <= 200; it++) {
+	int it, done = 0, rollers_ok = 1;
+	for (it = 1; it <= PRSM_ASSEMBLY_MAX_ITERATIONS; it++) {
 		total = dtotal = 0.0;
+		rollers_ok = 1;
 		for (int j = 0; j < Z; j++) {
 			double dF;
+			int ok;
 			st->roller_load_N[j] = roller_balance(&g->gap_mm[0][j * nt], &g->gap_mm[1][j * nt], nt,
 			                                      Ks, Kn, u, gs_min[j], gn_min[j], &st->w_mm[j], &dF,
-			                                      &dw[j]);
+			                                      &dw[j], &ok);
+			rollers_ok &= ok;
 			total += st->roller_load_N[j];
 			dtotal += dF;
 		}
 		const double r = total - F;
-		if (fabs(r) <= 1e-11 * F)
+		if (fabs(r) <= 1e-11 * F) {
+			done = 1;
 			break;
+		}
 		const double nu = safeguarded_step(u, r, dtotal, &lo, &hi);
 		if (fabs(nu - u) <= 1e-15 * (1.0 + fabs(u)) || hi - lo <= 1e-15 * (1.0 + fabs(u))) {
 			u = nu;
+			done = 1;
 			break;
 		}
 		/* move the rollers with the nut as the linearisation says: dw/du = N'/(S' + N') */
@@ -478,7 +500,10 @@ int prsm_assembly_solve(prsm_assembly_state *st, const prsm_assembly *as,
 	}
 	st->load_N = F;
 	st->u_mm = u;
-	st->iterations = it;
+	st->iterations = done ? it : PRSM_ASSEMBLY_MAX_ITERATIONS;
+	/* MODEL.md §9: a solve that ran out of iterations, or whose last iterate is not finite, is
+	 * reported, not passed on as a result */
+	st->converged = done && rollers_ok && isfinite(u) && isfinite(total) && isfinite(F) && F > 0.0;
 	st->stiffness_N_per_mm = dtotal;
 	double peak = 0.0;
 	st->loaded_rollers = 0;
@@ -488,5 +513,5 @@ int prsm_assembly_solve(prsm_assembly_state *st, const prsm_assembly *as,
 		peak = fmax(peak, st->roller_load_N[j]);
 	}
 	st->sharing_factor = peak / (F / Z);
-	return 0;
+	return st->converged ? 0 : PRSM_ENOCONVERGE;
 }

@@ -70,6 +70,7 @@ typedef struct {
 	double sharing_factor;           /* max_j roller load / (F / Z) */
 	int loaded_rollers;              /* rollers carrying load */
 	int iterations;                  /* outer Newton iterations */
+	int converged;                   /* 1 when the nut and every roller balanced (MODEL.md §9) */
 } prsm_assembly_state;
 
 /* Prepare a design that passed prsm_analysis_nominal (a): pairs, contacts, sensitivities, K.
@@ -98,8 +99,13 @@ double prsm_assembly_backlash(const prsm_assembly *as, const prsm_assembly_gaps 
                               const prsm_assembly_gaps *minus, double *plus_mm, double *minus_mm);
 
 /* Elastic solve (MODEL.md §4) at axial load F_N > 0 on the gaps g of one direction. st->u_mm
- * and st->w_mm are used as the starting point when warm is 1. Always converges for F > 0
- * (bracketed Newton on u over monotone 1-D roots in w_j); returns 0. */
+ * and st->w_mm are used as the starting point when warm is 1. Bracketed Newton on u over
+ * monotone 1-D roots in w_j, which converges for finite gaps and F > 0; returns 0, or
+ * PRSM_ENOCONVERGE (st->converged 0, st still filled with the last iterate) when the nut or a
+ * roller did not balance within PRSM_ASSEMBLY_MAX_ITERATIONS, or an input was not finite
+ * (MODEL.md §9: the caller counts it, never uses it silently). */
+#define PRSM_ASSEMBLY_MAX_ITERATIONS 200
+
 int prsm_assembly_solve(prsm_assembly_state *st, const prsm_assembly *as,
                         const prsm_assembly_gaps *g, double F_N, int warm);
 

@@ -6,7 +6,6 @@
 #include <math.h>
 #include <string.h>
 
-#include <gsl/gsl_errno.h>
 #include <gsl/gsl_fft_real.h>
 
 void prsm_signal_fit_line(double *a, double *b, const double *x, int n)
@@ -104,9 +103,9 @@ static void amplitude_spectrum(double *out, int m, const double *x, int n)
 	}
 	for (int i = n; i < m; i++)
 		out[i] = 0.0;
-	gsl_error_handler_t *old = gsl_set_error_handler_off();
+	/* m is a power of two >= 2, so the transform cannot fail (its only error is a length that
+	 * is not); no handler switching here: prsm_global_init switched GSL's handler off */
 	gsl_fft_real_radix2_transform(out, 1, (size_t)m);
-	gsl_set_error_handler(old);
 	/* half-complex: out[k] = Re X_k, out[m - k] = Im X_k for 0 < k < m/2 */
 	out[0] = 0.0;
 	for (int k = 1; k < m / 2; k++)
@@ -126,7 +125,8 @@ int prsm_assembly_te_record(double *te, int n, double dtheta, const prsm_assembl
 			*edge += ws->edge_contacts;
 		if (failed)
 			*failed += ws->failed_contacts;
-		prsm_assembly_solve(&st, as, ws, F, i > 0);
+		if (prsm_assembly_solve(&st, as, ws, F, i > 0) && failed)
+			++*failed; /* MODEL.md §9: counted, as a failed contact solve is */
 		if (i == 0)
 			u0 = st.u_mm;
 		te[i] = st.u_mm - u0;
@@ -180,7 +180,8 @@ int prsm_assembly_analyse(prsm_assembly_report *r, const prsm_assembly *as, cons
 		r->backlash_max_mm = fmax(r->backlash_max_mm, B);
 		r->backlash_mean_mm += B / M;
 		if (F > 0.0) {
-			prsm_assembly_solve(&st, as, &ws->plus, F, i > 0);
+			if (prsm_assembly_solve(&st, as, &ws->plus, F, i > 0))
+				r->failed_contacts++;
 			r->sharing_factor_max = fmax(r->sharing_factor_max, st.sharing_factor);
 		}
 		if (i == 0) {

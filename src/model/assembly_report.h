@@ -44,7 +44,8 @@ typedef struct {
 	double peak_frequency_per_rev, peak_amplitude_mm; /* strongest line of the spectrum */
 	int spectrum_bins;              /* bins of spectrum_mm, bin b at b spectrum_step_per_rev */
 	double spectrum_step_per_rev;   /* bin spacing, cycles per screw revolution */
-	int edge_contacts, failed_contacts; /* summed over every evaluation (exact mode) */
+	int edge_contacts, failed_contacts; /* summed over every evaluation (exact mode); failed also
+	                                     * counts elastic solves that did not converge (§9) */
 } prsm_assembly_report;
 
 /* Samples of the TE record, and the zero-padded FFT length of its spectrum (a power of two). */
