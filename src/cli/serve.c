@@ -46,6 +46,10 @@ static void serve_usage(FILE *f)
 	        "  --max-queued N       queued jobs at most, then 503 (default 64)\n"
 	        "  --max-samples N      Monte Carlo samples per job (default 200000)\n"
 	        "  --job-time-cap-s S   time cap per job (default 600)\n"
+	        "  --sync-time-ms N     POST /v1/designs/analyze computes at most this long on the\n"
+	        "                       HTTP thread, then queues the request as a job (default 2000)\n"
+	        "  --sync-budget N      ... and only requests of at most N contact-gap evaluations\n"
+	        "                       (default 20000000; 0: every error analysis is a job)\n"
 	        "  --data-dir DIR       directory with schemas/, api/ and web/ (default %s)\n",
 	        PRSM_DATA_DIR);
 }
@@ -138,6 +142,14 @@ int prsm_cli_serve(int argc, char **argv)
 			if (prsm_cli_int_option(&n, "serve", a, v, 1, 86400 * 7))
 				return PRSM_EXIT_USAGE;
 			jo.limits.max_time_s = (double)n;
+		} else if (strcmp(a, "--sync-time-ms") == 0) {
+			if (prsm_cli_int_option(&n, "serve", a, v, 1, 600000))
+				return PRSM_EXIT_USAGE;
+			ho.sync_time_s = (double)n * 1e-3;
+		} else if (strcmp(a, "--sync-budget") == 0) {
+			if (prsm_cli_int_option(&n, "serve", a, v, 0, 1000000000000LL))
+				return PRSM_EXIT_USAGE;
+			ho.sync_evaluations = (double)n;
 		} else if (strcmp(a, "--data-dir") == 0) {
 			ho.data_dir = v;
 		} else {

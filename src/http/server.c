@@ -63,6 +63,7 @@ struct prsm_http {
 	int port;
 	double started_s;
 	atomic_size_t body_bytes;   /* request bodies held now, all connections */
+	atomic_int sync_running;    /* analyses running on HTTP threads now */
 	size_t n_schemas;
 	loaded_doc schemas[MAX_SCHEMAS];
 	loaded_doc openapi;
@@ -442,25 +443,6 @@ static cJSON *body_doc(prsm_http *h, struct MHD_Connection *c, request *r, enum 
 	return doc;
 }
 
-static enum MHD_Result on_analyze(prsm_http *h, struct MHD_Connection *c, request *r)
-{
-	enum MHD_Result ret = MHD_NO;
-	cJSON *doc = body_doc(h, c, r, &ret);
-	if (!doc)
-		return ret;
-	prsm_problems p;
-	prsm_problems_init(&p);
-	cJSON *out = NULL;
-	int rc = prsm_io_analyze(&out, doc, &p);
-	cJSON_Delete(doc);
-	if (rc == 0)
-		return send_tree(c, 200, out, NULL, NULL);
-	cJSON_Delete(out);
-	if (!p.count)
-		prsm_problems_add(&p, "", "computation", "the analysis failed (%s)", prsm_error_name(rc));
-	return send_problems(c, (unsigned)prsm_error_http_status(rc), &p, NULL, NULL);
-}
-
 static enum MHD_Result send_view(struct MHD_Connection *c, unsigned status, const prsm_job_view *v,
                                  const char *hname, const char *hvalue)
 {
@@ -471,34 +453,99 @@ static enum MHD_Result send_view(struct MHD_Connection *c, unsigned status, cons
 	return send_json_text(c, status, text, len, hname, hvalue);
 }
 
+/* Queue doc as a job of kind k and answer: 202 with Location, 200 when the cache has it, 503 when
+ * the queue is full, the problems otherwise. */
+static enum MHD_Result submit_and_answer(prsm_http *h, struct MHD_Connection *c, const prsm_job_kind *k,
+                                         const cJSON *doc)
+{
+	prsm_problems p;
+	prsm_problems_init(&p);
+	prsm_job_view v;
+	memset(&v, 0, sizeof v);
+	prsm_submit_outcome oc = PRSM_SUBMIT_FULL;
+	prsm_error err = PRSM_ERROR_INIT;
+	enum MHD_Result ret;
+	int rc = prsm_jobs_submit(h->jobs, &v, &oc, k, doc, &p, &err);
+	if (rc) {
+		if (!p.count)
+			prsm_problems_add(&p, err.pointer, NULL, "%s", err.message[0] ? err.message : prsm_error_name(rc));
+		ret = send_problems(c, (unsigned)prsm_error_http_status(rc), &p, NULL, NULL);
+	} else if (oc == PRSM_SUBMIT_FULL) {
+		ret = send_problem(c, 503, "", "queue_full", "Retry-After", "5", "the job queue is full; submit again later");
+	} else if (oc == PRSM_SUBMIT_CACHED) {
+		ret = send_view(c, 200, &v, NULL, NULL);
+	} else {
+		char loc[160];
+		snprintf(loc, sizeof loc, "/v1/%s/%s", k->collection, v.row.id);
+		ret = send_view(c, 202, &v, MHD_HTTP_HEADER_LOCATION, loc);
+	}
+	prsm_job_view_clear(&v);
+	return ret;
+}
+
+/* POST /v1/designs/analyze. Answered here while the work fits the synchronous budget: at most
+ * sync_evaluations contact-gap evaluations (prsm_io_analyze_cost), at most sync_time_s of
+ * computation (a deadline the error analysis checks), and at most threads - 1 such requests at
+ * once, so one HTTP thread is always free for health checks and cached reads. Anything heavier,
+ * or a request that runs out of time, becomes an "analysis" job (202, Location
+ * /v1/analyses/{id}), which the cache then answers for identical requests. */
+static enum MHD_Result on_analyze(prsm_http *h, struct MHD_Connection *c, request *r)
+{
+	enum MHD_Result ret = MHD_NO;
+	cJSON *doc = body_doc(h, c, r, &ret);
+	if (!doc)
+		return ret;
+	prsm_problems p, warnings;
+	prsm_problems_init(&p);
+	prsm_problems_init(&warnings);
+	prsm_analyze_request *rq = calloc(1, sizeof *rq); /* freed below */
+	if (!rq) {
+		cJSON_Delete(doc);
+		return send_out_of_memory(c);
+	}
+	int rc = prsm_io_analyze_load(rq, doc, &warnings, &p);
+	int queued = 0;
+	if (rc == 0) {
+		const int slots = h->o.threads > 1 ? h->o.threads - 1 : 1;
+		if (prsm_io_analyze_cost(rq) > h->o.sync_evaluations) {
+			queued = 1;
+		} else if (atomic_fetch_add(&h->sync_running, 1) >= slots) {
+			atomic_fetch_sub(&h->sync_running, 1);
+			queued = 1;
+		} else {
+			rq->options.deadline_s = prsm_clock_seconds() + h->o.sync_time_s;
+			rc = prsm_io_analyze_run(rq);
+			atomic_fetch_sub(&h->sync_running, 1);
+			if (rc == PRSM_ECANCELLED)
+				queued = 1; /* out of time: the queue has no such budget */
+		}
+	}
+	if (queued) {
+		prsm_io_analyze_free(rq);
+		free(rq);
+		ret = submit_and_answer(h, c, &prsm_job_kind_analysis, doc);
+		cJSON_Delete(doc);
+		return ret;
+	}
+	cJSON_Delete(doc);
+	cJSON *out = rc == 0 ? prsm_io_analyze_to_json(rq, &warnings) : NULL;
+	prsm_io_analyze_free(rq);
+	free(rq);
+	if (rc == 0)
+		return send_tree(c, 200, out, NULL, NULL);
+	if (!p.count)
+		prsm_problems_add(&p, "", "computation", "the analysis failed (%s)", prsm_error_name(rc));
+	return send_problems(c, (unsigned)prsm_error_http_status(rc), &p, NULL, NULL);
+}
+
 static enum MHD_Result on_submit(prsm_http *h, struct MHD_Connection *c, request *r)
 {
 	enum MHD_Result ret = MHD_NO;
 	cJSON *doc = body_doc(h, c, r, &ret);
 	if (!doc)
 		return ret;
-	prsm_problems p;
-	prsm_problems_init(&p);
-	prsm_job_view v;
-	prsm_submit_outcome oc = PRSM_SUBMIT_FULL;
-	prsm_error err = PRSM_ERROR_INIT;
-	int rc = prsm_jobs_submit(h->jobs, &v, &oc, r->rt.job_kind, doc, &p, &err);
+	ret = submit_and_answer(h, c, r->rt.job_kind, doc);
 	cJSON_Delete(doc);
-	if (rc) {
-		if (!p.count)
-			prsm_problems_add(&p, err.pointer, NULL, "%s", err.message[0] ? err.message : prsm_error_name(rc));
-		ret = send_problems(c, (unsigned)prsm_error_http_status(rc), &p, NULL, NULL);
-	} else if (oc == PRSM_SUBMIT_FULL) {
-		ret = send_problem(c, 503, "", "queue_full", "Retry-After", "5",
-		                   "the job queue is full; submit again later");
-	} else if (oc == PRSM_SUBMIT_CACHED) {
-		ret = send_view(c, 200, &v, NULL, NULL);
-	} else {
-		char loc[160];
-		snprintf(loc, sizeof loc, "/v1/%s/%s", r->rt.job_kind->collection, v.row.id);
-		ret = send_view(c, 202, &v, MHD_HTTP_HEADER_LOCATION, loc);
-	}
-	prsm_job_view_clear(&v);
 	return ret;
 }
 

@@ -3,8 +3,8 @@
  *
  * libmicrohttpd with its own thread pool and epoll; the handlers only parse, validate, look
  * up the cache, insert a job and answer — studies run on the job layer's workers
- * (job/jobs.h), the synchronous nominal analysis (POST /v1/designs/analyze) on the HTTP
- * thread. Every error is an RFC 7807 application/problem+json document with all the problems
+ * (job/jobs.h); POST /v1/designs/analyze runs on the HTTP thread within a size and time budget
+ * (sync_evaluations, sync_time_s) and becomes an "analysis" job beyond it. Every error is an RFC 7807 application/problem+json document with all the problems
  * of the request and their JSON pointers (schemas/problem.schema.json).
  *
  * Routes: /v1/health, /v1/version, /v1/openapi.json, /v1/schemas/{name},
@@ -31,9 +31,19 @@ typedef struct {
 	unsigned max_connections;
 	const char *token;           /* bearer token for POST and DELETE; NULL: none */
 	const char *data_dir;        /* holds web/, schemas/ and api/openapi.json */
+	/* POST /v1/designs/analyze runs on the HTTP thread only within this budget; heavier work
+	 * becomes an "analysis" job (202) */
+	double sync_time_s;          /* computation time of one synchronous analysis, s */
+	double sync_evaluations;     /* its contact-gap evaluations (prsm_io_analyze_cost) */
 } prsm_http_options;
 
-#define PRSM_HTTP_OPTIONS_INIT {"127.0.0.1", 8080, 2, 1048576, 67108864, 30, 65536, 512, NULL, "."}
+#define PRSM_HTTP_OPTIONS_INIT                                                                     \
+	{"127.0.0.1", 8080, 2, 1048576, 67108864, 30, 65536, 512, NULL, ".", 2.0, PRSM_HTTP_SYNC_EVALUATIONS}
+
+/* The default synchronous budget in linear-mode contact-gap evaluations (prsm_assembly_cost):
+ * about 0.6 s of work on a 2024 laptop core. Case A with errors, 64 angles per revolution and a
+ * 16-revolution record costs 2.4e5; the largest record the request allows, 2e8. */
+#define PRSM_HTTP_SYNC_EVALUATIONS 2.0e7
 
 typedef struct prsm_http prsm_http;
 

@@ -117,8 +117,14 @@ int prsm_io_analyze_run(prsm_analyze_request *rq)
 	rq->ws->spectrum_mm = calloc((size_t)m, sizeof(double));
 	if (rq->ws->te_mm == NULL || rq->ws->spectrum_mm == NULL)
 		return PRSM_ENOMEM;
-	prsm_assembly_analyse(&rq->report, &rq->as, &rq->errors, &rq->options, rq->ws);
-	return 0;
+	return prsm_assembly_analyse(&rq->report, &rq->as, &rq->errors, &rq->options, rq->ws);
+}
+
+double prsm_io_analyze_cost(const prsm_analyze_request *rq)
+{
+	if (rq->multistage)
+		return 0.0; /* the operating-point analysis of each stage: no record */
+	return rq->with_errors ? prsm_assembly_cost(&rq->as, &rq->options) : 0.0;
 }
 
 cJSON *prsm_io_analyze_to_json(const prsm_analyze_request *rq, const prsm_problems *warnings)

@@ -47,8 +47,13 @@ int prsm_io_analyze_load(prsm_analyze_request *rq, const cJSON *doc, prsm_proble
                          prsm_problems *problems);
 
 /* The error analysis of a loaded request with errors (nothing to do without them); allocates
- * rq->ws. Returns 0 or PRSM_ENOMEM. */
+ * rq->ws. Returns 0, PRSM_ENOMEM, or PRSM_ECANCELLED when rq->options.cancel or
+ * rq->options.deadline_s stopped it (the report is then incomplete). */
 int prsm_io_analyze_run(prsm_analyze_request *rq);
+
+/* What prsm_io_analyze_run will cost a loaded request, in contact-gap evaluations
+ * (prsm_assembly_cost; 0 without an error analysis): the service's synchronous budget. */
+double prsm_io_analyze_cost(const prsm_analyze_request *rq);
 
 /* The result document of a loaded and run request; the caller owns it. NULL when out of
  * memory. */

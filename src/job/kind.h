@@ -88,5 +88,6 @@ const prsm_job_kind *prsm_job_kind_by_name(const char *name);
 extern const prsm_job_kind prsm_job_kind_study;
 extern const prsm_job_kind prsm_job_kind_optimization;
 extern const prsm_job_kind prsm_job_kind_allocation;
+extern const prsm_job_kind prsm_job_kind_analysis;
 
 #endif

@@ -10,6 +10,7 @@ const prsm_job_kind *const prsm_job_kinds[] = {
 	&prsm_job_kind_study,
 	&prsm_job_kind_optimization,
 	&prsm_job_kind_allocation,
+	&prsm_job_kind_analysis,
 };
 
 const size_t prsm_job_kind_count = sizeof prsm_job_kinds / sizeof prsm_job_kinds[0];

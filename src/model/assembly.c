@@ -15,6 +15,8 @@ void prsm_assembly_options_default(prsm_assembly_options *o)
 	o->stroke_mm = 0.0;
 	o->spectrum_revolutions = 16;
 	o->curve = 0;
+	o->cancel = NULL;
+	o->deadline_s = 0.0;
 }
 
 /* The "+" chain (MODEL.md §4: screw side closes with w_j, nut side with u - w_j) is the nut

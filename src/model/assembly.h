@@ -21,6 +21,7 @@
 
 #include "model/analysis.h"
 #include "model/errors.h"
+#include "util/cancel.h"
 #include "model/perturb.h"
 
 /* Most contacts per flank side (rollers x engaged threads) the error analysis takes. */
@@ -128,6 +129,10 @@ typedef struct {
 	double stroke_mm;                /* stroke for TE and lead deviation; 0: one revolution */
 	int spectrum_revolutions;        /* length of the record the spectrum is taken from (default 16) */
 	int curve;                       /* 1: report the TE curves and the spectrum itself */
+	/* when to give up (prsm_assembly_analyse returns PRSM_ECANCELLED): a raised flag, or the
+	 * monotonic clock (util/clock.h prsm_clock_seconds, s) past deadline_s; NULL / 0: never */
+	prsm_cancel_flag *cancel;
+	double deadline_s;
 } prsm_assembly_options;
 
 void prsm_assembly_options_default(prsm_assembly_options *o);

@@ -2,6 +2,7 @@
  * assembly_report.c: the error analysis of one error set (MODEL.md §3, §4).
  */
 #include "model/assembly_report.h"
+#include "util/clock.h"
 
 #include <math.h>
 #include <string.h>
@@ -113,13 +114,35 @@ static void amplitude_spectrum(double *out, int m, const double *x, int n)
 	out[m / 2] = fabs(out[m / 2]) / wsum;
 }
 
-int prsm_assembly_te_record(double *te, int n, double dtheta, const prsm_assembly *as,
-                            const prsm_errors *e, int mode, double F, prsm_assembly_gaps *ws,
-                            int *edge, int *failed)
+/* 1 when the caller asked the analysis to stop: its flag, or its deadline on the monotonic clock */
+static int stop_requested(const prsm_assembly_options *o)
+{
+	if (o == NULL)
+		return 0;
+	if (prsm_cancel_requested(o->cancel))
+		return 1;
+	return o->deadline_s > 0.0 && prsm_clock_seconds() > o->deadline_s;
+}
+
+double prsm_assembly_cost(const prsm_assembly *as, const prsm_assembly_options *o)
+{
+	int n, fft;
+	prsm_assembly_record_length(&n, &fft, as, o);
+	/* per angle: the TE record one direction, the revolution both directions (plus the elastic
+	 * solve, of the same order) */
+	const double contacts = 2.0 * as->rollers * as->threads; /* screw and nut side */
+	const double weight = o->mode == PRSM_MODE_EXACT ? PRSM_ASSEMBLY_EXACT_COST : 1.0;
+	return weight * contacts * ((double)n + 3.0 * o->angles_per_revolution);
+}
+
+static int te_record(double *te, int n, double dtheta, const prsm_assembly *as, const prsm_errors *e, int mode,
+                     double F, prsm_assembly_gaps *ws, int *edge, int *failed, const prsm_assembly_options *stop)
 {
 	prsm_assembly_state st;
 	double u0 = 0.0;
 	for (int i = 0; i < n; i++) {
+		if (i % PRSM_ASSEMBLY_STOP_EVERY == 0 && stop_requested(stop))
+			return PRSM_ECANCELLED;
 		prsm_assembly_gaps_at(ws, as, e, PRSM_DIR_PLUS, i * dtheta, mode);
 		if (edge)
 			*edge += ws->edge_contacts;
@@ -132,6 +155,13 @@ int prsm_assembly_te_record(double *te, int n, double dtheta, const prsm_assembl
 		te[i] = st.u_mm - u0;
 	}
 	return 0;
+}
+
+int prsm_assembly_te_record(double *te, int n, double dtheta, const prsm_assembly *as,
+                            const prsm_errors *e, int mode, double F, prsm_assembly_gaps *ws,
+                            int *edge, int *failed)
+{
+	return te_record(te, n, dtheta, as, e, mode, F, ws, edge, failed, NULL);
 }
 
 static void gap_range(double *lo, double *hi, const prsm_assembly *as, const prsm_assembly_gaps *g,
@@ -161,14 +191,17 @@ int prsm_assembly_analyse(prsm_assembly_report *r, const prsm_assembly *as, cons
 	prsm_assembly_record_length(&n, &fft, as, o);
 	r->record_length = n;
 	r->measuring_load_N = o->measuring_load_N;
-	prsm_assembly_te_record(ws->te_mm, n, dtheta, as, e, o->mode, o->measuring_load_N, &ws->minus,
-	                        &r->edge_contacts, &r->failed_contacts);
+	if (te_record(ws->te_mm, n, dtheta, as, e, o->mode, o->measuring_load_N, &ws->minus, &r->edge_contacts,
+	              &r->failed_contacts, o))
+		return PRSM_ECANCELLED;
 
 	/* gaps, backlash and load sharing over one revolution */
 	r->backlash_min_mm = INFINITY;
 	r->backlash_max_mm = -INFINITY;
 	prsm_assembly_state st;
 	for (int i = 0; i < M; i++) {
+		if (i % PRSM_ASSEMBLY_STOP_EVERY == 0 && stop_requested(o))
+			return PRSM_ECANCELLED;
 		const double th = i * dtheta;
 		prsm_assembly_gaps_at(&ws->plus, as, e, PRSM_DIR_PLUS, th, o->mode);
 		prsm_assembly_gaps_at(&ws->minus, as, e, PRSM_DIR_MINUS, th, o->mode);

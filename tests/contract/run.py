@@ -807,6 +807,91 @@ def suite_process(prsm, source, contract, tmp):
         check("SIGTERM on an idle server: exit 0", code == 0, str(code))
 
 
+def heavy_analysis(source):
+    """Case A with errors in exact mode on a fine grid over a long record: tens of seconds."""
+    doc = load_json(os.path.join(source, "studies", "case-a-measured.json"))
+    doc["assembly"].update({"mode": "exact", "angles_per_revolution": 1024, "spectrum_revolutions": 256})
+    return doc
+
+
+def suite_analysis_budget(prsm, source, contract, tmp):
+    """POST /v1/designs/analyze stays within its synchronous budget: heavier requests become
+    analysis jobs (202), and the HTTP threads stay free for health checks."""
+    measured = load_json(os.path.join(source, "studies", "case-a-measured.json"))
+    design = load_json(os.path.join(source, "studies", "case-a.json"))
+    # the reference: answered synchronously by a default server
+    srv = Server(prsm, source, os.path.join(tmp, "sync.db")).start()
+    try:
+        ref = Client(srv.url(), contract).post("/v1/designs/analyze", measured)
+        check("budget: a default server answers case A with errors at once", ref.status == 200, str(ref.status))
+    finally:
+        srv.stop()
+
+    # a zero budget: every error analysis is a job; the nominal analysis still answers at once
+    srv = Server(prsm, source, os.path.join(tmp, "budget0.db"), ["--sync-budget", "0", "--workers", "1"]).start()
+    try:
+        c = Client(srv.url(), contract)
+        r = c.post("/v1/designs/analyze", design)
+        check("budget 0: a nominal analysis is still synchronous", r.status == 200, str(r.status))
+        r = c.post("/v1/designs/analyze", measured)
+        loc = r.headers.get("location", "")
+        check("budget 0: an error analysis is queued (202, Location /v1/analyses/{id})",
+              r.status == 202 and re.match(r"^/v1/analyses/[0-9a-f]{32}$", loc) is not None, f"{r.status} {loc}")
+        d = wait_job(c, loc or "/v1/analyses/x", timeout=60)
+        check("budget 0: the analysis job finishes", d is not None and d["state"] == "done", str(d and d["state"]))
+        if d and d["state"] == "done" and ref.status == 200:
+            check("budget 0: the job's result is the synchronous answer", d["result"] == ref.json())
+            r = c.post("/v1/designs/analyze", measured)
+            check("budget 0: the same request again is the cached job (200)", r.status == 200
+                  and r.json().get("id") == d["id"] and r.json().get("state") == "done", str(r.status))
+            r = c.delete(loc)
+            check("cancel a finished analysis job: 409", r.status == 409, str(r.status))
+        r = c.get("/v1/analyses")
+        check("list analysis jobs", r.status == 200 and len(r.json().get("items", r.json().get("jobs", []))) >= 1,
+              r.body[:200])
+        bad = copy.deepcopy(measured)
+        bad["assembly"]["angles_per_revolution"] = -4
+        bad["design"]["geometry"]["rollers"] = "ten"
+        r = c.post("/v1/analyses", bad)
+        check("POST /v1/analyses: every problem at once (422)", r.status == 422
+              and len(r.json().get("errors", [])) >= 2, r.body[:300])
+    finally:
+        srv.stop()
+
+    # a time budget: a request that runs out of it becomes a job; health answers meanwhile
+    srv = Server(prsm, source, os.path.join(tmp, "budget-time.db"),
+                 ["--threads", "2", "--sync-budget", "1000000000000", "--sync-time-ms", "3000",
+                  "--workers", "1"]).start()
+    try:
+        c = Client(srv.url(), contract)
+        heavy = heavy_analysis(source)
+        slow = {}
+        t = threading.Thread(target=lambda: slow.update(r=c.post("/v1/designs/analyze", heavy, timeout=120)))
+        t.start()
+        time.sleep(0.3)
+        other = dict(heavy)
+        other["assembly"] = dict(heavy["assembly"], measuring_load_N=60)
+        busy = c.post("/v1/designs/analyze", other)
+        h = c.get("/v1/health")
+        answered_during = t.is_alive()
+        check("budget: health answers while an analysis computes on the other HTTP thread",
+              h.status == 200 and answered_during)
+        check("budget: a second heavy analysis does not take the last HTTP thread (202)", busy.status == 202,
+              str(busy.status))
+        t.join(120)
+        r = slow.get("r")
+        check("budget: an analysis that runs out of its time becomes a job (202)", r is not None and r.status == 202,
+              str(r and r.status))
+        for resp in (r, busy):
+            if resp is not None and resp.status == 202:
+                x = c.delete(resp.headers["location"])
+                check("cancel a queued or running analysis job", x.status == 200 and x.json()["state"] == "cancelled",
+                      str(x.status))
+    finally:
+        code = srv.stop()
+        check("budget server: SIGTERM exit 0", code == 0, str(code))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--url", help="check a running server (no process tests)")
@@ -857,6 +942,7 @@ def main():
             check("main server: SIGTERM exit 0", code == 0, f"{code}: {srv.output()[-800:]}")
             srv = None
             suite_process(args.prsm, source, contract, tmp)
+            suite_analysis_budget(args.prsm, source, contract, tmp)
     finally:
         if srv:
             srv.stop()

@@ -81,7 +81,24 @@ export const api = {
   openapi: () => request('GET', '/v1/openapi.json').then(r => r.body),
   schema: name => request('GET', `/v1/schemas/${encodeURIComponent(name)}`).then(r => r.body),
   version: () => request('GET', '/v1/version').then(r => r.body),
-  analyze: (doc, signal) => request('POST', '/v1/designs/analyze', doc, signal).then(r => r.body),
+  // The analysis; over the service's synchronous budget the answer is an analysis job (202, or
+  // 200 with the cached job): it is polled at its Location until done, and its result returned.
+  async analyze(doc, signal) {
+    const r = await request('POST', '/v1/designs/analyze', doc, signal);
+    let job = r.body;
+    if (!(job && typeof job === 'object' && typeof job.state === 'string' && typeof job.id === 'string')) return job;
+    const path = r.headers.get('location') || `/v1/analyses/${job.id}`;
+    for (let wait = 100; job.state === 'queued' || job.state === 'running'; wait = Math.min(2 * wait, 1000)) {
+      await new Promise((resolve, reject) => {
+        const t = setTimeout(resolve, wait);
+        if (signal) signal.addEventListener('abort', () => { clearTimeout(t); reject(new DOMException('aborted', 'AbortError')); }, { once: true });
+      });
+      job = (await request('GET', path, undefined, signal)).body;
+    }
+    if (job.state === 'done') return job.result;
+    throw new ApiError(job.problem && job.problem.status || 500,
+      job.problem || { title: 'Analysis job ' + job.state, status: 500, detail: `the analysis job was ${job.state}`, errors: [] });
+  },
   // collection: "studies" (later "optimizations", "allocations"): same job machinery for each kind
   submit: (collection, doc) => request('POST', `/v1/${collection}`, doc),
   job: path => request('GET', path).then(r => r.body),
