@@ -11,6 +11,7 @@
 #include "model/analysis.h"
 #include "model/assembly.h"
 #include "model/assembly_report.h"
+#include "util/clock.h"
 
 typedef struct {
 	prsm_design d;
@@ -465,6 +466,54 @@ static void test_nonconvergence_reported(void **state)
 	free(f);
 }
 
+static prsm_assembly_workspace *workspace(const fixture *f, const prsm_assembly_options *o);
+static void free_workspace(prsm_assembly_workspace *ws);
+
+/* The service's budget: the cost counts every gap the analysis evaluates (record + three passes
+ * over the revolution, two sides of every contact), exact mode weighted; a raised cancel flag or
+ * a deadline already past stops the analysis with PRSM_ECANCELLED, and neither changes the
+ * result when it does not fire. */
+static void test_cost_and_stop(void **state)
+{
+	(void)state;
+	fixture *f = make_case_a();
+	prsm_errors e;
+	random_errors(&e, f->as.rollers, f->as.starts, 12.0, 4242u);
+	prsm_assembly_options o;
+	prsm_assembly_options_default(&o);
+	o.stroke_mm = 37.0;
+	int n, m;
+	prsm_assembly_record_length(&n, &m, &f->as, &o);
+	const double contacts = 2.0 * f->as.rollers * f->as.threads;
+	assert_close(prsm_assembly_cost(&f->as, &o), contacts * (n + 3.0 * o.angles_per_revolution), 0.0);
+	o.mode = PRSM_MODE_EXACT;
+	assert_close(prsm_assembly_cost(&f->as, &o), PRSM_ASSEMBLY_EXACT_COST * contacts * (n + 3.0 * o.angles_per_revolution),
+	             0.0);
+	o.mode = PRSM_MODE_LINEAR;
+
+	prsm_assembly_workspace *ws = workspace(f, &o);
+	prsm_assembly_report ref, r;
+	assert_int_equal(prsm_assembly_analyse(&ref, &f->as, &e, &o, ws), 0);
+	prsm_cancel_flag flag = 0;
+	o.cancel = &flag;
+	o.deadline_s = prsm_clock_seconds() + 3600.0;
+	assert_int_equal(prsm_assembly_analyse(&r, &f->as, &e, &o, ws), 0);
+	const double got[] = {r.backlash_mm, r.backlash_mean_mm, r.sharing_factor_max, r.operating.u_mm,
+	                      r.stiffness_ratio, r.te_revolution_pp_mm, r.te_stroke_pp_mm, r.lead_deviation,
+	                      r.peak_amplitude_mm, r.line_amplitude_mm[0]};
+	const double want[] = {ref.backlash_mm, ref.backlash_mean_mm, ref.sharing_factor_max, ref.operating.u_mm,
+	                       ref.stiffness_ratio, ref.te_revolution_pp_mm, ref.te_stroke_pp_mm, ref.lead_deviation,
+	                       ref.peak_amplitude_mm, ref.line_amplitude_mm[0]};
+	assert_memory_equal(got, want, sizeof got); /* bit for bit */
+	prsm_cancel_set(&flag, 1);
+	assert_int_equal(prsm_assembly_analyse(&r, &f->as, &e, &o, ws), PRSM_ECANCELLED);
+	o.cancel = NULL;
+	o.deadline_s = prsm_clock_seconds() - 1.0;
+	assert_int_equal(prsm_assembly_analyse(&r, &f->as, &e, &o, ws), PRSM_ECANCELLED);
+	free_workspace(ws);
+	free(f);
+}
+
 static prsm_assembly_workspace *workspace(const fixture *f, const prsm_assembly_options *o)
 {
 	int n, m;
@@ -670,6 +719,7 @@ int main(void)
 		cmocka_unit_test(test_elastic_equilibrium),
 		cmocka_unit_test(test_open_roller_carries_less),
 		cmocka_unit_test(test_nonconvergence_reported),
+		cmocka_unit_test(test_cost_and_stop),
 		cmocka_unit_test(test_zero_errors_te),
 		cmocka_unit_test(test_lead_error_linear_te),
 		cmocka_unit_test(test_signal_amplitude),
