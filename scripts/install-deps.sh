@@ -7,7 +7,7 @@ packages=(
   build-essential cmake pkg-config
   libgsl-dev libnlopt-dev libmicrohttpd-dev libcjson-dev libsqlite3-dev nettle-dev
   librandom123-dev libcmocka-dev
-  python3 python3-jsonschema python3-yaml
+  python3 python3-jsonschema python3-yaml python3-numpy python3-scipy
   chromium nodejs
 )
 # npm comes with NodeSource's nodejs; Debian packages it apart (the browser test runs npm ci)

@@ -14,22 +14,21 @@
 #include <float.h>
 #include <math.h>
 #include <pthread.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
 #include <gsl/gsl_cdf.h>
 #include <gsl/gsl_linalg.h>
-#include <gsl/gsl_qrng.h>
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
 
+#include "mc/sobol.h"
 #include "mc/stats.h"
 #include "util/clock.h"
 #include "util/rng.h"
 
-/* Stream key of the Sobol shift: far from any block index. */
+/* Stream key of the Sobol scramble (matrices and digital shift): far from any block index. */
 #define SOBOL_SHIFT_STREAM UINT64_C(0xfffffffffffff00d)
 #define U_MIN (0x1p-53)
 #define U_MAX (1.0 - 0x1p-53)
@@ -77,27 +76,30 @@ static double clamp_u(double u)
 
 /* ---- samplers ----------------------------------------------------------------------------- */
 
+/* The Sobol sampler's points are the indices of the run's rows (row r of the run is point r;
+ * a Saltelli row is one point of 2 d dimensions, A its first d, B the rest), so a block starts
+ * its own points by the sequence's direct skip-ahead. The sequence is scrambled once per seed
+ * (mc/sobol.h: Joe-Kuo direction numbers, linear matrix scramble and digital shift from the
+ * Philox stream (seed, SOBOL_SHIFT_STREAM)), the same in every worker. */
+_Static_assert(PRSM_MC_MAX_SAMPLES <= PRSM_SOBOL_MAX_POINTS, "a run's rows must fit in the Sobol sequence");
+
 typedef struct {
 	prsm_sampler_kind kind;
 	size_t dim;
 	uint64_t seed;
 	gsl_rng *rng;
-	gsl_qrng *q;
-	size_t q_next;                    /* index of the point q returns next */
-	double shift[PRSM_MC_SOBOL_MAX_DIM];
-	double point[PRSM_MC_SOBOL_MAX_DIM];
+	prsm_sobol_seq sobol;
 } sampler;
 
 static void sampler_free(sampler *s)
 {
 	if (s->rng)
 		gsl_rng_free(s->rng);
-	if (s->q)
-		gsl_qrng_free(s->q);
+	prsm_sobol_seq_free(&s->sobol);
 	memset(s, 0, sizeof *s);
 }
 
-/* Returns 0 or PRSM_ENOMEM. */
+/* Returns 0, PRSM_EINVAL (Sobol: dim is 0 or more than PRSM_SOBOL_MAX_DIM) or PRSM_ENOMEM. */
 static int sampler_init(sampler *s, prsm_sampler_kind kind, size_t dim, uint64_t seed)
 {
 	memset(s, 0, sizeof *s);
@@ -108,20 +110,11 @@ static int sampler_init(sampler *s, prsm_sampler_kind kind, size_t dim, uint64_t
 	if (!s->rng)
 		return PRSM_ENOMEM;
 	if (kind == PRSM_SAMPLER_SOBOL) {
-		if (dim == 0 || dim > PRSM_MC_SOBOL_MAX_DIM) {
+		int rc = prsm_sobol_seq_init(&s->sobol, dim, 1, seed, SOBOL_SHIFT_STREAM);
+		if (rc) {
 			sampler_free(s);
-			return PRSM_EINVAL;
+			return rc;
 		}
-		s->q = gsl_qrng_alloc(gsl_qrng_sobol, (unsigned)dim);
-		if (!s->q) {
-			sampler_free(s);
-			return PRSM_ENOMEM;
-		}
-		/* Cranley-Patterson shift: one uniform per dimension from a stream of its own */
-		prsm_rng_set_stream(s->rng, seed, SOBOL_SHIFT_STREAM);
-		for (size_t j = 0; j < dim; j++)
-			s->shift[j] = prsm_rng_uniform_pos(s->rng);
-		s->q_next = 0;
 	}
 	return 0;
 }
@@ -148,24 +141,8 @@ static void sampler_block(sampler *s, double *u, size_t n, uint64_t stream, size
 		}
 		break;
 	case PRSM_SAMPLER_SOBOL:
-		if (s->q_next > first) {
-			gsl_qrng_init(s->q);
-			s->q_next = 0;
-		}
-		while (s->q_next < first) {
-			gsl_qrng_get(s->q, s->point);
-			s->q_next++;
-		}
-		for (size_t i = 0; i < n; i++) {
-			gsl_qrng_get(s->q, s->point);
-			s->q_next++;
-			for (size_t j = 0; j < dim; j++) {
-				double v = s->point[j] + s->shift[j];
-				if (v >= 1.0)
-					v -= 1.0;
-				u[i * dim + j] = clamp_u(v);
-			}
-		}
+		/* points first .. first + n - 1, already in [U_MIN, U_MAX] (sobol.h) */
+		prsm_sobol_seq_block(&s->sobol, u, n, first);
 		break;
 	}
 }
@@ -601,15 +578,14 @@ static int run(prsm_mc_result *out, const prsm_mc_model *model, const prsm_mc_va
 		c->n_rows = o->samples - c->first_row;
 	int split = o->first_block != 0 || c->n_blocks != total_blocks;
 
-	/* sampler, with the Sobol guard */
+	/* sampler: Sobol runs in any dimension the table has, else the run is refused */
 	out->sampler = o->sampler;
-	if (o->sampler == PRSM_SAMPLER_SOBOL && c->dim > PRSM_MC_SOBOL_MAX_DIM) {
-		out->sampler = PRSM_SAMPLER_LHS;
-		snprintf(out->warning, sizeof out->warning,
-		         "Sobol sampling needs at most %d dimensions, this run has %zu: "
-		         "fell back to %s", PRSM_MC_SOBOL_MAX_DIM, c->dim, saltelli ? "random" : "lhs");
-		if (saltelli)
-			out->sampler = PRSM_SAMPLER_RANDOM;
+	if (o->sampler == PRSM_SAMPLER_SOBOL && c->dim > PRSM_SOBOL_MAX_DIM) {
+		rc = prsm_error_set(err, PRSM_EINVAL, NULL,
+		                    "Sobol sampling has at most %d dimensions, this run needs %zu (%s%zu variables): "
+		                    "use the %s sampler", PRSM_SOBOL_MAX_DIM, c->dim, saltelli ? "2 x " : "", d,
+		                    saltelli ? "random" : "random or lhs");
+		goto cleanup;
 	}
 	if (saltelli && out->sampler == PRSM_SAMPLER_LHS)
 		out->sampler = PRSM_SAMPLER_RANDOM; /* A and B from one LHS row would not be independent */

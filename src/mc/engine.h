@@ -6,7 +6,7 @@
  *
  *   * samples are processed in blocks of `block_size`; block b draws its uniforms from its own
  *     Philox stream keyed by (seed, b) (random, LHS) or from the points b*B... of a Sobol
- *     sequence with a seeded random shift, so a block's numbers do not depend on which thread
+ *     sequence (Joe-Kuo directions, scrambled: seeded linear matrix scramble + digital shift), so a block's numbers do not depend on which thread
  *     runs it or on the other blocks;
  *   * every sample's inputs and outputs go to fixed slots of the result, and the running
  *     statistics the stop rules look at are merged in block order, so results are
@@ -46,7 +46,6 @@
 #define PRSM_MC_MAX_BLOCK 65536
 #define PRSM_MC_MIN_BLOCK 16
 #define PRSM_MC_MAX_THREADS 64
-#define PRSM_MC_SOBOL_MAX_DIM 40      /* GSL's Sobol tables stop at 40 and GSL does not check */
 #define PRSM_MC_MAX_CORRELATIONS 64
 #define PRSM_MC_MAX_TARGETS 8
 #define PRSM_MC_LISTED_FAILURES 100   /* failed samples listed by index */
@@ -141,8 +140,8 @@ typedef struct {
 	size_t n_ok, n_failed, n_edge;    /* n_ok counts edge samples when they are included */
 	prsm_stop_reason stop;
 	int converged;                    /* every target met */
-	prsm_sampler_kind sampler;        /* what ran (after any fallback) */
-	char warning[256];                /* e.g. the Sobol fallback; "" when none */
+	prsm_sampler_kind sampler;        /* what ran */
+	char warning[256];                /* a note on the run; "" when none */
 	double elapsed_s;
 	/* Saltelli mode */
 	size_t n_groups;
@@ -158,7 +157,7 @@ int prsm_mc_run(prsm_mc_result *out, const prsm_mc_model *model, const prsm_mc_v
                 prsm_error *err);
 
 /* Saltelli run over n_groups groups (vars[i].group): o->samples base rows, each evaluating
- * A, B and the n_groups mixed rows. Sobol sampling needs 2 d <= 40 dimensions. Failed rows are
+ * A, B and the n_groups mixed rows. Sobol sampling needs 2 d <= PRSM_SOBOL_MAX_DIM (21201) dimensions. Failed rows are
  * marked in status and left out. Allocates out->ys and out->status. */
 int prsm_mc_run_saltelli(prsm_mc_result *out, const prsm_mc_model *model,
                          const prsm_mc_variable *vars, size_t d, size_t n_groups,

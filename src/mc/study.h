@@ -40,7 +40,7 @@ typedef struct {
 	int sobol;                       /* Sobol indices by a Saltelli run (default 0) */
 	size_t sobol_samples;            /* its base rows N: N (groups + 2) evaluations */
 	size_t bootstrap;                /* resamples for the Sobol intervals (default 200) */
-	prsm_sampler_kind sobol_sampler; /* default sobol (falls back to random past 40 dimensions) */
+	prsm_sampler_kind sobol_sampler; /* default sobol (up to 21201 dimensions = 2 x variables) */
 	int stack;                       /* worst-case and RSS figures (default 1) */
 } prsm_sens_options;
 
