@@ -5,19 +5,20 @@
  * rather than growing without end). Members are sorted with an index array per object; the
  * recursion depth is the tree's own, which cJSON's parser already caps (CJSON_NESTING_LIMIT).
  *
- * Numbers: the shortest precision p in 1..17 whose correctly rounded %.{p-1}e form reads back
- * as the same double gives the digits; they are then laid out as ECMAScript does. For the rare
- * doubles on a power-of-two boundary the correctly rounded p-digit string may miss while a
- * neighbouring one would round-trip; we then emit p + 1 digits. The text is still exact and
- * deterministic, which is what a cache key needs.
+ * Numbers are util/dtoa's ECMAScript form; UTF-8 is checked and member pointers are built with
+ * io/json_util's helpers, so the parser and the canonicaliser agree on both.
  */
 #include "io/canonical.h"
 
-#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "io/json_util.h"
+#include "util/dtoa.h"
+
+_Static_assert(PRSM_CANONICAL_NUMBER_MAX >= PRSM_DTOA_TEXT_MAX, "room for any number");
 
 typedef struct {
 	char *data;     /* owned until handed to the caller */
@@ -63,44 +64,6 @@ static void cbuf_put(cbuf *b, const char *s, size_t n)
 static void cbuf_putc(cbuf *b, char c)
 {
 	cbuf_put(b, &c, 1);
-}
-
-int prsm_utf8_valid(const char *s, size_t n, size_t *bad)
-{
-	const unsigned char *p = (const unsigned char *)s;
-	size_t i = 0;
-	while (i < n) {
-		unsigned c = p[i];
-		size_t k;
-		uint32_t cp, min;
-		if (c < 0x80) {
-			i++;
-			continue;
-		} else if ((c & 0xE0) == 0xC0) {
-			k = 1, cp = c & 0x1F, min = 0x80;
-		} else if ((c & 0xF0) == 0xE0) {
-			k = 2, cp = c & 0x0F, min = 0x800;
-		} else if ((c & 0xF8) == 0xF0) {
-			k = 3, cp = c & 0x07, min = 0x10000;
-		} else {
-			goto invalid;
-		}
-		if (n - i <= k)
-			goto invalid;
-		for (size_t j = 1; j <= k; j++) {
-			if ((p[i + j] & 0xC0) != 0x80)
-				goto invalid;
-			cp = (cp << 6) | (p[i + j] & 0x3F);
-		}
-		if (cp < min || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF))
-			goto invalid;
-		i += k + 1;
-	}
-	return 1;
-invalid:
-	if (bad)
-		*bad = i;
-	return 0;
 }
 
 /* UTF-16 code units of a (valid) UTF-8 string, one at a time. */
@@ -154,76 +117,7 @@ int prsm_canonical_key_compare(const char *a, const char *b)
 
 int prsm_canonical_number(char buf[PRSM_CANONICAL_NUMBER_MAX], double v)
 {
-	if (!isfinite(v))
-		return PRSM_EINVAL;
-	if (v == 0.0) {
-		buf[0] = '0';
-		buf[1] = '\0';
-		return 0;
-	}
-	char tmp[40];
-	for (int p = 1; p <= 17; p++) {
-		snprintf(tmp, sizeof tmp, "%.*e", p - 1, v);
-		if (strtod(tmp, NULL) == v)
-			break;
-	}
-	/* tmp: [-]d[.ddd]e(+|-)xx */
-	const char *s = tmp;
-	int neg = 0;
-	if (*s == '-') {
-		neg = 1;
-		s++;
-	}
-	char digits[24];
-	int k = 0;
-	for (; *s && *s != 'e'; s++)
-		if (*s >= '0' && *s <= '9' && k < (int)sizeof digits - 1)
-			digits[k++] = *s;
-	while (k > 1 && digits[k - 1] == '0')
-		k--;
-	digits[k] = '\0';
-	long e = *s == 'e' ? strtol(s + 1, NULL, 10) : 0;
-	long n = e + 1; /* the decimal point sits after n digits */
-	char *o = buf;
-	char *end = buf + PRSM_CANONICAL_NUMBER_MAX - 1;
-#define PUT(c) do { if (o < end) *o++ = (c); } while (0)
-	if (neg)
-		PUT('-');
-	if (k <= n && n <= 21) {
-		for (int i = 0; i < k; i++)
-			PUT(digits[i]);
-		for (long i = 0; i < n - k; i++)
-			PUT('0');
-	} else if (0 < n && n <= 21) {
-		for (int i = 0; i < k; i++) {
-			if (i == n)
-				PUT('.');
-			PUT(digits[i]);
-		}
-	} else if (-6 < n && n <= 0) {
-		PUT('0');
-		PUT('.');
-		for (long i = 0; i < -n; i++)
-			PUT('0');
-		for (int i = 0; i < k; i++)
-			PUT(digits[i]);
-	} else {
-		PUT(digits[0]);
-		if (k > 1) {
-			PUT('.');
-			for (int i = 1; i < k; i++)
-				PUT(digits[i]);
-		}
-		PUT('e');
-		PUT(n - 1 >= 0 ? '+' : '-');
-		char ex[8];
-		int len = snprintf(ex, sizeof ex, "%ld", labs(n - 1));
-		for (int i = 0; i < len; i++)
-			PUT(ex[i]);
-	}
-#undef PUT
-	*o = '\0';
-	return 0;
+	return prsm_dtoa_ecmascript(buf, v) < 0 ? PRSM_EINVAL : 0;
 }
 
 static void put_string(cbuf *b, const char *s)
@@ -262,21 +156,19 @@ static void put_string(cbuf *b, const char *s)
 	cbuf_putc(b, '"');
 }
 
-/* Append "/name" to a JSON pointer with ~ and / escaped (RFC 6901), truncating safely. */
-static void pointer_push(char *ptr, size_t size, const char *name)
+static int utf8_ok(const char *s)
 {
-	size_t n = strlen(ptr);
-	if (n + 1 < size)
-		ptr[n++] = '/';
-	for (const char *p = name; *p && n + 2 < size; p++) {
-		if (*p == '~' || *p == '/') {
-			ptr[n++] = '~';
-			ptr[n++] = *p == '~' ? '0' : '1';
-		} else {
-			ptr[n++] = *p;
-		}
-	}
-	ptr[n < size ? n : size - 1] = '\0';
+	size_t n = strlen(s);
+	return prsm_json_utf8_invalid_at(s, n) == n;
+}
+
+/* Append "/token" (RFC 6901) to the pointer ptr in place. Returns the buffer size the value's
+ * own descendants may use: all of it, or nothing past the current text when the token did not
+ * fit (ptr then still names the parent, and deeper tokens are not appended to it, so an error
+ * names the deepest ancestor that fits rather than a wrong path). */
+static size_t pointer_push(char *ptr, size_t size, const char *token)
+{
+	return prsm_json_pointer_append(ptr, size, ptr, token) == 0 ? size : strlen(ptr) + 1;
 }
 
 static int key_cmp(const void *a, const void *b)
@@ -301,7 +193,7 @@ static int write_value(cbuf *b, const cJSON *v, char *ptr, size_t ptr_size, prsm
 		break;
 	}
 	case cJSON_String:
-		if (!v->valuestring || !prsm_utf8_valid(v->valuestring, strlen(v->valuestring), NULL))
+		if (!v->valuestring || !utf8_ok(v->valuestring))
 			return prsm_error_set(err, PRSM_EINVAL, ptr, "a string that is not valid UTF-8");
 		put_string(b, v->valuestring);
 		break;
@@ -313,8 +205,7 @@ static int write_value(cbuf *b, const cJSON *v, char *ptr, size_t ptr_size, prsm
 				cbuf_putc(b, ',');
 			char idx[24];
 			snprintf(idx, sizeof idx, "%zu", i);
-			pointer_push(ptr, ptr_size, idx);
-			rc = write_value(b, c, ptr, ptr_size, err);
+			rc = write_value(b, c, ptr, pointer_push(ptr, ptr_size, idx), err);
 			ptr[mark] = '\0';
 			if (rc)
 				return rc;
@@ -332,7 +223,7 @@ static int write_value(cbuf *b, const cJSON *v, char *ptr, size_t ptr_size, prsm
 			return prsm_error_set(err, PRSM_ENOMEM, ptr, "out of memory");
 		size_t i = 0;
 		for (const cJSON *c = v->child; c; c = c->next) {
-			if (!c->string || !prsm_utf8_valid(c->string, strlen(c->string), NULL)) {
+			if (!c->string || !utf8_ok(c->string)) {
 				free(m);
 				return prsm_error_set(err, PRSM_EINVAL, ptr, "a member name that is not valid UTF-8");
 			}
@@ -342,7 +233,7 @@ static int write_value(cbuf *b, const cJSON *v, char *ptr, size_t ptr_size, prsm
 			qsort(m, n, sizeof *m, key_cmp);
 		cbuf_putc(b, '{');
 		for (i = 0; i < n && !rc; i++) {
-			pointer_push(ptr, ptr_size, m[i]->string);
+			size_t child_size = pointer_push(ptr, ptr_size, m[i]->string);
 			if (i && strcmp(m[i]->string, m[i - 1]->string) == 0) {
 				rc = prsm_error_set(err, PRSM_EINVAL, ptr, "member \"%.64s\" appears more than once",
 				                    m[i]->string);
@@ -351,7 +242,7 @@ static int write_value(cbuf *b, const cJSON *v, char *ptr, size_t ptr_size, prsm
 					cbuf_putc(b, ',');
 				put_string(b, m[i]->string);
 				cbuf_putc(b, ':');
-				rc = write_value(b, m[i], ptr, ptr_size, err);
+				rc = write_value(b, m[i], ptr, child_size, err);
 			}
 			ptr[mark] = '\0';
 		}

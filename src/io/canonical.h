@@ -6,7 +6,8 @@
  * in the ECMAScript shortest round-trip form (Number.prototype.toString: 1e+21, 0.000001,
  * 1e-7, -0 as 0); strings are escaped as JSON.stringify does (\" \\ \b \f \n \r \t, other
  * controls as \u00xx, everything else as raw UTF-8); no whitespace. The input must be I-JSON:
- * valid UTF-8, no duplicate member names, finite numbers.
+ * valid UTF-8 (checked with prsm_json_utf8_invalid_at() of io/json_util.h), no duplicate member
+ * names, finite numbers.
  */
 #ifndef PRSM_IO_CANONICAL_H
 #define PRSM_IO_CANONICAL_H
@@ -27,13 +28,9 @@
 int prsm_canonical_json(char **out, size_t *len, const cJSON *tree, size_t max_bytes,
                         prsm_error *err);
 
-/* The ECMAScript form of a finite double into buf. Returns 0, or PRSM_EINVAL for NaN or an
- * infinity. */
+/* The ECMAScript form of a finite double into buf (util/dtoa.h: prsm_dtoa_ecmascript). Returns
+ * 0, or PRSM_EINVAL for NaN or an infinity. */
 int prsm_canonical_number(char buf[PRSM_CANONICAL_NUMBER_MAX], double v);
-
-/* 1 when s[0..n) is well-formed UTF-8 (no overlong forms, no surrogates, at most U+10FFFF),
- * else 0 with the offset of the first bad byte in *bad (may be NULL). */
-int prsm_utf8_valid(const char *s, size_t n, size_t *bad);
 
 /* Compare two UTF-8 strings as sequences of UTF-16 code units (RFC 8785 §3.2.3): <0, 0, >0. */
 int prsm_canonical_key_compare(const char *a, const char *b);

@@ -17,6 +17,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "util/dtoa.h"
+
 /* Room for describing a value or a range inside a message. */
 #define DESCRIBE_MAX 96
 
@@ -337,11 +339,18 @@ void prsm_json_format_number(char *out, size_t cap, double v)
 		snprintf(out, cap, "%.0f", v);
 		return;
 	}
-	for (int prec = 1; prec <= 17; prec++) {
-		snprintf(out, cap, "%.*g", prec, v);
-		if (strtod(out, NULL) == v)
-			return;
-	}
+	/* util/dtoa's shortest digits in printf's %g layout with that many digits */
+	char d[PRSM_DTOA_DIGITS_MAX + 1], text[PRSM_DTOA_TEXT_MAX];
+	int point, k = prsm_dtoa_shortest(v, d, &point), x = point - 1;
+	const char *sign = v < 0 ? "-" : "";
+	if (x < -4 || x >= k) /* d[.ddd]e(+|-)xx */
+		snprintf(text, sizeof text, "%s%c%s%.*se%c%02d", sign, d[0], k > 1 ? "." : "", k - 1, d + 1,
+		         x < 0 ? '-' : '+', abs(x));
+	else if (x >= 0) /* ddd[.ddd] */
+		snprintf(text, sizeof text, "%s%.*s%s%s", sign, x + 1, d, k > x + 1 ? "." : "", d + x + 1);
+	else /* 0.000ddd */
+		snprintf(text, sizeof text, "%s0.%.*s%s", sign, -x - 1, "0000", d);
+	snprintf(out, cap, "%s", text);
 }
 
 void prsm_json_excerpt(char *out, size_t cap, const char *s)

@@ -62,13 +62,15 @@ typedef struct {
 cJSON *prsm_json_parse(const char *text, size_t len, prsm_problems *problems);
 
 /* Offset of the first byte that is not valid UTF-8 (RFC 3629: no overlongs, no surrogates,
- * nothing above U+10FFFF), or len when all of it is valid. */
+ * nothing above U+10FFFF), or len when all of it is valid. The one UTF-8 check of prsm (the
+ * canonical form of io/canonical.h uses it too). */
 size_t prsm_json_utf8_invalid_at(const char *text, size_t len);
 
 /*
  * out = base + "/" + token, with "~" escaped as "~0" and "/" as "~1" (RFC 6901). base NULL is
- * "". Returns 0, or PRSM_ENOMEM when the result does not fit in cap bytes; out then holds base
- * (or "" when base does not fit either), still a pointer to an ancestor.
+ * "", and base may be out itself (appending in place). Returns 0, or PRSM_ENOMEM when the
+ * result does not fit in cap bytes; out then holds base (or "" when base does not fit either),
+ * still a pointer to an ancestor. The one pointer builder of prsm (io/canonical.c uses it too).
  */
 int prsm_json_pointer_append(char *out, size_t cap, const char *base, const char *token);
 
@@ -78,8 +80,10 @@ int prsm_json_pointer_append_index(char *out, size_t cap, const char *base, int 
 /* "an object", "an array", "a string", "a number", "a boolean", "null" (for messages). */
 const char *prsm_json_type_name(const cJSON *item);
 
-/* Shortest decimal text of v that reads back as v ("2.5", "0.1", "-2"); "inf", "-inf", "nan"
- * for the non-finite. Writes at most cap bytes (cap >= 32 always suffices). */
+/* Shortest decimal text of v that reads back as v, for messages: util/dtoa's digits (the same
+ * as the canonical form's) in printf's %g layout ("2.5", "0.1", "-2", "100000000", "2.385e-07",
+ * "1e+15"); "inf", "-inf", "nan" for the non-finite. Writes at most cap bytes (cap >= 32 always
+ * suffices). */
 void prsm_json_format_number(char *out, size_t cap, double v);
 
 /* Copy at most cap - 1 bytes of s into out, cutting on a UTF-8 character boundary and ending
