@@ -113,10 +113,10 @@ static void mass_inertia(double *mass_kg, double *inertia_kg_m2, const prsm_desi
 	*inertia_kg_m2 = j_screw + *mass_kg * lead_per_rad_m * lead_per_rad_m + j_rollers;
 }
 
-static int fail(prsm_dp_figures *fig, int rc, const char *fmt, const char *detail)
+static int fail(prsm_dp_figures *fig, int rc, const char *detail)
 {
 	fig->analysable = 0;
-	snprintf(fig->failure, sizeof fig->failure, fmt, detail);
+	snprintf(fig->failure, sizeof fig->failure, "%s", detail);
 	return rc;
 }
 
@@ -149,7 +149,7 @@ int prsm_dp_analyse(prsm_dp_figures *fig, prsm_design *d, const prsm_dp_spec *s,
 	prsm_problems_init(&errors);
 	prsm_problems_init(&warnings);
 	if (prsm_design_resolve(d, &errors)) {
-		rc = fail(fig, PRSM_EINVAL, "%s", errors.items[0].message);
+		rc = fail(fig, PRSM_EINVAL, errors.items[0].message);
 		goto cleanup;
 	}
 	prsm_geometry g;
@@ -164,19 +164,19 @@ int prsm_dp_analyse(prsm_dp_figures *fig, prsm_design *d, const prsm_dp_spec *s,
 	for (int i = 0; i < errors.count; i++)
 		if (strcmp(errors.items[i].code, "z_max") != 0) {
 			/* the roller fit is a constraint of its own; any other error is fatal */
-			rc = fail(fig, PRSM_EGEOMETRY, "%s", errors.items[i].message);
+			rc = fail(fig, PRSM_EGEOMETRY, errors.items[i].message);
 			goto cleanup;
 		}
 	prsm_error err = PRSM_ERROR_INIT;
 	prsm_problems_init(&errors);
 	rc = prsm_analysis_nominal(an, d, &errors, &err);
 	if (rc) {
-		fail(fig, rc, "%s", err.message);
+		fail(fig, rc, err.message);
 		goto cleanup;
 	}
 	rc = prsm_performance_compute(pf, d, an, &err);
 	if (rc) {
-		fail(fig, rc, "%s", err.message);
+		fail(fig, rc, err.message);
 		goto cleanup;
 	}
 	fig->objective[PRSM_DP_EFFICIENCY] = pf->losses.eta;
