@@ -15,6 +15,7 @@
 #include <gsl/gsl_errno.h>
 
 #include "io/study_json.h"
+#include "io/global.h"
 #include "mc/engine.h"
 #include "mc/sobol.h"
 #include "util/rng.h"
@@ -398,7 +399,7 @@ static void test_case_a_sobol_threads(void **state)
 
 int main(void)
 {
-	gsl_set_error_handler_off();
+	prsm_global_init();
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_known_points),
 		cmocka_unit_test(test_limits),

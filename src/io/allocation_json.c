@@ -20,6 +20,7 @@
 #include "io/study_json.h"
 #include "opt/alloc_mc.h"
 #include "util/clock.h"
+#include "util/utf8.h"
 #include "util/version.h"
 
 #define PRSM_ALLOC_ENGINE "prsm-alloc 2 (KKT: Brent roots on ln of the multipliers, projected Newton on the dual; NLopt 2.7 SLSQP/COBYLA; Monte Carlo correction of the yield targets with common random numbers)"
@@ -54,7 +55,7 @@ static const prsm_json_range COST_FIXED = {0.0, COST_MAX, 0, 0};
 
 /* Everything a loaded document holds. Large: on the heap. */
 typedef struct {
-	char name[128];
+	char name[404]; /* up to 100 characters of UTF-8 */
 	int is_study;
 	prsm_io_study *study;                         /* study kind */
 	char tol_name[PRSM_ALLOC_MAX_TOLERANCES][PRSM_STUDY_NAME_MAX];
@@ -421,7 +422,7 @@ static int load(doc_state **out, const cJSON *doc, size_t max_samples, prsm_prob
 	prsm_json_check_keys(doc, "", root_keys, pr);
 	const char *name = NULL;
 	if (prsm_json_get_string(&name, doc, "", "name", PRSM_JSON_OPTIONAL, 100, pr) == PRSM_JSON_PRESENT)
-		snprintf(d->name, sizeof d->name, "%s", name);
+		prsm_utf8_copy(d->name, sizeof d->name, name);
 	const cJSON *study = cJSON_GetObjectItemCaseSensitive(doc, "study");
 	const cJSON *analytic = cJSON_GetObjectItemCaseSensitive(doc, "analytic");
 	int lrc = 0;

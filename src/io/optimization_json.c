@@ -24,6 +24,7 @@
 #include "opt/pareto.h"
 #include "opt/robust.h"
 #include "util/clock.h"
+#include "util/utf8.h"
 #include "util/version.h"
 
 #define PRSM_OPT_MODEL_VERSION "MODEL.md 2026-11 (§1, §2, §5, §6)"
@@ -60,7 +61,7 @@ static const char *const solver_keys[] = {"algorithm", "max_evaluations", "max_t
 
 /* A loaded document. */
 typedef struct {
-	char name[128];
+	char name[404]; /* up to 100 characters of UTF-8 */
 	prsm_dp_spec spec;
 	prsm_opt_problem problem;
 	prsm_opt_options options;
@@ -657,7 +658,7 @@ static int load(opt_doc *od, const cJSON *doc, size_t max_evaluations, prsm_prob
 	prsm_json_check_keys(doc, "", doc_keys, pr);
 	const char *text = NULL;
 	if (prsm_json_get_string(&text, doc, "", "name", PRSM_JSON_OPTIONAL, 100, pr) == PRSM_JSON_PRESENT)
-		snprintf(od->name, sizeof od->name, "%s", text);
+		prsm_utf8_copy(od->name, sizeof od->name, text);
 	prsm_json_get_string(&text, doc, "", "description", PRSM_JSON_OPTIONAL, 2000, pr);
 	prsm_design base;
 	const cJSON *design = cJSON_GetObjectItemCaseSensitive(doc, "design");

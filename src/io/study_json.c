@@ -24,6 +24,7 @@
 #include "io/json_util.h"
 #include "model/analysis.h"
 #include "model/performance.h"
+#include "util/utf8.h"
 #include "util/version.h"
 
 #ifndef PRSM_VERSION
@@ -279,7 +280,7 @@ static int read_tolerance(prsm_io_tolerance *t, param_info *pi, const prsm_io_st
 	int have_path = prsm_json_get_string(&path, o, ptr, "parameter", PRSM_JSON_REQUIRED,
 	                                     PRSM_STUDY_NAME_MAX - 24, pr) == PRSM_JSON_PRESENT;
 	if (have_path) {
-		snprintf(t->parameter, sizeof t->parameter, "%s", path);
+		prsm_utf8_copy(t->parameter, sizeof t->parameter, path);
 		char msg[200];
 		if (params_known && param_find(pi, path, s, msg, sizeof msg))
 			prsm_problems_add(pr, pp, "unknown_parameter", "%s: %s", path, msg);
@@ -916,7 +917,7 @@ int prsm_io_study_load(prsm_io_study *out, const cJSON *doc, prsm_problems *warn
 	prsm_json_check_keys(doc, "", study_keys, pr);
 	const char *name = NULL;
 	if (prsm_json_get_string(&name, doc, "", "name", PRSM_JSON_OPTIONAL, 100, pr) == PRSM_JSON_PRESENT)
-		snprintf(out->name, sizeof out->name, "%s", name);
+		prsm_utf8_copy(out->name, sizeof out->name, name);
 
 	const cJSON *design = cJSON_GetObjectItemCaseSensitive(doc, "design");
 	const cJSON *model = cJSON_GetObjectItemCaseSensitive(doc, "model");

@@ -39,7 +39,7 @@ typedef struct {
 /* A loaded study: everything the engine's model points into lives here, so the struct must
  * not move after prsm_io_study_load(). Large (about 1 MB): allocate it on the heap. */
 typedef struct {
-	char name[128];
+	char name[404]; /* up to 100 characters of UTF-8 */
 	int is_benchmark;
 	prsm_bench_model bench;
 	prsm_design design;

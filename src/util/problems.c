@@ -2,6 +2,7 @@
  * problems.c: the bounded problem list used by validation and rule checks.
  */
 #include "util/problems.h"
+#include "util/utf8.h"
 
 #include <stdarg.h>
 #include <stdio.h>
@@ -20,12 +21,14 @@ void prsm_problems_add(prsm_problems *p, const char *pointer, const char *code, 
 		return;
 	}
 	prsm_problem *it = &p->items[p->count++];
-	snprintf(it->pointer, sizeof it->pointer, "%s", pointer ? pointer : "");
-	snprintf(it->code, sizeof it->code, "%s", code ? code : "");
+	prsm_utf8_copy(it->pointer, sizeof it->pointer, pointer ? pointer : "");
+	prsm_utf8_copy(it->code, sizeof it->code, code ? code : "");
 	va_list ap;
 	va_start(ap, fmt);
-	vsnprintf(it->message, sizeof it->message, fmt, ap);
+	int n = vsnprintf(it->message, sizeof it->message, fmt, ap);
 	va_end(ap);
+	if (n < 0 || (size_t)n >= sizeof it->message)
+		prsm_utf8_trim_partial(it->message); /* a quoted request string cut mid-character */
 }
 
 int prsm_problems_total(const prsm_problems *p)

@@ -17,6 +17,7 @@
 #include <gsl/gsl_errno.h>
 
 #include "http/request.h"
+#include "io/global.h"
 #include "io/analyze_request.h"
 #include "io/canonical.h"
 #include "job/kind.h"
@@ -25,7 +26,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-	gsl_set_error_handler_off();
+	prsm_global_init();
 	const char *body = (const char *)data;
 	prsm_problems problems;
 	prsm_problems_init(&problems);

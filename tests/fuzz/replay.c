@@ -1,7 +1,9 @@
 /*
  * replay.c: the plain driver of a fuzz target: each argument is a file or a directory of
  * files, each file is fed once to LLVMFuzzerTestOneInput. CTest runs it over the corpus
- * (tests/fuzz/corpus/...), so every input the fuzzer ever kept is a regression test.
+ * (tests/fuzz/corpus/...), so every input the fuzzer ever kept is a regression test. Files run
+ * in name order, each named on stdout before it runs (the last one named is the one that
+ * crashed); a directory without inputs is a failure (a corpus that went missing).
  */
 #include <dirent.h>
 #include <stdint.h>
@@ -16,6 +18,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 static int run_file(const char *path)
 {
+	printf("replay: %s\n", path);
+	fflush(stdout);
 	char *buf = NULL;
 	size_t len = 0;
 	prsm_error err = PRSM_ERROR_INIT;
@@ -51,19 +55,30 @@ int main(int argc, char **argv)
 			files++;
 			continue;
 		}
-		DIR *d = opendir(argv[i]);
-		struct dirent *e;
-		while (d && (e = readdir(d))) {
-			if (e->d_name[0] == '.')
-				continue;
-			char path[4096];
-			snprintf(path, sizeof path, "%s/%s", argv[i], e->d_name);
-			failures += run_file(path);
-			files++;
+		struct dirent **names = NULL;
+		int n = scandir(argv[i], &names, NULL, alphasort);
+		if (n < 0) {
+			perror(argv[i]);
+			failures++;
+			continue;
 		}
-		if (d)
-			closedir(d);
+		int here = 0;
+		for (int k = 0; k < n; k++) {
+			if (names[k]->d_name[0] != '.') {
+				char path[4096];
+				snprintf(path, sizeof path, "%s/%s", argv[i], names[k]->d_name);
+				failures += run_file(path);
+				files++;
+				here++;
+			}
+			free(names[k]);
+		}
+		free(names);
+		if (!here) {
+			fprintf(stderr, "replay: %s: no inputs\n", argv[i]);
+			failures++;
+		}
 	}
-	printf("replay: %d inputs, %d unreadable\n", files, failures);
+	printf("replay: %d inputs, %d unreadable or missing\n", files, failures);
 	return failures ? 1 : 0;
 }
