@@ -14,6 +14,7 @@
 #include <gsl/gsl_integration.h>
 #include <string.h>
 
+#include "io/global.h"
 #include "model/analysis.h"
 #include "model/hertz.h"
 #include "model/losses.h"
@@ -141,7 +142,7 @@ static double spin_moment_by_quadrature(double mu, double Q, double a, double b)
 static void test_spin_moment_integral(void **state)
 {
 	(void)state;
-	gsl_set_error_handler_off();
+	prsm_global_init();
 	const double Fr[] = {0.0, 0.3719, 0.5, 0.9, 0.9873};
 	for (int i = 0; i < 5; i++) {
 		prsm_hertz h;
@@ -820,7 +821,7 @@ static void test_case_a_figures(void **state)
 
 int main(void)
 {
-	gsl_set_error_handler_off();
+	prsm_global_init();
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_sliding_only),
 		cmocka_unit_test(test_spin_moment_integral),
