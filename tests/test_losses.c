@@ -12,6 +12,7 @@
 
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_integration.h>
+#include <stddef.h>
 #include <string.h>
 
 #include "io/global.h"
@@ -782,6 +783,88 @@ static void test_errors(void **state)
 	assert_true(isnan(from.gear_eps_roller));
 }
 
+/* ---- 6b. the friction-independent part, prepared once -------------------------------------- */
+
+/* prsm_losses_result up to and including flags: no padding before it (doubles, then two ints,
+ * then doubles), so the bytes compare the values bit for bit (NaN included). */
+#define RESULT_BYTES (offsetof(prsm_losses_result, flags) + sizeof(int))
+
+/* prsm_losses_compute and one prsm_losses_prepare + prsm_losses_compute_prepared per friction
+ * pair give the same bits, the same code and the same message, for every option set, equal
+ * shares and a load distribution, rolling, self-locking and wedged (drive-locked) friction. */
+static void test_prepared_bit_identical(void **state)
+{
+	(void)state;
+	prsm_design d;
+	prsm_analysis a;
+	case_a(&d);
+	d.axial_load_N = 7000.0;
+	d.screw_speed_rad_s = 955.0 * RPM;
+	analyse(&a, &d);
+	prsm_losses_options opts[6] = {only(1, 1, 0.0, 0.0, 0.0), only(0, 0, 0.0, 0.0, 0.0),
+	                               only(1, 0, 0.2, 0.001, 0.05), only(0, 1, 0.0, 0.0, 0.05),
+	                               only(1, 1, 0.1, 0.0, 0.0), only(1, 1, 0.0, 0.0, 0.0)};
+	opts[4].gear_teeth_roller = 19; /* z_2 / z_1 != r_n / r_r: PRSM_LOSSES_GEAR_RATIO */
+	opts[5].gear_teeth_roller = 40;
+	opts[5].gear_teeth_ring = 40;   /* no internal mesh: an error of the prepared part */
+	double qs[10], qn[10];
+	for (int i = 0; i < 10; i++) {
+		qs[i] = 120.0 - 7.5 * i;
+		qn[i] = 118.0 - 7.0 * i;
+	}
+	const double mus[][2] = {{0.05, 0.05}, {0.0, 0.0}, {0.031, 0.077}, {0.3, 0.01},
+	                         {0.9, 0.2}, {1.2, 0.05}, {0.05, 1.5}};
+	int compared = 0;
+	for (int io = 0; io < 6; io++) {
+		prsm_losses_nominal nm;
+		prsm_losses_prepare(&nm, &d, &a.screw, &a.nut, &opts[io]);
+		for (int il = 0; il < 2; il++) {
+			for (size_t im = 0; im < sizeof mus / sizeof mus[0]; im++) {
+				prsm_design e = d;
+				e.mu_screw_roller = mus[im][0];
+				e.mu_nut_roller = mus[im][1];
+				prsm_losses_result r1, r2;
+				prsm_error err1 = PRSM_ERROR_INIT, err2 = PRSM_ERROR_INIT;
+				const double *ls = il ? qs : NULL, *ln = il ? qn : NULL;
+				int rc1 = prsm_losses_compute(&r1, &e, &a.kinematics, &a.screw, &a.nut, ls, ln,
+				                              &opts[io], &err1);
+				int rc2 = prsm_losses_compute_prepared(&r2, &nm, &e, &a.kinematics, &a.screw, &a.nut,
+				                                       ls, ln, &opts[io], &err2);
+				assert_int_equal(rc1, rc2);
+				assert_int_equal(io == 5 ? PRSM_EINVAL : 0, rc1);
+				assert_string_equal(err1.message, err2.message);
+				assert_string_equal(err1.pointer, err2.pointer);
+				assert_memory_equal(&r1, &r2, RESULT_BYTES);
+				compared++;
+			}
+		}
+	}
+	assert_int_equal(compared, 6 * 2 * 7);
+	/* a contact that is not Hertzian: the same EGEOMETRY from both, when spin is on */
+	prsm_contact bent = a.screw;
+	bent.curvature_per_mm[0] = -fabs(bent.curvature_per_mm[1]) - 0.1;
+	prsm_losses_nominal nm;
+	prsm_losses_prepare(&nm, &d, &bent, &a.nut, &opts[0]);
+	assert_int_not_equal(nm.hertz_rc, 0);
+	prsm_losses_result r1, r2;
+	prsm_error err1 = PRSM_ERROR_INIT, err2 = PRSM_ERROR_INIT;
+	assert_int_equal(prsm_losses_compute(&r1, &d, &a.kinematics, &bent, &a.nut, NULL, NULL, &opts[0], &err1),
+	                 PRSM_EGEOMETRY);
+	assert_int_equal(prsm_losses_compute_prepared(&r2, &nm, &d, &a.kinematics, &bent, &a.nut, NULL, NULL,
+	                                              &opts[0], &err2), PRSM_EGEOMETRY);
+	assert_string_equal(err1.message, err2.message);
+	/* prepared with spin off, asked with spin on */
+	prsm_losses_prepare(&nm, &d, &a.screw, &a.nut, &opts[1]);
+	assert_int_equal(prsm_losses_compute_prepared(&r2, &nm, &d, &a.kinematics, &a.screw, &a.nut, NULL,
+	                                              NULL, &opts[0], &err2), PRSM_EINVAL);
+	/* NULL options prepare the defaults */
+	const prsm_losses_options def = PRSM_LOSSES_OPTIONS_INIT;
+	prsm_losses_nominal n1, n2;
+	prsm_losses_prepare(&n1, &d, &a.screw, &a.nut, NULL);
+	prsm_losses_prepare(&n2, &d, &a.screw, &a.nut, &def);
+	assert_true(n1.a1_mm[0] == n2.a1_mm[0] && n1.gear_Hv == n2.gear_Hv && n1.a1_mm[0] > 0.0);
+}
+
 /* ---- 7. case A figures ------------------------------------------------------------------------ */
 
 /* Case A at 10 kN and 100 rpm, each loss alone and all together (printed for the record). */
@@ -835,6 +918,7 @@ int main(void)
 		cmocka_unit_test(test_energy_balance),
 		cmocka_unit_test(test_special_points),
 		cmocka_unit_test(test_errors),
+		cmocka_unit_test(test_prepared_bit_identical),
 		cmocka_unit_test(test_case_a_figures),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -39,8 +39,18 @@ typedef struct {
 	prsm_assembly_state st;
 	prsm_design design;             /* copy whose friction the samples change */
 	prsm_losses_options loss_options; /* the design's losses section (no friction in it) */
+	prsm_losses_nominal loss_nominal; /* efficiency_with_losses: what of the losses does not
+	                                   depend on friction (Hertz contacts, gear teeth), once */
 	double *te_mm;                  /* angles_per_revolution */
 } workspace;
+
+static int wants(const prsm_mc_prsm *p, prsm_output_kind a, prsm_output_kind b)
+{
+	for (size_t i = 0; i < p->n_outputs; i++)
+		if (p->outputs[i] == a || p->outputs[i] == b)
+			return 1;
+	return 0;
+}
 
 static int ws_alloc(void **out, const void *ctx)
 {
@@ -56,6 +66,12 @@ static int ws_alloc(void **out, const void *ctx)
 	}
 	w->design = p->as->design;
 	prsm_losses_options_from_design(&w->loss_options, &w->design);
+	/* a sample changes only the friction coefficients of the design the losses see (the
+	 * contacts, kinematics and loads are the nominal ones): the Hertz solves and the gear rule
+	 * are the same in every sample, and an error they find is reported by every sample */
+	if (wants(p, PRSM_OUT_EFFICIENCY_LOSSES, PRSM_OUT_EFFICIENCY_LOSSES))
+		prsm_losses_prepare(&w->loss_nominal, &w->design, &p->an->screw, &p->an->nut,
+		                    &w->loss_options);
 	*out = w;
 	return 0;
 }
@@ -108,14 +124,6 @@ static void bind(workspace *w, const prsm_mc_prsm *p, const double *x)
 			memcpy(at, &cur, sizeof cur);
 		}
 	}
-}
-
-static int wants(const prsm_mc_prsm *p, prsm_output_kind a, prsm_output_kind b)
-{
-	for (size_t i = 0; i < p->n_outputs; i++)
-		if (p->outputs[i] == a || p->outputs[i] == b)
-			return 1;
-	return 0;
 }
 
 static int prsm_eval(double *y, unsigned *flags, const void *ctx, void *wsp, const double *x)
@@ -179,8 +187,9 @@ static int prsm_eval(double *y, unsigned *flags, const void *ctx, void *wsp, con
 	if (wants_losses) {
 		prsm_losses_result lr;
 		prsm_error lerr = PRSM_ERROR_INIT;
-		int lrc = prsm_losses_compute(&lr, &w->design, &p->an->kinematics, &p->an->screw, &p->an->nut,
-		                              p->loss_screw_loads_N, p->loss_nut_loads_N, &w->loss_options, &lerr);
+		int lrc = prsm_losses_compute_prepared(&lr, &w->loss_nominal, &w->design, &p->an->kinematics,
+		                                       &p->an->screw, &p->an->nut, p->loss_screw_loads_N,
+		                                       p->loss_nut_loads_N, &w->loss_options, &lerr);
 		if (lrc)
 			return lrc;
 		eta_losses = lr.eta;

@@ -27,12 +27,30 @@ typedef struct {
 
 /* Solve the contact of two bodies with relative principal curvatures k1, k2 (1/mm, both > 0)
  * under normal load Q_N >= 0. Returns 0, or PRSM_EINVAL for non-positive curvature sums or
- * moduli. */
+ * moduli (or prsm_hertz_coefficients' error). */
 int prsm_hertz_solve(prsm_hertz *out, double k1_per_mm, double k2_per_mm, double E1_MPa,
                      double nu1, double E2_MPa, double nu2, double Q_N);
 
+/* The ellipticity solve. F <= PRSM_HERTZ_CIRCLE_F is the circular contact, exactly: kappa = 1,
+ * K = E = pi/2. Otherwise kappa is the root of F(kappa) = F in ln kappa by GSL's Brent solver
+ * (gsl_root_fsolver_brent, always given a checked bracket) to an interval of width
+ * PRSM_HERTZ_TOL (1 + ln kappa) in ln kappa, i.e. kappa to a relative 1e-15 (1 + ln kappa), the
+ * tolerance of the bisection it replaces. F above F(PRSM_HERTZ_KAPPA_MAX) = 1 - 2.8e-11 (a
+ * curvature ratio k2/k1 beyond 7e10) gives kappa = PRSM_HERTZ_KAPPA_MAX. Whatever the solver,
+ * kappa is only as good as F(kappa) computed in doubles: near the circle (K + E) cancellation
+ * limits it to about 1e-15 / F relative (no worse than about 2e-8 below F = 1e-7, k2/k1 within
+ * 2e-7 of 1), near F = 1 the rounding of F itself to about 1e-16 / (1 - F). GSL's error handler
+ * is not touched: the solver gets a checked bracket and finite values, and its return codes are
+ * checked. */
+#define PRSM_HERTZ_CIRCLE_F 1e-10
+#define PRSM_HERTZ_KAPPA_MAX 1e6
+#define PRSM_HERTZ_TOL 1e-15
+#define PRSM_HERTZ_MAX_ITER 100
+
 /* Only the dimensionless part: kappa, K, E, a*, b*, delta* for a curvature difference F in
- * [0, 1). Returns 0 or PRSM_EINVAL. */
+ * [0, 1). Returns 0, PRSM_EINVAL (F outside [0, 1)), or PRSM_ENOMEM / PRSM_ENOCONVERGE (the
+ * solver could not be allocated, or did not converge in PRSM_HERTZ_MAX_ITER iterations; neither
+ * is expected). */
 int prsm_hertz_coefficients(prsm_hertz *out, double curvature_difference);
 
 #endif

@@ -93,8 +93,8 @@ static void side_coefficients(side *s, const prsm_contact *c, const double slip[
 }
 
 /* Hertz semi-major axis at 1 N and E(e) of a contact (MODEL.md §6); a scales as Q^(1/3). */
-static int side_hertz(side *s, const prsm_contact *c, const prsm_material *body,
-                      const prsm_material *roller)
+static int contact_hertz(double *a1_mm, double *ellint_E, const prsm_contact *c,
+                         const prsm_material *body, const prsm_material *roller)
 {
 	prsm_hertz h;
 	int rc = prsm_hertz_solve(&h, c->curvature_per_mm[0], c->curvature_per_mm[1], body->E_MPa,
@@ -102,8 +102,8 @@ static int side_hertz(side *s, const prsm_contact *c, const prsm_material *body,
 	if (rc)
 		return rc;
 	const double r = h.b_mm / h.a_mm;
-	s->a1_mm = h.a_mm;
-	s->ellint_E = gsl_sf_ellint_Ecomp(sqrt(fmax(0.0, 1.0 - r * r)), GSL_PREC_DOUBLE);
+	*a1_mm = h.a_mm;
+	*ellint_E = gsl_sf_ellint_Ecomp(sqrt(fmax(0.0, 1.0 - r * r)), GSL_PREC_DOUBLE);
 	return 0;
 }
 
@@ -178,7 +178,7 @@ static int check_inputs(const prsm_design *d, const prsm_losses_options *o, prsm
 }
 
 /* Teeth and contact ratios of the ring-gear mesh (losses.h, part 3). */
-static int gear_setup(prsm_losses_result *out, const prsm_design *d, const prsm_losses_options *o,
+static int gear_setup(prsm_losses_nominal *out, const prsm_design *d, const prsm_losses_options *o,
                       prsm_error *err)
 {
 	const double ratio = d->nut_radius_mm / d->roller_radius_mm; /* r_n / r_r */
@@ -201,7 +201,7 @@ static int gear_setup(prsm_losses_result *out, const prsm_design *d, const prsm_
 		return prsm_error_set(err, PRSM_EINVAL, "/losses/ring_gear_teeth",
 		                      "the ring gear needs more teeth than the roller gear (z_1 %d, z_2 %d)", z1, z2);
 	if (fabs((double)z2 / z1 - ratio) > RATIO_TOL * ratio)
-		out->flags |= PRSM_LOSSES_GEAR_RATIO;
+		out->gear_flags |= PRSM_LOSSES_GEAR_RATIO;
 
 	const int has1 = !isnan(o->gear_eps_roller), has2 = !isnan(o->gear_eps_ring);
 	double ea = o->gear_contact_ratio, e1 = 0.5 * ea, e2 = 0.5 * ea;
@@ -229,6 +229,41 @@ static int gear_setup(prsm_losses_result *out, const prsm_design *d, const prsm_
 	return 0;
 }
 
+/* The gear part of the result from the prepared one, or its error. */
+static int gear_apply(prsm_losses_result *out, const prsm_losses_nominal *nm, prsm_error *err)
+{
+	out->flags |= nm->gear_flags;
+	if (nm->gear_rc) {
+		if (err)
+			*err = nm->gear_err;
+		return nm->gear_rc;
+	}
+	out->gear_teeth_roller = nm->gear_teeth_roller;
+	out->gear_teeth_ring = nm->gear_teeth_ring;
+	out->gear_eps_alpha = nm->gear_eps_alpha;
+	out->gear_eps_roller = nm->gear_eps_roller;
+	out->gear_eps_ring = nm->gear_eps_ring;
+	out->gear_Hv = nm->gear_Hv;
+	return 0;
+}
+
+void prsm_losses_prepare(prsm_losses_nominal *out, const prsm_design *d, const prsm_contact *screw,
+                         const prsm_contact *nut, const prsm_losses_options *opts)
+{
+	const prsm_losses_options defaults = PRSM_LOSSES_OPTIONS_INIT;
+	const prsm_losses_options *o = opts ? opts : &defaults;
+	memset(out, 0, sizeof *out);
+	out->spin = o->spin != 0;
+	if (out->spin) {
+		out->hertz_rc = contact_hertz(&out->a1_mm[0], &out->ellint_E[0], screw, &d->screw_material,
+		                              &d->roller_material);
+		if (!out->hertz_rc)
+			out->hertz_rc = contact_hertz(&out->a1_mm[1], &out->ellint_E[1], nut, &d->nut_material,
+			                              &d->roller_material);
+	}
+	out->gear_rc = gear_setup(out, d, o, &out->gear_err);
+}
+
 /* -1, 0 or 1 */
 static double sign_of(double x)
 {
@@ -243,11 +278,36 @@ int prsm_losses_compute(prsm_losses_result *out, const prsm_design *d, const prs
 	const prsm_losses_options defaults = PRSM_LOSSES_OPTIONS_INIT;
 	const prsm_losses_options *o = opts ? opts : &defaults;
 	int rc;
+	/* the inputs first, as prsm_losses_compute_prepared checks them: the gear rule is only
+	 * evaluated for valid options */
 	memset(out, 0, sizeof *out);
 	if ((rc = check_inputs(d, o, err)) ||
 	    (rc = check_loads(screw_loads_N, d->engaged_threads, "screw-side", err)) ||
 	    (rc = check_loads(nut_loads_N, d->engaged_threads, "nut-side", err)))
 		return rc;
+	prsm_losses_nominal nominal;
+	prsm_losses_prepare(&nominal, d, screw, nut, o);
+	return prsm_losses_compute_prepared(out, &nominal, d, k, screw, nut, screw_loads_N, nut_loads_N,
+	                                    o, err);
+}
+
+int prsm_losses_compute_prepared(prsm_losses_result *out, const prsm_losses_nominal *nm,
+                                 const prsm_design *d, const prsm_kinematics *k,
+                                 const prsm_contact *screw, const prsm_contact *nut,
+                                 const double *screw_loads_N, const double *nut_loads_N,
+                                 const prsm_losses_options *opts, prsm_error *err)
+{
+	const prsm_losses_options defaults = PRSM_LOSSES_OPTIONS_INIT;
+	const prsm_losses_options *o = opts ? opts : &defaults;
+	int rc;
+	memset(out, 0, sizeof *out);
+	if ((rc = check_inputs(d, o, err)) ||
+	    (rc = check_loads(screw_loads_N, d->engaged_threads, "screw-side", err)) ||
+	    (rc = check_loads(nut_loads_N, d->engaged_threads, "nut-side", err)))
+		return rc;
+	if (o->spin && !nm->spin)
+		return prsm_error_set(err, PRSM_EINVAL, NULL,
+		                      "losses: the nominal part was prepared with spin off");
 
 	/* 1. sliding (MODEL.md §5), from prsm_efficiency */
 	prsm_efficiency eff;
@@ -268,7 +328,7 @@ int prsm_losses_compute(prsm_losses_result *out, const prsm_design *d, const prs
 		out->sliding_torque_Nm = out->input_torque_Nm = out->back_output_torque_Nm = NAN;
 		out->input_power_W = out->sliding_power_W = out->loss_power_W = NAN;
 		out->output_power_W = fabs(d->axial_load_N) * fabs(k->nut_speed_mm_per_rad * d->screw_speed_rad_s) * 1e-3;
-		return gear_setup(out, d, o, err);
+		return gear_apply(out, nm, err);
 	}
 
 	const double F = fabs(d->axial_load_N), w = fabs(d->screw_speed_rad_s); /* N, rad/s */
@@ -284,11 +344,19 @@ int prsm_losses_compute(prsm_losses_result *out, const prsm_design *d, const prs
 	                  d->mu_screw_roller, v);
 	side_coefficients(&n, nut, k->slip_nut, 0.0, k->roller_abs_ratio, orbit, p_r,
 	                  d->mu_nut_roller, v);
-	if (spin && ((rc = side_hertz(&s, screw, &d->screw_material, &d->roller_material)) ||
-	             (rc = side_hertz(&n, nut, &d->nut_material, &d->roller_material))))
+	if (spin && nm->hertz_rc && nm->hertz_rc != PRSM_EINVAL)
+		return prsm_error_set(err, nm->hertz_rc, "/geometry", "the Hertz contact solve failed (%s)",
+		                      prsm_error_name(nm->hertz_rc));
+	if (spin && nm->hertz_rc)
 		return prsm_error_set(err, PRSM_EGEOMETRY, "/geometry",
 		                      "spin friction needs Hertzian contacts: a contact has non-positive "
 		                      "relative curvature or a material a non-positive modulus");
+	if (spin) {
+		s.a1_mm = nm->a1_mm[0];
+		s.ellint_E = nm->ellint_E[0];
+		n.a1_mm = nm->a1_mm[1];
+		n.ellint_E = nm->ellint_E[1];
+	}
 	/* equal share of MODEL.md §6: F / (Z n_t |n_z|) per contact */
 	side_loads(&s, screw_loads_N, nt, F / (Z * nt * s.nz), spin);
 	side_loads(&n, nut_loads_N, nt, F / (Z * nt * n.nz), spin);
@@ -314,7 +382,7 @@ int prsm_losses_compute(prsm_losses_result *out, const prsm_design *d, const prs
 	out->roller_moment_spin_Nm = m_spin * NMM_TO_NM;
 	out->roller_moment_Nm = (m_tan + m_helix + m_spin) * NMM_TO_NM;
 	double gear_torque_per_N = 0.0; /* F -> 0 limit of T_gear / F, N m / N (equal share) */
-	if ((rc = gear_setup(out, d, o, err)))
+	if ((rc = gear_apply(out, nm, err)))
 		return rc;
 	if (gear) {
 		const double r_gear = isnan(o->gear_pitch_radius_mm) ? d->roller_radius_mm

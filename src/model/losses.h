@@ -177,6 +177,35 @@ double prsm_losses_spin_moment_Nmm(double mu, double Q_N, double a_mm, double b_
 double prsm_losses_gear_loss_factor(int z1, int z2, double eps_alpha, double eps_1, double eps_2);
 
 /*
+ * The part of prsm_losses_compute that depends only on the nominal design, its contacts and the
+ * options, not on the friction coefficients, the loads, the operating point or the kinematics:
+ * the Hertz semi-major axis at 1 N and E(e) of each contact (when spin is on: two
+ * prsm_hertz_solve, the costly part) and the ring-gear teeth and contact ratios. A caller that
+ * evaluates the losses many times with only the friction coefficients changed (the Monte Carlo
+ * model, mc/prsm_model.h) prepares it once and calls prsm_losses_compute_prepared; the results
+ * are bit-identical to prsm_losses_compute's. An error found here is kept and reported by
+ * prsm_losses_compute_prepared at the point where prsm_losses_compute reports it.
+ */
+typedef struct {
+	int spin;                      /* the Hertz part below was computed (opts->spin was on) */
+	int hertz_rc;                  /* 0, or a side's prsm_hertz_solve error (PRSM_EINVAL: not
+	                                  Hertzian, reported as PRSM_EGEOMETRY) */
+	double a1_mm[2];               /* Hertz semi-major axis at Q = 1 N, screw and nut side, mm */
+	double ellint_E[2];            /* E(e) of the contact ellipses, screw and nut side, - */
+	int gear_rc;                   /* 0, or the error of the gear teeth or contact ratios */
+	prsm_error gear_err;           /* its message when gear_rc != 0 */
+	int gear_flags;                /* PRSM_LOSSES_GEAR_RATIO or 0 */
+	int gear_teeth_roller, gear_teeth_ring;                /* z_1, z_2 */
+	double gear_eps_alpha, gear_eps_roller, gear_eps_ring; /* contact ratios, - */
+	double gear_Hv;                /* Ohlendorf's H_v with the gear loss on, - */
+} prsm_losses_nominal;
+
+/* Fill *out for design d (its friction coefficients and operating point are not read), its
+ * nominal contacts and the options (NULL: PRSM_LOSSES_OPTIONS_INIT). */
+void prsm_losses_prepare(prsm_losses_nominal *out, const prsm_design *d, const prsm_contact *screw,
+                         const prsm_contact *nut, const prsm_losses_options *opts);
+
+/*
  * Losses and efficiencies of design d at its operating point (d->axial_load_N,
  * d->screw_speed_rad_s) from the nominal contacts and kinematics (prsm_analysis_nominal).
  * Returns 0; PRSM_EINVAL (err says which input) for a negative or non-finite torque, friction
@@ -193,5 +222,14 @@ int prsm_losses_compute(prsm_losses_result *out,
                         const double *nut_loads_N,     /* n_t normal loads of one roller, or NULL */
                         const prsm_losses_options *opts, /* NULL: PRSM_LOSSES_OPTIONS_INIT */
                         prsm_error *err);
+
+/* prsm_losses_compute with the friction-independent part taken from nominal, which
+ * prsm_losses_prepare filled for the same design (friction and operating point aside), contacts
+ * and options. PRSM_EINVAL when spin is on and nominal was prepared with it off. */
+int prsm_losses_compute_prepared(prsm_losses_result *out, const prsm_losses_nominal *nominal,
+                                 const prsm_design *d, const prsm_kinematics *k,
+                                 const prsm_contact *screw, const prsm_contact *nut,
+                                 const double *screw_loads_N, const double *nut_loads_N,
+                                 const prsm_losses_options *opts, prsm_error *err);
 
 #endif
