@@ -1,0 +1,15 @@
+# IoTables.cmake: the document readers' field tables (src/io/doc.h), generated from the annotated
+# JSON Schemas ("x-prsm") by scripts/gen-io-tables.py (Python standard library only) into
+# <build>/generated/prsm_io_tables.{h,c} and compiled into prsm_core. The generator fails the
+# build when a schema property names no C member or a member of the struct is left unread.
+set(PRSM_IO_TABLES_SCRIPT ${PROJECT_SOURCE_DIR}/scripts/gen-io-tables.py)
+file(GLOB PRSM_IO_SCHEMAS CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/schemas/*.schema.json)
+set(PRSM_IO_TABLES ${PROJECT_BINARY_DIR}/generated/prsm_io_tables.c ${PROJECT_BINARY_DIR}/generated/prsm_io_tables.h)
+add_custom_command(
+  OUTPUT ${PRSM_IO_TABLES}
+  COMMAND /usr/bin/python3 ${PRSM_IO_TABLES_SCRIPT} --out-dir ${PROJECT_BINARY_DIR}/generated
+          --src ${PROJECT_SOURCE_DIR}/src ${PRSM_IO_SCHEMAS}
+  DEPENDS ${PRSM_IO_TABLES_SCRIPT} ${PRSM_IO_SCHEMAS} ${PROJECT_SOURCE_DIR}/src/model/design.h
+  COMMENT "Document field tables from schemas/ (x-prsm)"
+  VERBATIM)
+target_sources(prsm_core PRIVATE ${PRSM_IO_TABLES})

@@ -1,0 +1,13 @@
+/* The design reader before issue 24's port (see design_reader_legacy.c). */
+#ifndef PRSM_TESTS_DESIGN_READER_LEGACY_H
+#define PRSM_TESTS_DESIGN_READER_LEGACY_H
+
+#include <cJSON.h>
+
+#include "model/design.h"
+#include "util/problems.h"
+
+int prsm_legacy_design_from_json(prsm_design *out, const cJSON *doc, const char *base_pointer,
+                                 prsm_problems *problems);
+
+#endif

@@ -1,0 +1,345 @@
+/*
+ * test_io_doc.c: the table-driven reader (io/doc.h, tables generated from the annotated
+ * schemas) against the hand-written reader it replaces, side by side (issue 24, item 5).
+ *
+ * Every design in studies/ and in the fuzz corpora, and thousands of variants of them (each
+ * member in turn replaced by a value of every JSON type, by numbers at and just beyond the
+ * schema's limits, removed, or joined by a misspelt key; each property of the schema the design
+ * lacks added with each of those values), go through both readers; the
+ * return codes, the problem lists (pointer, code, message, in order) and the structs must be
+ * identical. The legacy reader (tests/legacy/) goes once every document is ported.
+ */
+#include "test_support.h"
+
+#include <dirent.h>
+
+#include "io/design_json.h"
+#include "io/global.h"
+#include "io/json_util.h"
+#include "legacy/design_reader_legacy.h"
+
+typedef struct {
+	int documents, valid, invalid;
+} tally;
+
+static void compare_one(const cJSON *doc, tally *t)
+{
+	prsm_design a, b;
+	prsm_problems pa, pb;
+	prsm_problems_init(&pa);
+	prsm_problems_init(&pb);
+	memset(&a, 0, sizeof a);
+	memset(&b, 0, sizeof b);
+	int ra = prsm_legacy_design_from_json(&a, doc, "/design", &pa);
+	int rb = prsm_io_design_from_json(&b, doc, "/design", &pb);
+	t->documents++;
+	if (ra == 0)
+		t->valid++;
+	else
+		t->invalid++;
+	if (ra != rb || pa.count != pb.count || pa.dropped != pb.dropped) {
+		char *text = cJSON_PrintUnformatted(doc);
+		print_error("document %s\nlegacy rc %d, %d problems; table rc %d, %d problems\n", text, ra, pa.count, rb,
+		            pb.count);
+		for (int i = 0; i < pa.count || i < pb.count; i++)
+			print_error("  %-40s | %s\n", i < pa.count ? pa.items[i].pointer : "",
+			            i < pb.count ? pb.items[i].pointer : "");
+		for (int i = 0; i < pa.count; i++)
+			print_error("  legacy: %s %s %s\n", pa.items[i].pointer, pa.items[i].code, pa.items[i].message);
+		for (int i = 0; i < pb.count; i++)
+			print_error("  table:  %s %s %s\n", pb.items[i].pointer, pb.items[i].code, pb.items[i].message);
+		cJSON_free(text);
+		fail();
+	}
+	for (int i = 0; i < pa.count; i++) {
+		if (strcmp(pa.items[i].pointer, pb.items[i].pointer) || strcmp(pa.items[i].code, pb.items[i].code) ||
+		    strcmp(pa.items[i].message, pb.items[i].message)) {
+			char *text = cJSON_PrintUnformatted(doc);
+			print_error("document %s\nproblem %d: legacy %s %s %s\n            table  %s %s %s\n", text, i,
+			            pa.items[i].pointer, pa.items[i].code, pa.items[i].message, pb.items[i].pointer,
+			            pb.items[i].code, pb.items[i].message);
+			cJSON_free(text);
+			fail();
+		}
+	}
+	if (memcmp(&a, &b, sizeof a) != 0) {
+		char *text = cJSON_PrintUnformatted(doc);
+		const unsigned char *x = (const unsigned char *)&a, *y = (const unsigned char *)&b;
+		size_t at = 0;
+		while (x[at] == y[at])
+			at++;
+		print_error("document %s\nthe structs differ from byte %zu on\n", text, at);
+		cJSON_free(text);
+		fail();
+	}
+}
+
+/* Every value a member could wrongly (or rightly) hold. */
+static cJSON *variant(int k, double limit_hint)
+{
+	switch (k) {
+	case 0: return cJSON_CreateNull();
+	case 1: return cJSON_CreateTrue();
+	case 2: return cJSON_CreateString("x");
+	case 3: return cJSON_CreateArray();
+	case 4: return cJSON_CreateObject();
+	case 5: return cJSON_CreateNumber(-1.0);
+	case 6: return cJSON_CreateNumber(0.0);
+	case 7: return cJSON_CreateNumber(0.5);
+	case 8: return cJSON_CreateNumber(1.0);
+	case 9: return cJSON_CreateNumber(2.5);
+	case 10: return cJSON_CreateNumber(91.0);
+	case 11: return cJSON_CreateNumber(1e300);
+	case 12: return cJSON_CreateNumber(-1e300);
+	case 13: return cJSON_CreateNumber(limit_hint);
+	case 14: return cJSON_CreateNumber(limit_hint * (1.0 + 1e-12));
+	case 15: return cJSON_CreateNumber(nextafter(limit_hint, 0.0));
+	case 16: return cJSON_CreateString("left");
+	case 17: return cJSON_CreateString("opposite_side");
+	case 18: return cJSON_CreateNumber(93.0);
+	default: return NULL;
+	}
+}
+#define VARIANTS 19
+
+/* The schema's limits that numbers are tried at, beside the generic values. */
+static const double limits[] = {12, 50, 90, 64, 500, 5000, 20000, 2000, 1e8, 1e5, 50000, 1000, 1e6, 45, 5, 2, 6};
+
+/* Every member of every object under node, in turn: replaced by each variant, removed, and a
+ * misspelt sibling added; each resulting document compared. root is the whole design. */
+static void mutate_all(cJSON *root, cJSON *node, tally *t)
+{
+	if (!cJSON_IsObject(node) && !cJSON_IsArray(node))
+		return;
+	for (cJSON *m = node->child; m; m = m->next) {
+		cJSON saved = *m;
+		for (int k = 0; k < VARIANTS; k++) {
+			for (size_t l = 0; l < (k >= 13 && k <= 15 ? sizeof limits / sizeof limits[0] : 1); l++) {
+				cJSON *v = variant(k, limits[l]);
+				/* put v's value in m's place, keeping m's key and links */
+				m->type = v->type;
+				m->valuedouble = v->valuedouble;
+				m->valueint = v->valueint;
+				m->valuestring = v->valuestring;
+				m->child = NULL;
+				compare_one(root, t);
+				m->type = saved.type;
+				m->valuedouble = saved.valuedouble;
+				m->valueint = saved.valueint;
+				m->valuestring = saved.valuestring;
+				m->child = saved.child;
+				cJSON_Delete(v);
+			}
+		}
+		mutate_all(root, m, t);
+	}
+	if (cJSON_IsObject(node)) {
+		/* each member removed in turn: unlinked and linked back by hand, so the document stays
+		 * exactly as it was (cJSON keeps first->prev pointing at the last member) */
+		for (cJSON *m = node->child; m; m = m->next) {
+			const int first = m == node->child;
+			if (first) {
+				node->child = m->next;
+				if (m->next)
+					m->next->prev = m->prev;
+			} else {
+				m->prev->next = m->next;
+				if (m->next)
+					m->next->prev = m->prev;
+				else
+					node->child->prev = m->prev;
+			}
+			compare_one(root, t);
+			if (first) {
+				node->child = m;
+				if (m->next)
+					m->next->prev = m;
+			} else {
+				m->prev->next = m;
+				if (m->next)
+					m->next->prev = m;
+				else
+					node->child->prev = m;
+			}
+		}
+		/* a misspelt key beside the others */
+		if (node->child && node->child->string) {
+			char bad[64];
+			snprintf(bad, sizeof bad, "%.40sx", node->child->string);
+			cJSON_AddNumberToObject(node, bad, 1.0);
+			compare_one(root, t);
+			cJSON_DeleteItemFromObjectCaseSensitive(node, bad);
+		}
+	}
+}
+
+static const cJSON *schema_root;
+
+/* The schema node of a property, $ref to $defs followed. */
+static const cJSON *resolve(const cJSON *node)
+{
+	const cJSON *ref = cJSON_GetObjectItemCaseSensitive(node, "$ref");
+	if (cJSON_IsString(ref) && strncmp(ref->valuestring, "#/$defs/", 8) == 0)
+		return cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(schema_root, "$defs"),
+		                                        ref->valuestring + 8);
+	return node;
+}
+
+/* Every property of the schema that node lacks, added in turn with every variant value (an
+ * object property as an empty object, then filled the same way): the members the examples never
+ * use are read too. */
+static void fill_absent(cJSON *root, cJSON *node, const cJSON *schema, tally *t)
+{
+	const cJSON *props = cJSON_GetObjectItemCaseSensitive(resolve(schema), "properties");
+	for (const cJSON *p = props ? props->child : NULL; p; p = p->next) {
+		cJSON *have = cJSON_GetObjectItemCaseSensitive(node, p->string);
+		const cJSON *ps = resolve(p);
+		const int is_object = cJSON_GetObjectItemCaseSensitive(ps, "properties") != NULL;
+		if (have) {
+			if (is_object && cJSON_IsObject(have))
+				fill_absent(root, have, ps, t);
+			continue;
+		}
+		for (int k = 0; k < VARIANTS; k++)
+			for (size_t l = 0; l < (k >= 13 && k <= 15 ? sizeof limits / sizeof limits[0] : 1); l++) {
+				cJSON_AddItemToObject(node, p->string, variant(k, limits[l]));
+				compare_one(root, t);
+				cJSON_DeleteItemFromObjectCaseSensitive(node, p->string);
+			}
+		if (is_object) {
+			cJSON *obj = cJSON_AddObjectToObject(node, p->string);
+			compare_one(root, t);
+			fill_absent(root, obj, ps, t);
+			cJSON_DeleteItemFromObjectCaseSensitive(node, p->string);
+		}
+	}
+}
+
+static cJSON *read_json(const char *path)
+{
+	size_t len = 0;
+	char *text = prsm_test_read_file(path, &len);
+	if (!text)
+		return NULL;
+	prsm_problems p;
+	prsm_problems_init(&p);
+	cJSON *doc = prsm_json_parse(text, len, &p);
+	free(text);
+	return doc;
+}
+
+/* The designs a document holds: itself when it has a geometry, its "design", its "study"'s. */
+static void designs_of(const cJSON *doc, const cJSON **out, int *n)
+{
+	*n = 0;
+	if (!cJSON_IsObject(doc))
+		return;
+	if (cJSON_GetObjectItemCaseSensitive(doc, "geometry"))
+		out[(*n)++] = doc;
+	const cJSON *d = cJSON_GetObjectItemCaseSensitive(doc, "design");
+	if (d)
+		out[(*n)++] = d;
+	const cJSON *s = cJSON_GetObjectItemCaseSensitive(doc, "study");
+	if (s && cJSON_GetObjectItemCaseSensitive(s, "design"))
+		out[(*n)++] = cJSON_GetObjectItemCaseSensitive(s, "design");
+}
+
+static void each_file(const char *dir, void (*fn)(const char *path, void *ctx), void *ctx)
+{
+	DIR *d = opendir(dir);
+	if (!d)
+		return;
+	struct dirent *e;
+	char **names = NULL;
+	size_t n = 0;
+	while ((e = readdir(d)) != NULL) {
+		if (e->d_name[0] == '.')
+			continue;
+		names = realloc(names, (n + 1) * sizeof *names);
+		const size_t size = strlen(dir) + strlen(e->d_name) + 2;
+		names[n] = malloc(size);
+		snprintf(names[n], size, "%s/%s", dir, e->d_name);
+		n++;
+	}
+	closedir(d);
+	for (size_t i = 0; i < n; i++) {
+		fn(names[i], ctx);
+		free(names[i]);
+	}
+	free(names);
+}
+
+typedef struct {
+	tally *t;
+	int mutate;
+} walk_ctx;
+
+static void check_file(const char *path, void *vctx)
+{
+	walk_ctx *c = vctx;
+	cJSON *doc = read_json(path);
+	if (!doc)
+		return;
+	const cJSON *designs[3];
+	int n;
+	designs_of(doc, designs, &n);
+	for (int i = 0; i < n; i++) {
+		compare_one(designs[i], c->t);
+		if (c->mutate) {
+			cJSON *copy = cJSON_Duplicate(designs[i], 1);
+			mutate_all(copy, copy, c->t);
+			fill_absent(copy, copy, schema_root, c->t);
+			cJSON_Delete(copy);
+		}
+	}
+	/* the document itself (not a design, mostly): both must refuse it alike */
+	compare_one(doc, c->t);
+	cJSON_Delete(doc);
+}
+
+static void test_examples_and_variants(void **state)
+{
+	(void)state;
+	char src[512], dir[1024];
+	prsm_test_source_dir(src, sizeof src);
+	tally t = {0, 0, 0};
+	walk_ctx c = {&t, 1};
+	snprintf(dir, sizeof dir, "%s/schemas/design.schema.json", src);
+	cJSON *schema = read_json(dir);
+	assert_non_null(schema);
+	schema_root = schema;
+	snprintf(dir, sizeof dir, "%s/studies", src);
+	each_file(dir, check_file, &c);
+	print_message("studies/ and their variants: %d documents (%d valid, %d invalid), identical\n", t.documents,
+	              t.valid, t.invalid);
+	assert_true(t.valid >= 10);
+	assert_true(t.invalid > 1000);
+	cJSON_Delete(schema);
+	schema_root = NULL;
+}
+
+static void test_fuzz_corpora(void **state)
+{
+	(void)state;
+	char src[512], dir[1024];
+	prsm_test_source_dir(src, sizeof src);
+	tally t = {0, 0, 0};
+	walk_ctx c = {&t, 0};
+	const char *kinds[] = {"request", "study", "optimization", "allocation"};
+	for (int k = 0; k < 4; k++) {
+		snprintf(dir, sizeof dir, "%s/tests/fuzz/corpus/%s", src, kinds[k]);
+		each_file(dir, check_file, &c);
+	}
+	print_message("fuzz corpora: %d documents (%d valid, %d invalid), identical\n", t.documents, t.valid, t.invalid);
+	assert_true(t.documents > 300);
+}
+
+int main(void)
+{
+	prsm_global_init();
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_examples_and_variants),
+		cmocka_unit_test(test_fuzz_corpora),
+	};
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}
