@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "cli/commands.h"
+#include "cli/summary.h"
 #include "io/global.h"
 #include "io/allocation_json.h"
 #include "io/analysis_json.h"
@@ -162,7 +163,7 @@ static int write_analysis(const options *o, const prsm_analyze_request *rq,
 			perror(o->out_path);
 			return PRSM_EXIT_FAILED;
 		}
-		prsm_io_analyze_print_text(f, rq, warnings);
+		prsm_cli_print_analyze(f, rq, warnings);
 		int bad = ferror(f);
 		if (f != stdout)
 			bad |= fclose(f);

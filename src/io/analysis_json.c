@@ -19,7 +19,6 @@
 #ifndef PRSM_VERSION
 #define PRSM_VERSION "0.0.0"
 #endif
-#define PRSM_MODEL_VERSION "MODEL.md 2026-11 (§1, §2, §3, §4, §5, §6, §7)"
 
 static void vec(cJSON *o, const char *name, const double *v, int n)
 {
@@ -499,90 +498,4 @@ cJSON *prsm_io_analysis_to_json(const prsm_analysis *a, const prsm_design *d,
 	if (perf)
 		performance_json(root, perf, d);
 	return root;
-}
-
-void prsm_io_analysis_print_text(FILE *out, const prsm_analysis *a, const prsm_design *d,
-                                 const prsm_performance *perf, const prsm_problems *warnings)
-{
-	const prsm_geometry *g = &a->geometry;
-	const prsm_kinematics *k = &a->kinematics;
-	const double F = fabs(d->axial_load_N), rpm = d->screw_speed_rad_s * RPM_PER_RAD_S;
-	fprintf(out, "PRSM analysis (prsm %s, %s)\n", PRSM_VERSION, PRSM_MODEL_VERSION);
-	fprintf(out, "Operating point: %.6g N axial, %.6g rpm\n\n", F, rpm);
-	fprintf(out, "Geometry\n");
-	fprintf(out, "  starts %d (%s hand), pitch %.4g mm, lead %.4g mm, flank half-angle %.4g deg\n",
-	        d->starts, d->hand == PRSM_HAND_LEFT ? "left" : "right", d->pitch_mm, g->lead_mm,
-	        d->flank_angle_rad * DEG);
-	fprintf(out, "  pitch radii: screw %.4f, roller %.4f, nut %.4f mm; orbit %.4f mm; R %.4f mm\n",
-	        d->screw_radius_mm, d->roller_radius_mm, d->nut_radius_mm, g->orbit_radius_mm,
-	        d->roller_arc_radius_mm);
-	fprintf(out, "  helix angles: screw %.4f, roller %.4f, nut %.4f deg\n", g->helix_screw_rad * DEG,
-	        g->helix_roller_rad * DEG, g->helix_nut_rad * DEG);
-	fprintf(out, "  rollers %d of Z_max %d, engaged threads %d, nominal backlash %.3f um\n\n",
-	        d->rollers, g->z_max, d->engaged_threads, a->backlash_mm * 1e3);
-	fprintf(out, "Contacts                     screw-roller     nut-roller\n");
-	fprintf(out, "  gap (um)                   %10.3f     %10.3f\n", a->screw.gap_mm * 1e3,
-	        a->nut.gap_mm * 1e3);
-	fprintf(out, "  contact radius body (mm)   %10.4f     %10.4f\n", a->screw.body_rho_mm, a->nut.body_rho_mm);
-	fprintf(out, "  p_max equal sharing (MPa)  %10.1f     %10.1f\n", a->hertz_screw.p_max_MPa,
-	        a->hertz_nut.p_max_MPa);
-	if (perf && F > 0.0)
-		fprintf(out, "  p_max most loaded (MPa)    %10.1f     %10.1f   (thread %d / %d)\n",
-		        perf->dist.side[0].p_max_MPa, perf->dist.side[1].p_max_MPa,
-		        perf->dist.side[0].max_index + 1, perf->dist.side[1].max_index + 1);
-	fprintf(out, "\nKinematics (nut held): carrier ratio %.5f (ideal %.5f), roller spin %.5f, slip %.4f x v\n\n",
-	        k->carrier_ratio, k->carrier_ratio_ideal, k->roller_spin_ratio, k->slip_ratio_screw);
-	if (!perf) {
-		const prsm_efficiency *e = &a->efficiency;
-		fprintf(out, "Efficiency (sliding only, mu %.3g): eta %.4f, back-driving %.4f\n\n",
-		        d->mu_screw_roller, e->eta, e->eta_back);
-	} else {
-		const prsm_losses_result *l = &perf->losses;
-		fprintf(out, "Efficiency: eta %.4f, back-driving %.4f%s (sliding only %.4f / %.4f; closed form %.4f)\n",
-		        l->eta, l->eta_back, (l->flags & PRSM_LOSSES_SELF_LOCKING) ? " (self-locking)" : "",
-		        l->eta_slide, l->eta_back_slide, l->eta_closed_form);
-		fprintf(out, "  input torque %.4g N m = ideal %.4g + sliding %.4g + spin %.4g + gear %.3g + drag %.3g + seal %.3g\n",
-		        l->input_torque_Nm, l->ideal_torque_Nm, l->sliding_torque_Nm, l->spin_torque_Nm,
-		        l->gear_torque_Nm, l->drag_torque_Nm, l->seal_torque_Nm);
-		fprintf(out, "  power in %.4g W, out %.4g W, loss %.4g W\n\n", l->input_power_W, l->output_power_W,
-		        l->loss_power_W);
-		const prsm_design_compliance *c = &perf->compliance;
-		fprintf(out, "Stiffness and load distribution (%s entry)\n",
-		        d->stiffness.load_entry == PRSM_ENTRY_OPPOSITE_SIDE ? "opposite-side" : "same-side");
-		if (c->options.width_rule == PRSM_THREAD_COMPLIANCE_NONE)
-			fprintf(out, "  thread compliance: none (rigid threads)\n");
-		else
-			fprintf(out, "  thread compliance: Yamamoto, width %s, calibration %.3g: screw side %.4g, nut side %.4g um/kN per contact\n",
-			        c->options.width_rule == PRSM_THREAD_WIDTH_SHARE ? "share" :
-			        c->options.width_rule == PRSM_THREAD_WIDTH_GIVEN ? "given" : "ellipse",
-			        c->options.calibration, c->screw_side_mm_per_N * 1e6, c->nut_side_mm_per_N * 1e6);
-		if (F > 0.0) {
-			fprintf(out, "  axial stiffness %.4g N/um at %.6g N (approach %.3f um)\n", perf->stiffness_N_per_um,
-			        F, perf->dist.approach_mm * 1e3);
-			fprintf(out, "  max/mean thread load: screw side %.3f, nut side %.3f\n",
-			        perf->dist.side[0].max_over_mean, perf->dist.side[1].max_over_mean);
-			fprintf(out, "  thread loads per roller, screw side (N):");
-			for (int i = 0; i < perf->threads && i < 12; i++)
-				fprintf(out, " %.4g", perf->thread_load_screw_N[i]);
-			fprintf(out, "%s\n", perf->threads > 12 ? " ..." : "");
-		} else {
-			fprintf(out, "  no load: stiffness not defined (Hertz contacts have none at zero load)\n");
-		}
-		fprintf(out, "\nCapacity and life\n");
-		fprintf(out, "  C_0a %.5g N at p_allow %.0f MPa (static safety %.3g); C_a %.5g N (L-P, distribution factor %.3f)\n",
-		        perf->C0a_N, d->life.p_allow_MPa, perf->static_safety, perf->dynamic.C_a_N,
-		        perf->distribution_factor);
-		if (perf->equivalent_load_N > 0.0)
-			fprintf(out, "  L%d life at %.5g N equivalent: %.4g revolutions, %.4g h, %.4g km\n",
-			        100 - perf->life.reliability_percent, perf->equivalent_load_N, perf->life.revolutions,
-			        perf->life.hours, perf->life.distance_km);
-		if (perf->has_column)
-			fprintf(out, "  column (%.5g mm): critical speed %.5g rpm (catalogue %.5g), buckling %.5g N\n",
-			        perf->column.free_length_mm, perf->column.critical_speed_rpm,
-			        perf->column.catalogue_speed_rpm, perf->column.buckling_load_N);
-		fprintf(out, "\n");
-	}
-	fprintf(out, "Warnings: %d\n", prsm_problems_total(warnings));
-	for (int i = 0; i < warnings->count; i++)
-		fprintf(out, "  %s: %s\n", warnings->items[i].pointer, warnings->items[i].message);
 }

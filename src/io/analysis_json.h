@@ -14,6 +14,9 @@
 
 /* Build the result object; the caller owns it (cJSON_Delete). NULL when out of memory. perf
  * (may be NULL: sliding efficiency only) adds the operating-point analysis of MODEL.md §5-§6. */
+/* The model the results follow (what the "engine"."model" field of a result names). */
+#define PRSM_MODEL_VERSION "MODEL.md 2026-11 (§1, §2, §3, §4, §5, §6, §7)"
+
 cJSON *prsm_io_analysis_to_json(const prsm_analysis *a, const prsm_design *d,
                                 const prsm_performance *perf, const prsm_problems *warnings);
 
@@ -22,9 +25,5 @@ cJSON *prsm_io_problems_to_json(const prsm_problems *p);
 
 /* RFC 7807 problem document for a list of problems; caller owns it. */
 cJSON *prsm_io_problem_document(int status, const char *title, const prsm_problems *p);
-
-/* Write the engineer's one-page summary. */
-void prsm_io_analysis_print_text(FILE *out, const prsm_analysis *a, const prsm_design *d,
-                                 const prsm_performance *perf, const prsm_problems *warnings);
 
 #endif

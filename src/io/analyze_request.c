@@ -142,18 +142,6 @@ cJSON *prsm_io_analyze_to_json(const prsm_analyze_request *rq, const prsm_proble
 	return res;
 }
 
-void prsm_io_analyze_print_text(FILE *out, const prsm_analyze_request *rq,
-                                const prsm_problems *warnings)
-{
-	if (rq->multistage) {
-		prsm_io_multistage_print_text(out, rq->ms, rq->ms_perf, warnings);
-		return;
-	}
-	prsm_io_analysis_print_text(out, &rq->a, &rq->d, &rq->perf, warnings);
-	if (rq->with_errors)
-		prsm_io_assembly_print_text(out, &rq->report, &rq->as);
-}
-
 void prsm_io_analyze_free(prsm_analyze_request *rq)
 {
 	prsm_performance_free(&rq->perf);

@@ -59,10 +59,6 @@ double prsm_io_analyze_cost(const prsm_analyze_request *rq);
  * memory. */
 cJSON *prsm_io_analyze_to_json(const prsm_analyze_request *rq, const prsm_problems *warnings);
 
-/* The engineer's one-page text summary of a loaded and run request. */
-void prsm_io_analyze_print_text(FILE *out, const prsm_analyze_request *rq,
-                                const prsm_problems *warnings);
-
 /* Free what rq owns (not rq itself). */
 void prsm_io_analyze_free(prsm_analyze_request *rq);
 

@@ -161,28 +161,3 @@ cJSON *prsm_io_assembly_to_json(const prsm_assembly_report *r, const prsm_assemb
 	cJSON_AddNumberToObject(cc, "failed", r->failed_contacts);
 	return root;
 }
-
-void prsm_io_assembly_print_text(FILE *out, const prsm_assembly_report *r, const prsm_assembly *as)
-{
-	fprintf(out, "\nErrors and assembly (%s mode, MODEL.md §3, §4)\n",
-	        r->mode == PRSM_MODE_EXACT ? "exact" : "linear");
-	fprintf(out, "  backlash at theta 0 (um)     %10.3f  (+ %.3f, - %.3f)\n", r->backlash_mm * UM,
-	        r->backlash_plus_mm * UM, r->backlash_minus_mm * UM);
-	fprintf(out, "  backlash over a turn (um)    %10.3f .. %.3f, mean %.3f\n", r->backlash_min_mm * UM,
-	        r->backlash_max_mm * UM, r->backlash_mean_mm * UM);
-	if (as->design.axial_load_N > 0.0) {
-		fprintf(out, "  load sharing factor          %10.4f  (worst over a turn %.4f), %d of %d rollers loaded\n",
-		        r->operating.sharing_factor, r->sharing_factor_max, r->operating.loaded_rollers, as->rollers);
-		fprintf(out, "  axial stiffness (N/um)       %10.1f  (%.3f of nominal %.1f)\n",
-		        r->operating.stiffness_N_per_mm / UM, r->stiffness_ratio, as->nominal_stiffness_N_per_mm / UM);
-	}
-	fprintf(out, "  TE at %g N over a turn (um)  p-p %.4f, rms %.4f\n", r->measuring_load_N,
-	        r->te_revolution_pp_mm * UM, r->te_revolution_rms_mm * UM);
-	if (r->has_stroke)
-		fprintf(out, "  TE over %g mm (um)           p-p %.4f, lead deviation %.3f um/300 mm\n", r->stroke_mm,
-		        r->te_stroke_pp_mm * UM, r->lead_deviation * 300.0 * UM);
-	fprintf(out, "  TE spectrum peak             %.4f /rev, %.4f um\n", r->peak_frequency_per_rev,
-	        r->peak_amplitude_mm * UM);
-	if (r->edge_contacts || r->failed_contacts)
-		fprintf(out, "  contacts off their flanks: %d edge, %d failed\n", r->edge_contacts, r->failed_contacts);
-}

@@ -16,6 +16,4 @@
 cJSON *prsm_io_assembly_to_json(const prsm_assembly_report *r, const prsm_assembly *as,
                                 const prsm_assembly_options *o, const prsm_assembly_workspace *ws);
 
-void prsm_io_assembly_print_text(FILE *out, const prsm_assembly_report *r, const prsm_assembly *as);
-
 #endif

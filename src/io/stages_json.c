@@ -209,35 +209,3 @@ cJSON *prsm_io_multistage_to_json(const prsm_io_multistage *m, const prsm_perfor
 	cJSON_AddItemToObject(root, "warnings", prsm_io_problems_to_json(warnings));
 	return root;
 }
-
-void prsm_io_multistage_print_text(FILE *out, const prsm_io_multistage *m,
-                                   const prsm_performance *perf, const prsm_problems *warnings)
-{
-	const prsm_chain *c = &m->chain;
-	const prsm_chain_input *in = &m->chain_input;
-	fprintf(out, "Multi-stage PRSM, %d stages (MODEL.md §7)\n", c->stages);
-	fprintf(out, "  load %.6g N on the last nut, screw speed %.6g rpm; couplings: spline mu %.3g, thrust bearing mu %.3g\n",
-	        in->axial_load_N, in->screw_speed_rad_s * RPM_PER_RAD_S, in->spline_friction,
-	        in->thrust_bearing_friction);
-	fprintf(out, "  output speed %.5g mm/s (lead sum %.5g mm); input torque %.5g N m; chain efficiency %.4f (%.4f with frictionless couplings)\n\n",
-	        c->output_speed_mm_s, c->total_lead_mm, c->input_torque_Nm, c->efficiency,
-	        c->harmonic_efficiency);
-	fprintf(out, "  stage  load N     torque N m  eta     carrier  spline N  thrust N m\n");
-	for (int k = 0; k < c->stages; k++) {
-		const prsm_chain_stage *st = &c->stage[k];
-		fprintf(out, "  %5d  %9.6g  %10.5g  %.4f  %.5f  %8.4g  %10.4g\n", k + 1, st->load_N,
-		        st->stage_torque_Nm, st->stage_efficiency, m->analysis[k].kinematics.carrier_ratio,
-		        st->spline_force_N, st->thrust_torque_Nm);
-	}
-	fprintf(out, "\n");
-	prsm_problems none;
-	prsm_problems_init(&none);
-	for (int k = 0; k < m->stages; k++) {
-		fprintf(out, "---- stage %d ----\n", k + 1);
-		prsm_io_analysis_print_text(out, &m->analysis[k], &m->design[k], &perf[k], &none);
-		fprintf(out, "\n");
-	}
-	fprintf(out, "Warnings: %d\n", prsm_problems_total(warnings));
-	for (int i = 0; i < warnings->count; i++)
-		fprintf(out, "  %s: %s\n", warnings->items[i].pointer, warnings->items[i].message);
-}

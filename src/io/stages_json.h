@@ -45,8 +45,4 @@ int prsm_io_multistage_load(prsm_io_multistage *out, const cJSON *doc, prsm_prob
 cJSON *prsm_io_multistage_to_json(const prsm_io_multistage *m, const prsm_performance *perf,
                                   const prsm_problems *warnings);
 
-/* The text summary. */
-void prsm_io_multistage_print_text(FILE *out, const prsm_io_multistage *m,
-                                   const prsm_performance *perf, const prsm_problems *warnings);
-
 #endif
