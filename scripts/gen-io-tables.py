@@ -3,10 +3,10 @@
 
 Usage: gen-io-tables.py --out-dir DIR SCHEMA...   (Python standard library only)
 
-A schema that carries a root "x-prsm" object is a document the C code reads. The annotation
-names the C struct the document fills ("struct"), the header that declares it ("header", under
-src/) and the members the document does not set ("computed": filled by the model or by a
-hook). Every property then carries its own "x-prsm":
+A schema whose root, or an object under its $defs, carries an "x-prsm" object with a "table"
+name is a document (or part of one) the C code reads: prsm_io_t_<table>. The annotation names
+the C struct it fills ("struct"), the header that declares it ("header", under src/) and the
+members the document does not set ("computed": filled by the model or by a hook). Every property then carries its own "x-prsm":
 
   "field": "pitch_mm"            the struct member (a path: "losses.spin", "screw_material")
   "scale": 1000 | "(M_PI / 180.0)"  stored = JSON value x scale (numbers; an expression is
@@ -101,10 +101,11 @@ def leaf_members(structs, sname, prefix=''):
 # ---- schema walk -----------------------------------------------------------------------------
 
 class Gen:
-    def __init__(self, schema, path, src_root):
+    def __init__(self, schema, path, src_root, node=None):
         self.schema = schema
         self.path = path
-        self.root_note = schema['x-prsm']
+        self.node = schema if node is None else node
+        self.root_note = self.node['x-prsm']
         self.doc = self.root_note['table']
         header = os.path.join(src_root, self.root_note['header'])
         with open(header, encoding='utf-8') as f:
@@ -277,7 +278,7 @@ class Gen:
 
     def run(self):
         self.enum_arrays = []
-        root = self.table(self.schema, '', self.root_note['struct'], '')
+        root = self.table(self.node, '', self.root_note['struct'], '')
         members = leaf_members(self.structs, self.root_note['struct'])
         computed = set(self.root_note.get('computed', []))
         for c in computed:
@@ -355,11 +356,13 @@ def main(argv):
         for path in a.schemas:
             with open(path, encoding='utf-8') as f:
                 schema = json.load(f)
-            if 'x-prsm' not in schema:
-                continue
-            g = Gen(schema, os.path.basename(path), a.src)
-            g.run()
-            gens.append(g)
+            # a document's root, or a part of it under $defs, that names its table
+            nodes = [None] if 'table' in schema.get('x-prsm', {}) else []
+            nodes += [d for d in schema.get('$defs', {}).values() if 'table' in d.get('x-prsm', {})]
+            for node in nodes:
+                g = Gen(schema, os.path.basename(path), a.src, node)
+                g.run()
+                gens.append(g)
         emit(gens, a.out_dir)
     except GenError as e:
         print(f'gen-io-tables: {e}', file=sys.stderr)

@@ -7,13 +7,15 @@
  * schema's limits, removed, or joined by a misspelt key; each property of the schema the design
  * lacks added with each of those values), go through both readers; the
  * return codes, the problem lists (pointer, code, message, in order) and the structs must be
- * identical. The legacy reader (tests/legacy/) goes once every document is ported.
+ * identical; the same for the analyze request's "assembly" options. The legacy readers
+ * (tests/legacy/) go once every document is ported.
  */
 #include "test_support.h"
 
 #include <dirent.h>
 
 #include "io/design_json.h"
+#include "io/errors_json.h"
 #include "io/global.h"
 #include "io/json_util.h"
 #include "legacy/design_reader_legacy.h"
@@ -22,7 +24,7 @@ typedef struct {
 	int documents, valid, invalid;
 } tally;
 
-static void compare_one(const cJSON *doc, tally *t)
+static void compare_design(const cJSON *doc, tally *t)
 {
 	prsm_design a, b;
 	prsm_problems pa, pb;
@@ -74,6 +76,43 @@ static void compare_one(const cJSON *doc, tally *t)
 	}
 }
 
+typedef void (*compare_fn)(const cJSON *doc, tally *t);
+
+/* The analyze request's "assembly" options, read for case A by both readers. */
+static prsm_design assembly_design;
+
+static void compare_assembly(const cJSON *doc, tally *t)
+{
+	prsm_assembly_options a, b;
+	prsm_problems pa, pb;
+	prsm_problems_init(&pa);
+	prsm_problems_init(&pb);
+	memset(&a, 0, sizeof a);
+	memset(&b, 0, sizeof b);
+	int ra = prsm_legacy_assembly_options_from_json(&a, doc, "/assembly", &assembly_design, &pa);
+	int rb = prsm_io_assembly_options_from_json(&b, doc, "/assembly", &assembly_design, &pb);
+	t->documents++;
+	if (ra == 0)
+		t->valid++;
+	else
+		t->invalid++;
+	int same = ra == rb && pa.count == pb.count && memcmp(&a, &b, sizeof a) == 0;
+	for (int i = 0; same && i < pa.count; i++)
+		same = !strcmp(pa.items[i].pointer, pb.items[i].pointer) && !strcmp(pa.items[i].code, pb.items[i].code) &&
+		       !strcmp(pa.items[i].message, pb.items[i].message);
+	if (!same) {
+		char *text = cJSON_PrintUnformatted(doc);
+		print_error("assembly %s: legacy rc %d (%d problems), table rc %d (%d problems)\n", text, ra, pa.count,
+		            rb, pb.count);
+		for (int i = 0; i < pa.count; i++)
+			print_error("  legacy: %s %s\n", pa.items[i].pointer, pa.items[i].message);
+		for (int i = 0; i < pb.count; i++)
+			print_error("  table:  %s %s\n", pb.items[i].pointer, pb.items[i].message);
+		cJSON_free(text);
+		fail();
+	}
+}
+
 /* Every value a member could wrongly (or rightly) hold. */
 static cJSON *variant(int k, double limit_hint)
 {
@@ -107,7 +146,7 @@ static const double limits[] = {12, 50, 90, 64, 500, 5000, 20000, 2000, 1e8, 1e5
 
 /* Every member of every object under node, in turn: replaced by each variant, removed, and a
  * misspelt sibling added; each resulting document compared. root is the whole design. */
-static void mutate_all(cJSON *root, cJSON *node, tally *t)
+static void mutate_all(cJSON *root, cJSON *node, tally *t, compare_fn compare_one)
 {
 	if (!cJSON_IsObject(node) && !cJSON_IsArray(node))
 		return;
@@ -131,7 +170,7 @@ static void mutate_all(cJSON *root, cJSON *node, tally *t)
 				cJSON_Delete(v);
 			}
 		}
-		mutate_all(root, m, t);
+		mutate_all(root, m, t, compare_one);
 	}
 	if (cJSON_IsObject(node)) {
 		/* each member removed in turn: unlinked and linked back by hand, so the document stays
@@ -188,7 +227,7 @@ static const cJSON *resolve(const cJSON *node)
 /* Every property of the schema that node lacks, added in turn with every variant value (an
  * object property as an empty object, then filled the same way): the members the examples never
  * use are read too. */
-static void fill_absent(cJSON *root, cJSON *node, const cJSON *schema, tally *t)
+static void fill_absent(cJSON *root, cJSON *node, const cJSON *schema, tally *t, compare_fn compare_one)
 {
 	const cJSON *props = cJSON_GetObjectItemCaseSensitive(resolve(schema), "properties");
 	for (const cJSON *p = props ? props->child : NULL; p; p = p->next) {
@@ -197,7 +236,7 @@ static void fill_absent(cJSON *root, cJSON *node, const cJSON *schema, tally *t)
 		const int is_object = cJSON_GetObjectItemCaseSensitive(ps, "properties") != NULL;
 		if (have) {
 			if (is_object && cJSON_IsObject(have))
-				fill_absent(root, have, ps, t);
+				fill_absent(root, have, ps, t, compare_one);
 			continue;
 		}
 		for (int k = 0; k < VARIANTS; k++)
@@ -209,7 +248,7 @@ static void fill_absent(cJSON *root, cJSON *node, const cJSON *schema, tally *t)
 		if (is_object) {
 			cJSON *obj = cJSON_AddObjectToObject(node, p->string);
 			compare_one(root, t);
-			fill_absent(root, obj, ps, t);
+			fill_absent(root, obj, ps, t, compare_one);
 			cJSON_DeleteItemFromObjectCaseSensitive(node, p->string);
 		}
 	}
@@ -270,7 +309,7 @@ static void each_file(const char *dir, void (*fn)(const char *path, void *ctx), 
 }
 
 typedef struct {
-	tally *t;
+	tally *t, *assembly;
 	int mutate;
 } walk_ctx;
 
@@ -284,16 +323,21 @@ static void check_file(const char *path, void *vctx)
 	int n;
 	designs_of(doc, designs, &n);
 	for (int i = 0; i < n; i++) {
-		compare_one(designs[i], c->t);
+		compare_design(designs[i], c->t);
 		if (c->mutate) {
 			cJSON *copy = cJSON_Duplicate(designs[i], 1);
-			mutate_all(copy, copy, c->t);
-			fill_absent(copy, copy, schema_root, c->t);
+			mutate_all(copy, copy, c->t, compare_design);
+			fill_absent(copy, copy, schema_root, c->t, compare_design);
 			cJSON_Delete(copy);
 		}
 	}
 	/* the document itself (not a design, mostly): both must refuse it alike */
-	compare_one(doc, c->t);
+	compare_design(doc, c->t);
+	/* its assembly options, when it has them, and the document itself as options */
+	const cJSON *as = cJSON_GetObjectItemCaseSensitive(doc, "assembly");
+	if (as)
+		compare_assembly(as, c->assembly);
+	compare_assembly(doc, c->assembly);
 	cJSON_Delete(doc);
 }
 
@@ -302,8 +346,8 @@ static void test_examples_and_variants(void **state)
 	(void)state;
 	char src[512], dir[1024];
 	prsm_test_source_dir(src, sizeof src);
-	tally t = {0, 0, 0};
-	walk_ctx c = {&t, 1};
+	tally t = {0, 0, 0}, ta = {0, 0, 0};
+	walk_ctx c = {&t, &ta, 1};
 	snprintf(dir, sizeof dir, "%s/schemas/design.schema.json", src);
 	cJSON *schema = read_json(dir);
 	assert_non_null(schema);
@@ -323,8 +367,8 @@ static void test_fuzz_corpora(void **state)
 	(void)state;
 	char src[512], dir[1024];
 	prsm_test_source_dir(src, sizeof src);
-	tally t = {0, 0, 0};
-	walk_ctx c = {&t, 0};
+	tally t = {0, 0, 0}, ta = {0, 0, 0};
+	walk_ctx c = {&t, &ta, 0};
 	const char *kinds[] = {"request", "study", "optimization", "allocation"};
 	for (int k = 0; k < 4; k++) {
 		snprintf(dir, sizeof dir, "%s/tests/fuzz/corpus/%s", src, kinds[k]);
@@ -334,12 +378,49 @@ static void test_fuzz_corpora(void **state)
 	assert_true(t.documents > 300);
 }
 
+/* The assembly options of every example and their variants (the analyze request's $defs). */
+static void test_assembly_options(void **state)
+{
+	(void)state;
+	char src[512], path[1024];
+	prsm_test_source_dir(src, sizeof src);
+	snprintf(path, sizeof path, "%s/studies/case-a.json", src);
+	cJSON *design = read_json(path);
+	prsm_problems p;
+	prsm_problems_init(&p);
+	assert_int_equal(prsm_io_design_from_json(&assembly_design, design, "", &p), 0);
+	assert_int_equal(prsm_design_resolve(&assembly_design, &p), 0);
+	cJSON_Delete(design);
+	snprintf(path, sizeof path, "%s/schemas/analyze-request.schema.json", src);
+	cJSON *schema = read_json(path);
+	assert_non_null(schema);
+	schema_root = schema;
+	const cJSON *node = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(schema, "$defs"), "assembly");
+	tally t = {0, 0, 0};
+	const char *seeds[] = {"{}", "{\"mode\": \"exact\", \"angles_per_revolution\": 64, \"stroke_mm\": 150}",
+	                       "{\"angles_per_revolution\": 4096, \"spectrum_revolutions\": 1000}",
+	                       "{\"angles_per_revolution\": 1000, \"stroke_mm\": 10000, \"curve\": true}"};
+	for (size_t i = 0; i < sizeof seeds / sizeof seeds[0]; i++) {
+		cJSON *doc = cJSON_Parse(seeds[i]);
+		compare_assembly(doc, &t);
+		mutate_all(doc, doc, &t, compare_assembly);
+		fill_absent(doc, doc, node, &t, compare_assembly);
+		cJSON_Delete(doc);
+	}
+	print_message("assembly options and their variants: %d documents (%d valid, %d invalid), identical\n",
+	              t.documents, t.valid, t.invalid);
+	assert_true(t.invalid > 100 && t.valid > 20);
+	cJSON_Delete(schema);
+	schema_root = NULL;
+}
+
 int main(void)
 {
 	prsm_global_init();
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_examples_and_variants),
 		cmocka_unit_test(test_fuzz_corpora),
+		cmocka_unit_test(test_assembly_options),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -15,7 +15,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "io/doc.h"
 #include "io/json_util.h"
+#include "prsm_io_tables.h"
 
 /* ---- field tables ------------------------------------------------------------------------ */
 
@@ -92,11 +94,6 @@ static const char *const roller_keys[] = {
 	"pin_radial_um", "pin_tangential_um", "gear_phase_mrad", "tilt_radial_mrad",
 	"tilt_tangential_mrad", NULL};
 static const char *const carrier_keys[] = {"runout_um", "runout_phase_deg", NULL};
-
-static const char *const assembly_keys[] = {
-	"mode", "measuring_load_N", "angles_per_revolution", "stroke_mm", "spectrum_revolutions",
-	"curve", NULL};
-static const char *const mode_names[] = {"linear", "exact", NULL}; /* index = PRSM_MODE_* */
 
 int prsm_io_error_field_find(prsm_io_error_field *out, const char *part, const char *key)
 {
@@ -293,6 +290,17 @@ int prsm_io_errors_from_json(prsm_errors *out, const cJSON *obj, const char *poi
 
 /* ---- reading assembly options ------------------------------------------------------------ */
 
+/* A problem was added, since the first `from` problems, at obj_pointer/key. */
+static int problem_at(const prsm_problems *problems, int from, const char *obj_pointer, const char *key)
+{
+	char ptr[PRSM_JSON_POINTER_MAX];
+	prsm_json_pointer_append(ptr, sizeof ptr, obj_pointer, key);
+	for (int i = from; i < problems->count; i++)
+		if (strcmp(problems->items[i].pointer, ptr) == 0)
+			return 1;
+	return 0;
+}
+
 int prsm_io_assembly_options_from_json(prsm_assembly_options *out, const cJSON *obj,
                                        const char *pointer, const prsm_design *d,
                                        prsm_problems *problems)
@@ -305,30 +313,16 @@ int prsm_io_assembly_options_from_json(prsm_assembly_options *out, const cJSON *
 	const int before = prsm_problems_total(problems);
 	if (prsm_json_object_value(obj, base, problems) != 0)
 		return PRSM_EINVAL;
-	prsm_json_check_keys(obj, base, assembly_keys, problems);
-
-	int mode;
-	if (prsm_json_get_enum(&mode, obj, base, "mode", PRSM_JSON_OPTIONAL, mode_names, problems) ==
-	    PRSM_JSON_PRESENT)
-		out->mode = mode == 0 ? PRSM_MODE_LINEAR : PRSM_MODE_EXACT;
-	prsm_json_get_number(&out->measuring_load_N, obj, base, "measuring_load_N", PRSM_JSON_OPTIONAL,
-	                     range(0.0, 1, PRSM_IO_ASSEMBLY_LOAD_MAX_N, 0), problems);
-	/* the sample-count rule needs these three valid (or absent: their defaults) */
-	const int angles_ok =
-		prsm_json_get_int(&out->angles_per_revolution, obj, base, "angles_per_revolution",
-		                  PRSM_JSON_OPTIONAL, PRSM_IO_ASSEMBLY_ANGLES_MIN,
-		                  PRSM_IO_ASSEMBLY_ANGLES_MAX, problems) >= 0;
-	const int stroke_ok =
-		prsm_json_get_number(&out->stroke_mm, obj, base, "stroke_mm", PRSM_JSON_OPTIONAL,
-		                     range(0.0, 0, PRSM_IO_ASSEMBLY_STROKE_MAX_MM, 0), problems) >= 0;
-	const int spectrum_ok =
-		prsm_json_get_int(&out->spectrum_revolutions, obj, base, "spectrum_revolutions",
-		                  PRSM_JSON_OPTIONAL, 1, PRSM_IO_ASSEMBLY_SPECTRUM_REVOLUTIONS_MAX,
-		                  problems) >= 0;
-	prsm_json_get_bool(&out->curve, obj, base, "curve", PRSM_JSON_OPTIONAL, problems);
+	/* the fields: schemas/analyze-request.schema.json, $defs/assembly (x-prsm) */
+	prsm_io_read(out, &prsm_io_t_assembly_options, obj, base, problems);
 
 	/* transmission error is sampled angles_per_revolution times per screw revolution over the
-	 * longer of the spectrum record and the stroke (stroke / lead revolutions) */
+	 * longer of the spectrum record and the stroke (stroke / lead revolutions); the rule needs
+	 * the three valid (or absent: their defaults) */
+	const int from = before;
+	const int angles_ok = !problem_at(problems, from, base, "angles_per_revolution");
+	const int stroke_ok = !problem_at(problems, from, base, "stroke_mm");
+	const int spectrum_ok = !problem_at(problems, from, base, "spectrum_revolutions");
 	const double lead_mm = d->starts * d->pitch_mm;
 	if (angles_ok && stroke_ok && spectrum_ok && lead_mm > 0.0) {
 		const double stroke_revs = out->stroke_mm / lead_mm;

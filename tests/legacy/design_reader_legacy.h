@@ -10,4 +10,10 @@
 int prsm_legacy_design_from_json(prsm_design *out, const cJSON *doc, const char *base_pointer,
                                  prsm_problems *problems);
 
+#include "model/assembly.h"
+
+int prsm_legacy_assembly_options_from_json(prsm_assembly_options *out, const cJSON *obj,
+                                           const char *pointer, const prsm_design *d,
+                                           prsm_problems *problems);
+
 #endif
