@@ -22,8 +22,8 @@ members the document does not set ("computed": filled by the model or by a hook)
   "skip": true                   checked (type, length) and not stored (names, descriptions)
   on objects: "field" + "struct" (a member of another struct type: its own table), "init"
   ([{"field", "value"}] set when the section is present), "after" (a hook run on the section
-  once its properties are read), "order" (the order the properties are read and their problems
-  reported, when it is not the schema's).
+  once its properties are read), "order" (properties read first, in this order, and their
+  problems reported so; the rest follow in the schema's order).
 
 Limits come from the schema itself (minimum, maximum, exclusive*, maxLength, required), so the
 schema is the single source of truth and the C reader cannot disagree with it. The generator
@@ -150,9 +150,10 @@ class Gen:
         keys = list(props)  # the schema's order: the unknown-key message lists them so
         order = node.get('x-prsm', {}).get('order')
         if order is not None:
-            if sorted(order) != sorted(props):
-                raise GenError(f'{self.path}: {ptr or "/"} "order" must list every property once')
-            props = {k: props[k] for k in order}
+            if len(set(order)) != len(order) or not set(order) <= set(props):
+                raise GenError(f'{self.path}: {ptr or "/"} "order" must name properties, each once')
+            # the listed ones in that order, then the others in the schema's
+            props = {**{k: props[k] for k in order}, **{k: v for k, v in props.items() if k not in order}}
         for key, raw in props.items():
             prop = self.resolve(raw)
             note = prop.get('x-prsm')

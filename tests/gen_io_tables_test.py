@@ -18,13 +18,24 @@ with open(os.path.join(src, 'schemas', 'design.schema.json'), encoding='utf-8') 
 failed = 0
 
 
-def run(schema):
+def run(schema, header_edit=None):
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, 'design.schema.json')
         with open(path, 'w', encoding='utf-8') as f:
             json.dump(schema, f)
+        src_dir = os.path.join(src, 'src')
+        if header_edit:
+            # a copy of the headers with one edit (a new struct member)
+            src_dir = os.path.join(tmp, 'src')
+            os.makedirs(os.path.join(src_dir, 'model'))
+            with open(os.path.join(src, 'src', 'model', 'design.h'), encoding='utf-8') as f:
+                text = f.read()
+            old, new = header_edit
+            assert old in text
+            with open(os.path.join(src_dir, 'model', 'design.h'), 'w', encoding='utf-8') as f:
+                f.write(text.replace(old, new))
         r = subprocess.run(['/usr/bin/python3', gen, '--out-dir', os.path.join(tmp, 'out'), '--src',
-                            os.path.join(src, 'src'), path], capture_output=True, text=True)
+                            src_dir, path], capture_output=True, text=True)
         out = os.path.join(tmp, 'out', 'prsm_io_tables.c')
         text = ''
         if os.path.exists(out):
@@ -33,9 +44,9 @@ def run(schema):
         return r.returncode, r.stderr + text
 
 
-def check(name, schema, want_rc, want_text=''):
+def check(name, schema, want_rc, want_text='', header_edit=None):
     global failed
-    rc, err = run(schema)
+    rc, err = run(schema, header_edit)
     ok = rc == want_rc and want_text in err
     print(('ok   ' if ok else 'FAIL ') + name + ('' if ok else f': rc {rc}, stderr {err.strip()!r}'))
     failed += not ok
@@ -68,4 +79,16 @@ check('a C limit that differs from the schema fails the build (its static assert
 s = copy.deepcopy(design)
 props(s, 'geometry', 'hand')['x-prsm']['values'] = ['PRSM_HAND_RIGHT']
 check('an enum with a C constant missing is refused', s, 1, 'one C constant per enum name')
+
+# docs/hacking.md's worked example: a new numeric field is one schema property and one member
+member = ('\tdouble lp_material_factor;', '\tdouble preload_spring_N_per_mm; /* N/mm */\n\tdouble lp_material_factor;')
+s = copy.deepcopy(design)
+props(s, 'life')['properties']['preload_spring_N_per_um'] = {
+    'type': 'number', 'minimum': 0, 'maximum': 1e6,
+    'x-prsm': {'field': 'preload_spring_N_per_mm', 'scale': 1000.0}}
+check('the worked example: property + member generate the field', s, 0,
+      '.name = "preload_spring_N_per_um", .required = 0, .offset = offsetof(prsm_design_life, '
+      'preload_spring_N_per_mm), .kind = PRSM_IO_NUMBER, .min = 0.0, .max = 1000000.0', member)
+check('the worked example: the member alone fails', design, 1, 'life.preload_spring_N_per_mm', member)
+check('the worked example: the property alone fails', s, 1, 'has no member "preload_spring_N_per_mm"')
 sys.exit(1 if failed else 0)
