@@ -14,7 +14,9 @@ members the document does not set ("computed": filled by the model or by a hook)
   "divide": 1000                 stored = JSON value / divide (for bit-identical unit changes)
   "limits": {"maximum": "PRSM_X_MAX"}   the C constant must equal the schema (static assert;
                                  the root's "includes" names the headers that define them)
-  "values": ["PRSM_HAND_RIGHT", ...]   C constants of an enum, in the schema's enum order
+  "values": ["PRSM_HAND_RIGHT", ...]   C constants of an enum, in the schema's enum order (into
+                                 an int or an int-sized typedef'd enum)
+  integers fill an int, or a size_t (from 0 up)
   "set": {"field": "thinning_rule", "value": "PRSM_THINNING_GIVEN"}   when present and valid
   "conflict": {"with": "thinning", "message": "..."}   both present: a problem at this property
   "hook": {"name": "engagement", "writes": ["engaged_threads"]}   read by hand-written C
@@ -74,6 +76,10 @@ def parse_structs(text):
             decl = ' '.join(decl.split())
             if not decl:
                 continue
+            fp = re.search(r'\(\s*\*\s*(\w+)\s*\)\s*\(', decl)
+            if fp:  # a function pointer member
+                members.append(('function pointer', fp.group(1), False))
+                continue
             m = re.match(r'^((?:const\s+)?(?:unsigned\s+|signed\s+)?\w+(?:\s*\*)*)\s+(.*)$', decl)
             if not m:
                 raise GenError(f'cannot read the member declaration "{decl}" of {name}')
@@ -109,7 +115,10 @@ class Gen:
         self.doc = self.root_note['table']
         header = os.path.join(src_root, self.root_note['header'])
         with open(header, encoding='utf-8') as f:
-            self.structs = parse_structs(f.read())
+            text = f.read()
+        self.structs = parse_structs(text)
+        # typedef'd enums fill like an int (the generated file asserts they are int-sized)
+        self.enums = set(re.findall(r'typedef\s+enum\s*\w*\s*\{[^}]*\}\s*(\w+)\s*;', text))
         self.tables = []      # (c name, struct, [field initialisers], [keys])
         self.hooks = set()
         self.written = set()  # member paths of the root struct the document sets
@@ -232,13 +241,17 @@ class Gen:
                 init['kind'] = 'PRSM_IO_ENUM'
                 init['names'] = base + '_names'
                 init['values'] = base + '_values'
+                if ctype != 'int' and ctype not in self.enums:
+                    raise GenError(f'{where}: an enum fills an int or an enum type, not {ctype}')
                 if ctype != 'int':
-                    raise GenError(f'{where}: an enum fills an int, not {ctype}')
+                    self.asserts.append((f'sizeof({ctype})', 'sizeof(int)', f'{ptr}/{key}: {ctype} is int-sized'))
             else:
                 if ptype not in KINDS:
                     raise GenError(f'{where}: type {ptype!r} needs a hook')
                 init['kind'] = KINDS[ptype]
                 want = {'number': 'double', 'integer': 'int', 'boolean': 'int'}.get(ptype)
+                if ptype == 'integer' and ctype == 'size_t':
+                    init['kind'], want = 'PRSM_IO_SIZE', 'size_t'
                 if want and ctype != want:
                     raise GenError(f'{where}: {ptype} fills a {want}, but {sname}.{field} is {ctype}')
                 lo, hi = float('-inf'), float('inf')
@@ -253,6 +266,8 @@ class Gen:
                     hi, hi_x = prop['exclusiveMaximum'], 1
                 if ptype == 'integer' and (lo_x or hi_x or lo == float('-inf') or hi == float('inf')):
                     raise GenError(f'{where}: an integer needs inclusive minimum and maximum')
+                if init['kind'] == 'PRSM_IO_SIZE' and lo < 0:
+                    raise GenError(f'{where}: a size_t member needs a minimum of 0 or more')
                 init['min'], init['max'] = c_double(lo), c_double(hi)
                 init['min_exclusive'], init['max_exclusive'] = str(lo_x), str(hi_x)
                 if 'scale' in note:

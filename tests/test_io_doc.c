@@ -17,6 +17,7 @@
 #include "io/design_json.h"
 #include "io/errors_json.h"
 #include "io/global.h"
+#include "io/study_json.h"
 #include "io/json_util.h"
 #include "legacy/design_reader_legacy.h"
 
@@ -111,6 +112,45 @@ static void compare_assembly(const cJSON *doc, tally *t)
 		cJSON_free(text);
 		fail();
 	}
+}
+
+/* A study's "monte_carlo" section, read into copies of one loaded study by both readers. */
+static prsm_io_study *mc_study, *mc_copies[2];
+
+static void compare_mc(const cJSON *mc, tally *t)
+{
+	cJSON *doc = cJSON_CreateObject();
+	cJSON_AddItemToObject(doc, "monte_carlo", cJSON_Duplicate(mc, 1));
+	/* the readers write only study.mc and read the outputs: two copies of the study made once,
+	 * their mc reset for each document */
+	prsm_io_study *a = mc_copies[0], *b = mc_copies[1];
+	a->study.mc = mc_study->study.mc;
+	b->study.mc = mc_study->study.mc;
+	prsm_problems pa, pb;
+	prsm_problems_init(&pa);
+	prsm_problems_init(&pb);
+	prsm_legacy_study_mc_from_json(a, doc, &pa);
+	prsm_io_study_mc_from_json(b, doc, &pb);
+	t->documents++;
+	if (pa.count == 0)
+		t->valid++;
+	else
+		t->invalid++;
+	int same = pa.count == pb.count && memcmp(&a->study.mc, &b->study.mc, sizeof a->study.mc) == 0;
+	for (int i = 0; same && i < pa.count; i++)
+		same = !strcmp(pa.items[i].pointer, pb.items[i].pointer) && !strcmp(pa.items[i].code, pb.items[i].code) &&
+		       !strcmp(pa.items[i].message, pb.items[i].message);
+	if (!same) {
+		char *text = cJSON_PrintUnformatted(doc);
+		print_error("monte_carlo %s: legacy %d problems, table %d\n", text, pa.count, pb.count);
+		for (int i = 0; i < pa.count; i++)
+			print_error("  legacy: %s %s\n", pa.items[i].pointer, pa.items[i].message);
+		for (int i = 0; i < pb.count; i++)
+			print_error("  table:  %s %s\n", pb.items[i].pointer, pb.items[i].message);
+		cJSON_free(text);
+		fail();
+	}
+	cJSON_Delete(doc);
 }
 
 /* Every value a member could wrongly (or rightly) hold. */
@@ -414,6 +454,62 @@ static void test_assembly_options(void **state)
 	schema_root = NULL;
 }
 
+/* The monte_carlo sections of the example studies and their variants (the study's $defs). */
+static void test_study_monte_carlo(void **state)
+{
+	(void)state;
+	char src[512], path[1024];
+	prsm_test_source_dir(src, sizeof src);
+	snprintf(path, sizeof path, "%s/studies/case-a-tolerances.json", src);
+	cJSON *study = read_json(path);
+	assert_non_null(study);
+	mc_study = calloc(1, sizeof *mc_study);
+	assert_non_null(mc_study);
+	prsm_problems p;
+	prsm_problems_init(&p);
+	assert_int_equal(prsm_io_study_load(mc_study, study, NULL, &p), 0);
+	for (int k = 0; k < 2; k++) {
+		mc_copies[k] = malloc(sizeof *mc_copies[k]);
+		assert_non_null(mc_copies[k]);
+		memcpy(mc_copies[k], mc_study, sizeof *mc_study);
+	}
+	snprintf(path, sizeof path, "%s/schemas/study.schema.json", src);
+	cJSON *schema = read_json(path);
+	assert_non_null(schema);
+	schema_root = schema;
+	const cJSON *node = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(schema, "$defs"), "monte_carlo");
+	tally t = {0, 0, 0};
+	const cJSON *outputs = cJSON_GetObjectItemCaseSensitive(study, "outputs");
+	const char *first = cJSON_IsArray(outputs) && cJSON_IsString(outputs->child) ? outputs->child->valuestring : "backlash_um";
+	char with_targets[512];
+	snprintf(with_targets, sizeof with_targets,
+	         "{\"samples\": 4096, \"seed\": 7, \"failure\": {\"policy\": \"abort\"},"
+	         " \"targets\": [{\"output\": \"%s\", \"standard_error\": 0.1}, {\"output\": \"nope\", \"cv\": 1}]}",
+	         first);
+	const char *seeds[] = {"{}", with_targets, "{\"sampler\": \"sobol\", \"block_size\": 64, \"time_cap_s\": 5}"};
+	for (size_t i = 0; i < sizeof seeds / sizeof seeds[0]; i++) {
+		cJSON *mc = cJSON_Parse(seeds[i]);
+		assert_non_null(mc);
+		compare_mc(mc, &t);
+		mutate_all(mc, mc, &t, compare_mc);
+		fill_absent(mc, mc, node, &t, compare_mc);
+		cJSON_Delete(mc);
+	}
+	const cJSON *own = cJSON_GetObjectItemCaseSensitive(study, "monte_carlo");
+	if (own)
+		compare_mc(own, &t);
+	print_message("study monte_carlo sections and their variants: %d documents (%d valid, %d invalid), identical\n",
+	              t.documents, t.valid, t.invalid);
+	assert_true(t.invalid > 100 && t.valid > 20);
+	cJSON_Delete(schema);
+	schema_root = NULL;
+	cJSON_Delete(study);
+	free(mc_study);
+	free(mc_copies[0]);
+	free(mc_copies[1]);
+	mc_study = mc_copies[0] = mc_copies[1] = NULL;
+}
+
 int main(void)
 {
 	prsm_global_init();
@@ -421,6 +517,7 @@ int main(void)
 		cmocka_unit_test(test_examples_and_variants),
 		cmocka_unit_test(test_fuzz_corpora),
 		cmocka_unit_test(test_assembly_options),
+		cmocka_unit_test(test_study_monte_carlo),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

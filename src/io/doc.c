@@ -40,6 +40,16 @@ static void read_field(void *base, const prsm_io_field *f, const cJSON *obj, con
 			set_int(base, f->offset, v);
 		break;
 	}
+	case PRSM_IO_SIZE: {
+		int v;
+		present = prsm_json_get_int(&v, obj, ptr, f->name, req, (int)f->min, (int)f->max, problems) ==
+		          PRSM_JSON_PRESENT;
+		if (present) {
+			const size_t z = (size_t)v;
+			memcpy((char *)base + f->offset, &z, sizeof z);
+		}
+		break;
+	}
 	case PRSM_IO_BOOL: {
 		int v;
 		present = prsm_json_get_bool(&v, obj, ptr, f->name, req, problems) == PRSM_JSON_PRESENT;

@@ -22,6 +22,7 @@
 typedef enum {
 	PRSM_IO_NUMBER = 1, /* double, scaled */
 	PRSM_IO_INT,        /* int within [min, max] */
+	PRSM_IO_SIZE,       /* size_t within [min, max] (min >= 0) */
 	PRSM_IO_BOOL,       /* int 0 / 1 */
 	PRSM_IO_ENUM,       /* int: values[i] for names[i] */
 	PRSM_IO_STRING,     /* checked (max_chars) and, with skip, not stored */

@@ -20,12 +20,14 @@
 #include <gsl/gsl_cdf.h>
 
 #include "io/design_json.h"
+#include "io/doc.h"
 #include "io/errors_json.h"
 #include "io/json_util.h"
 #include "model/analysis.h"
 #include "model/performance.h"
 #include "util/utf8.h"
 #include "util/version.h"
+#include "prsm_io_tables.h"
 
 #ifndef PRSM_VERSION
 #define PRSM_VERSION "0.0.0"
@@ -43,13 +45,7 @@ static const char *const tolerance_keys[] = {
 	"tol", "tol_um", "tol_mrad", "tol_um_per_300mm", "cpk", "nominal", "shared", NULL};
 static const char *const dist_names[] = {"normal", "truncnormal", "uniform", "triangular",
                                          "lognormal", "rayleigh", NULL}; /* = prsm_dist_kind */
-static const char *const mc_keys[] = {"samples", "seed", "sampler", "block_size", "threads",
-                                      "min_samples", "time_cap_s", "targets", "failure",
-                                      "edge_contact", NULL};
 static const char *const sampler_names[] = {"random", "lhs", "sobol", NULL};
-static const char *const failure_keys[] = {"policy", "max_failed_fraction", NULL};
-static const char *const policy_names[] = {"skip", "abort", NULL};
-static const char *const edge_names[] = {"exclude", "include", NULL};
 static const char *const target_keys[] = {"output", "standard_error", "cv", "yield_interval_width", NULL};
 static const char *const spec_keys[] = {"lower", "upper", NULL};
 static const char *const sens_keys[] = {"src", "stack", "sobol", NULL};
@@ -675,18 +671,10 @@ static void read_specs(prsm_io_study *s, const cJSON *doc, prsm_problems *pr)
 	}
 }
 
-static void read_mc(prsm_io_study *s, const cJSON *doc, prsm_problems *pr)
+/* "monte_carlo"."seed": an integer up to 2^53, which JSON may spell 1e3 */
+void prsm_io_hook_seed(void *base, const cJSON *mc, const char *p, prsm_problems *pr)
 {
-	prsm_mc_options *o = &s->study.mc;
-	prsm_mc_options_default(o);
-	const cJSON *mc = NULL;
-	char p[PRSM_JSON_POINTER_MAX] = "/monte_carlo";
-	if (prsm_json_get_section(&mc, p, sizeof p, doc, "", "monte_carlo", PRSM_JSON_OPTIONAL, mc_keys, pr) !=
-	    PRSM_JSON_PRESENT)
-		return;
-	int v;
-	if (prsm_json_get_int(&v, mc, p, "samples", PRSM_JSON_OPTIONAL, 2, PRSM_MC_MAX_SAMPLES, pr) == PRSM_JSON_PRESENT)
-		o->samples = (size_t)v;
+	prsm_mc_options *o = base;
 	double seed;
 	if (prsm_json_get_number(&seed, mc, p, "seed", PRSM_JSON_OPTIONAL,
 	                         (prsm_json_range){0.0, 9007199254740992.0, 0, 0}, pr) == PRSM_JSON_PRESENT) {
@@ -695,29 +683,18 @@ static void read_mc(prsm_io_study *s, const cJSON *doc, prsm_problems *pr)
 		else
 			o->seed = (uint64_t)seed;
 	}
-	if (prsm_json_get_enum(&v, mc, p, "sampler", PRSM_JSON_OPTIONAL, sampler_names, pr) == PRSM_JSON_PRESENT)
-		o->sampler = (prsm_sampler_kind)v;
-	if (prsm_json_get_int(&v, mc, p, "block_size", PRSM_JSON_OPTIONAL, PRSM_MC_MIN_BLOCK, PRSM_MC_MAX_BLOCK, pr) ==
-	    PRSM_JSON_PRESENT)
-		o->block_size = (size_t)v;
-	if (prsm_json_get_int(&v, mc, p, "threads", PRSM_JSON_OPTIONAL, 1, PRSM_MC_MAX_THREADS, pr) == PRSM_JSON_PRESENT)
-		o->threads = v;
-	if (prsm_json_get_int(&v, mc, p, "min_samples", PRSM_JSON_OPTIONAL, 0, PRSM_MC_MAX_SAMPLES, pr) ==
-	    PRSM_JSON_PRESENT)
-		o->min_samples = (size_t)v;
-	prsm_json_get_number(&o->time_cap_s, mc, p, "time_cap_s", PRSM_JSON_OPTIONAL,
-	                     (prsm_json_range){0.0, 86400.0 * 7, 1, 0}, pr);
-	if (prsm_json_get_enum(&v, mc, p, "edge_contact", PRSM_JSON_OPTIONAL, edge_names, pr) == PRSM_JSON_PRESENT)
-		o->edge = (prsm_edge_policy)v;
-	const cJSON *fail = NULL;
-	char fp[PRSM_JSON_POINTER_MAX];
-	if (prsm_json_get_section(&fail, fp, sizeof fp, mc, p, "failure", PRSM_JSON_OPTIONAL, failure_keys, pr) ==
-	    PRSM_JSON_PRESENT) {
-		if (prsm_json_get_enum(&v, fail, fp, "policy", PRSM_JSON_OPTIONAL, policy_names, pr) == PRSM_JSON_PRESENT)
-			o->failure = (prsm_failure_policy)v;
-		prsm_json_get_number(&o->max_failed_fraction, fail, fp, "max_failed_fraction", PRSM_JSON_OPTIONAL,
-		                     (prsm_json_range){0.0, 1.0, 0, 0}, pr);
-	}
+}
+
+void prsm_io_study_mc_from_json(prsm_io_study *s, const cJSON *doc, prsm_problems *pr)
+{
+	prsm_mc_options *o = &s->study.mc;
+	prsm_mc_options_default(o);
+	const cJSON *mc = NULL;
+	if (prsm_json_get_object(&mc, doc, "", "monte_carlo", PRSM_JSON_OPTIONAL, pr) != PRSM_JSON_PRESENT)
+		return;
+	/* the fields: schemas/study.schema.json, $defs/monte_carlo (x-prsm); the targets name the
+	 * study's outputs, so they are read here */
+	prsm_io_read(o, &prsm_io_t_monte_carlo, mc, "/monte_carlo", pr);
 	const cJSON *targets = cJSON_GetObjectItemCaseSensitive(mc, "targets");
 	if (targets) {
 		int n = cJSON_GetArraySize(targets);
@@ -971,7 +948,7 @@ int prsm_io_study_load(prsm_io_study *out, const cJSON *doc, prsm_problems *warn
 	out->n_tolerances = (size_t)nt;
 	read_outputs(out, doc, design_rc == 0, pr);
 	read_specs(out, doc, pr);
-	read_mc(out, doc, pr);
+	prsm_io_study_mc_from_json(out, doc, pr);
 	read_sensitivity(out, doc, pr);
 
 	/* variables, once everything they depend on is valid */

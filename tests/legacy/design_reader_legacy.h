@@ -16,4 +16,8 @@ int prsm_legacy_assembly_options_from_json(prsm_assembly_options *out, const cJS
                                            const char *pointer, const prsm_design *d,
                                            prsm_problems *problems);
 
+#include "io/study_json.h"
+
+void prsm_legacy_study_mc_from_json(prsm_io_study *s, const cJSON *doc, prsm_problems *pr);
+
 #endif
