@@ -23,6 +23,7 @@
 #include <gsl/gsl_errno.h>
 
 #include "opt/optimize.h"
+#include "opt/pareto.h"
 #include "io/global.h"
 
 static const double F_STAR = 0.5443310540;
@@ -480,6 +481,71 @@ static void test_errors(void **state)
 	assert_int_equal(r.evaluations, 0);
 }
 
+/* The point a Pareto result leads with: on random fronts (both senses, a degenerate range) the
+ * chosen point's normalised Chebyshev distance to the ideal is no larger than any other's, and
+ * strictly smaller than every earlier point's (the first on ties); an ideal point on the front
+ * leads; an empty front has none. */
+static void test_front_lead(void **state)
+{
+	(void)state;
+	prsm_opt_front *f = calloc(1, sizeof *f);
+	assert_non_null(f);
+	prsm_opt_problem p;
+	memset(&p, 0, sizeof p);
+	uint64_t x = 0x243F6A8885A308D3u;
+	for (int trial = 0; trial < 500; trial++) {
+		p.sense[0] = trial % 2 ? PRSM_OPT_MINIMISE : PRSM_OPT_MAXIMISE;
+		p.sense[1] = trial % 3 ? PRSM_OPT_MAXIMISE : PRSM_OPT_MINIMISE;
+		f->n_points = 1 + trial % PRSM_OPT_MAX_FRONT;
+		double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+		for (int i = 0; i < f->n_points; i++)
+			for (int k = 0; k < 2; k++) {
+				x ^= x << 13;
+				x ^= x >> 7;
+				x ^= x << 17;
+				double v = (double)(x >> 11) / 9007199254740992.0 * 100.0 - 50.0;
+				if (trial % 7 == 0 && k == 1)
+					v = 3.0; /* a degenerate objective */
+				f->points[i].objectives[k] = v;
+				lo[k] = fmin(lo[k], p.sense[k] * v);
+				hi[k] = fmax(hi[k], p.sense[k] * v);
+			}
+		for (int k = 0; k < 2; k++) {
+			f->ideal[k] = lo[k];
+			f->nadir[k] = hi[k];
+		}
+		const int lead = prsm_opt_front_lead(f, &p);
+		assert_true(lead >= 0 && lead < f->n_points);
+		double dist[PRSM_OPT_MAX_FRONT];
+		for (int i = 0; i < f->n_points; i++) {
+			/* the distance written out per objective, without the library's loop */
+			const double r0 = f->nadir[0] - f->ideal[0], r1 = f->nadir[1] - f->ideal[1];
+			const double d0 = r0 > 0.0 ? (p.sense[0] * f->points[i].objectives[0] - f->ideal[0]) / r0 : 0.0;
+			const double d1 = r1 > 0.0 ? (p.sense[1] * f->points[i].objectives[1] - f->ideal[1]) / r1 : 0.0;
+			dist[i] = d0 > d1 ? d0 : d1;
+		}
+		for (int i = 0; i < f->n_points; i++) {
+			assert_true(dist[lead] <= dist[i]);
+			if (i < lead)
+				assert_true(dist[lead] < dist[i]);
+		}
+	}
+	/* a point at the ideal of both objectives leads */
+	p.sense[0] = p.sense[1] = PRSM_OPT_MINIMISE;
+	f->n_points = 3;
+	const double pts[3][2] = {{1.0, 9.0}, {0.0, 0.0}, {9.0, 1.0}};
+	for (int i = 0; i < 3; i++) {
+		f->points[i].objectives[0] = pts[i][0];
+		f->points[i].objectives[1] = pts[i][1];
+	}
+	f->ideal[0] = f->ideal[1] = 0.0;
+	f->nadir[0] = f->nadir[1] = 9.0;
+	assert_int_equal(prsm_opt_front_lead(f, &p), 1);
+	f->n_points = 0;
+	assert_int_equal(prsm_opt_front_lead(f, &p), -1);
+	free(f);
+}
+
 int main(void)
 {
 	prsm_global_init();
@@ -487,7 +553,7 @@ int main(void)
 		cmocka_unit_test(test_tutorial_cobyla), cmocka_unit_test(test_tutorial_mma),
 		cmocka_unit_test(test_tutorial_slsqp),  cmocka_unit_test(test_tutorial_auglag),
 		cmocka_unit_test(test_mixed_integer),   cmocka_unit_test(test_determinism),
-		cmocka_unit_test(test_seed),
+		cmocka_unit_test(test_seed),            cmocka_unit_test(test_front_lead),
 		cmocka_unit_test(test_cancel),          cmocka_unit_test(test_budget),
 		cmocka_unit_test(test_infeasible),      cmocka_unit_test(test_errors),
 	};

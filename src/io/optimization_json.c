@@ -1106,20 +1106,7 @@ int prsm_io_optimization_execute(cJSON **result, const cJSON *doc, prsm_cancel_f
 			goto cleanup;
 		}
 		/* the point closest to the ideal (Chebyshev distance, normalised) leads the result */
-		int lead = -1;
-		double best = INFINITY;
-		for (int i = 0; i < front->n_points; i++) {
-			double dmax = 0.0;
-			for (int k = 0; k < 2; k++) {
-				double rg = front->nadir[k] - front->ideal[k];
-				double v = od->problem.sense[k] * front->points[i].objectives[k] - front->ideal[k];
-				dmax = fmax(dmax, rg > 0.0 ? v / rg : 0.0);
-			}
-			if (dmax < best) {
-				best = dmax;
-				lead = i;
-			}
-		}
+		const int lead = prsm_opt_front_lead(front, &od->problem);
 		od->robust.cancel = NULL; /* the result's re-checks run to the end */
 		add_run_figures(out, od, front->evaluations, front->anchor[0].combinations,
 		                front->anchor[0].pruned, front->local_runs, front->local_runs_feasible,

@@ -272,3 +272,22 @@ cleanup:
 	free(r);
 	return rc;
 }
+
+int prsm_opt_front_lead(const prsm_opt_front *front, const prsm_opt_problem *p)
+{
+	int lead = -1;
+	double best = INFINITY;
+	for (int i = 0; i < front->n_points; i++) {
+		double dmax = 0.0;
+		for (int k = 0; k < 2; k++) {
+			const double rg = front->nadir[k] - front->ideal[k];
+			const double v = p->sense[k] * front->points[i].objectives[k] - front->ideal[k];
+			dmax = fmax(dmax, rg > 0.0 ? v / rg : 0.0);
+		}
+		if (dmax < best) {
+			best = dmax;
+			lead = i;
+		}
+	}
+	return lead;
+}

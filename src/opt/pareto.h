@@ -68,6 +68,11 @@ int prsm_opt_weighted_sum(prsm_opt_result *out, double *ideal, double *range,
 int prsm_opt_pareto(prsm_opt_front *out, const prsm_opt_problem *p, const prsm_opt_options *o,
                     int objective_a, int objective_b, int points, prsm_error *err);
 
+/* The point of a front a result leads with: the one closest to the ideal point in the
+ * normalised Chebyshev distance max_k (sense_k f_k - ideal_k) / (nadir_k - ideal_k) over the two
+ * objectives (a zero range counts 0); the first such point on ties. -1 when the front is empty. */
+int prsm_opt_front_lead(const prsm_opt_front *front, const prsm_opt_problem *p);
+
 /* 1 when point u dominates v on objectives a and b of p (no worse in both, better in one). */
 int prsm_opt_dominates(const prsm_opt_problem *p, int a, int b, const double *fu, const double *fv);
 
