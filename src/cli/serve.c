@@ -7,11 +7,13 @@
  * queued again and resumes at the next start — and exits 0. Signals are blocked in every
  * thread and taken by sigwait() here, so no handler runs inside the libraries.
  */
+#include <limits.h>
 #include <pthread.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -23,9 +25,43 @@
 #include "job/jobs.h"
 #include "util/file.h"
 
-#ifndef PRSM_DATA_DIR
-#define PRSM_DATA_DIR "."
+#ifndef PRSM_SOURCE_DATA_DIR
+#define PRSM_SOURCE_DATA_DIR "."
 #endif
+#ifndef PRSM_BIN_TO_DATA
+#define PRSM_BIN_TO_DATA "../share/prsm"
+#endif
+
+/* dir holds the service's data (its schemas/ at least) */
+static int is_data_dir(const char *dir)
+{
+	char path[PATH_MAX];
+	struct stat st;
+	if (snprintf(path, sizeof path, "%s/schemas/design.schema.json", dir) >= (int)sizeof path)
+		return 0;
+	return stat(path, &st) == 0 && S_ISREG(st.st_mode);
+}
+
+/* Where the data is when --data-dir does not say: $PRSM_DATA_DIR; next to the binary as
+ * installed (<bindir>/PRSM_BIN_TO_DATA); else the source tree it was built from. */
+static const char *default_data_dir(char *buf, size_t cap)
+{
+	const char *env = getenv("PRSM_DATA_DIR");
+	if (env && env[0])
+		return env;
+	char exe[PATH_MAX];
+	ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+	if (n > 0) {
+		exe[n] = '\0';
+		char *slash = strrchr(exe, '/');
+		if (slash) {
+			*slash = '\0';
+			if (snprintf(buf, cap, "%s/%s", exe, PRSM_BIN_TO_DATA) < (int)cap && is_data_dir(buf))
+				return buf;
+		}
+	}
+	return PRSM_SOURCE_DATA_DIR;
+}
 
 #define TOKEN_MAX 511
 
@@ -50,8 +86,9 @@ static void serve_usage(FILE *f)
 	        "                       HTTP thread, then queues the request as a job (default 2000)\n"
 	        "  --sync-budget N      ... and only requests of at most N contact-gap evaluations\n"
 	        "                       (default 20000000; 0: every error analysis is a job)\n"
-	        "  --data-dir DIR       directory with schemas/, api/ and web/ (default %s)\n",
-	        PRSM_DATA_DIR);
+	        "  --data-dir DIR       directory with schemas/, api/ and web/ (default: $PRSM_DATA_DIR,\n"
+	        "                       else %s next to the binary when installed, else %s)\n",
+	        PRSM_BIN_TO_DATA, PRSM_SOURCE_DATA_DIR);
 }
 
 static int read_token(char *out, size_t size, const char *path)
@@ -79,7 +116,8 @@ int prsm_cli_serve(int argc, char **argv)
 	prsm_global_init();
 	prsm_http_options ho = PRSM_HTTP_OPTIONS_INIT;
 	prsm_jobs_options jo = PRSM_JOBS_OPTIONS_INIT;
-	ho.data_dir = PRSM_DATA_DIR;
+	char data_buf[PATH_MAX];
+	ho.data_dir = default_data_dir(data_buf, sizeof data_buf);
 	const char *token_file = NULL;
 	char token[TOKEN_MAX + 1] = "";
 	for (int i = 1; i < argc; i++) {
@@ -190,10 +228,10 @@ int prsm_cli_serve(int argc, char **argv)
 		prsm_jobs_close(jobs);
 		return PRSM_EXIT_FAILED;
 	}
-	fprintf(stderr, "prsm serve: listening on http://%s%s%s:%d/ (database %s, %d worker%s%s%s)\n",
+	fprintf(stderr, "prsm serve: listening on http://%s%s%s:%d/ (database %s, data %s, %d worker%s%s%s)\n",
 	        strchr(ho.host, ':') ? "[" : "", ho.host, strchr(ho.host, ':') ? "]" : "", prsm_http_port(http),
-	        jo.db_path, jo.workers, jo.workers == 1 ? "" : "s", ho.token ? ", token required for POST and DELETE" : "",
-	        recovered ? ", resuming interrupted jobs" : "");
+	        jo.db_path, ho.data_dir, jo.workers, jo.workers == 1 ? "" : "s",
+	        ho.token ? ", token required for POST and DELETE" : "", recovered ? ", resuming interrupted jobs" : "");
 	int sig = 0;
 	sigwait(&set, &sig);
 	fprintf(stderr, "prsm serve: %s: stopping\n", sig == SIGINT ? "SIGINT" : "SIGTERM");
