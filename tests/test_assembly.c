@@ -217,7 +217,7 @@ static void test_error_sensitivities_fd(void **state)
 /* Profile errors alone (roller arc radius up to 50 um, flank angles up to 5 mrad, together):
  * linear mode misses the second-order mismatch of the flank profiles, which at the nut's
  * conformal contact is all there is. Measured: 0.65 um at most; the bound held here is 1 um
- * (2 % of the largest error). The README tells users to take exact mode for profile studies. */
+ * (2 % of the largest error). docs/errors-and-assembly.md tells users to take exact mode for profile studies. */
 static void test_profile_errors_second_order(void **state)
 {
 	(void)state;

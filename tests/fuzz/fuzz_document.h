@@ -18,8 +18,8 @@
  * ASan+UBSan), and these must hold, else the target abort()s with a message on stderr:
  *
  *   - every problem or warning document written back is valid UTF-8 (it is sent as JSON;
- *     compile with -DPRSM_FUZZ_SKIP_UTF8_CHECK to fuzz past an open bug of this kind, see
- *     crashes/README.md);
+ *     compile with -DPRSM_FUZZ_SKIP_UTF8_CHECK to fuzz past an open bug of this kind; the
+ *     utf8-cut-* corpus files are the ones util/utf8.h fixed);
  *   - a normalised request the service accepted is valid I-JSON (its canonical text exists);
  *   - the stored request (the canonical text, read back with cJSON_Parse as a job's run does)
  *     is accepted again by normalise, and its canonical text is the same bytes: the cache key
