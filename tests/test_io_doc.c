@@ -510,6 +510,27 @@ static void test_study_monte_carlo(void **state)
 	mc_study = mc_copies[0] = mc_copies[1] = NULL;
 }
 
+/* The schemas' "default"s are what the C init functions set: checked by the generated
+ * prsm_io_defaults_<table> (scripts/gen-io-tables.py), one problem per difference. */
+int prsm_io_defaults_design(prsm_problems *problems);
+int prsm_io_defaults_assembly_options(prsm_problems *problems);
+int prsm_io_defaults_monte_carlo(prsm_problems *problems);
+
+static void test_schema_defaults(void **state)
+{
+	(void)state;
+	int (*const check[])(prsm_problems *) = {prsm_io_defaults_design, prsm_io_defaults_assembly_options,
+	                                          prsm_io_defaults_monte_carlo};
+	for (size_t i = 0; i < sizeof check / sizeof check[0]; i++) {
+		prsm_problems p;
+		prsm_problems_init(&p);
+		const int bad = check[i](&p);
+		for (int k = 0; k < p.count; k++)
+			print_error("%s: %s\n", p.items[k].pointer, p.items[k].message);
+		assert_int_equal(bad, 0);
+	}
+}
+
 int main(void)
 {
 	prsm_global_init();
@@ -518,6 +539,7 @@ int main(void)
 		cmocka_unit_test(test_fuzz_corpora),
 		cmocka_unit_test(test_assembly_options),
 		cmocka_unit_test(test_study_monte_carlo),
+		cmocka_unit_test(test_schema_defaults),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
