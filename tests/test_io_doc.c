@@ -153,6 +153,37 @@ static void compare_mc(const cJSON *mc, tally *t)
 	cJSON_Delete(doc);
 }
 
+/* A study's "sensitivity" section, the same way. */
+static void compare_sens(const cJSON *sec, tally *t)
+{
+	cJSON *doc = cJSON_CreateObject();
+	cJSON_AddItemToObject(doc, "sensitivity", cJSON_Duplicate(sec, 1));
+	prsm_io_study *a = mc_copies[0], *b = mc_copies[1];
+	a->study.sens = mc_study->study.sens;
+	b->study.sens = mc_study->study.sens;
+	prsm_problems pa, pb;
+	prsm_problems_init(&pa);
+	prsm_problems_init(&pb);
+	prsm_legacy_study_sensitivity_from_json(a, doc, &pa);
+	prsm_io_study_sensitivity_from_json(b, doc, &pb);
+	t->documents++;
+	if (pa.count == 0)
+		t->valid++;
+	else
+		t->invalid++;
+	int same = pa.count == pb.count && memcmp(&a->study.sens, &b->study.sens, sizeof a->study.sens) == 0;
+	for (int i = 0; same && i < pa.count; i++)
+		same = !strcmp(pa.items[i].pointer, pb.items[i].pointer) && !strcmp(pa.items[i].code, pb.items[i].code) &&
+		       !strcmp(pa.items[i].message, pb.items[i].message);
+	if (!same) {
+		char *text = cJSON_PrintUnformatted(doc);
+		print_error("sensitivity %s: legacy %d problems, table %d\n", text, pa.count, pb.count);
+		cJSON_free(text);
+		fail();
+	}
+	cJSON_Delete(doc);
+}
+
 /* Every value a member could wrongly (or rightly) hold. */
 static cJSON *variant(int k, double limit_hint)
 {
@@ -498,6 +529,24 @@ static void test_study_monte_carlo(void **state)
 	const cJSON *own = cJSON_GetObjectItemCaseSensitive(study, "monte_carlo");
 	if (own)
 		compare_mc(own, &t);
+	/* the sensitivity section beside it */
+	const cJSON *sens_node = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(schema, "$defs"),
+	                                                          "sensitivity");
+	tally ts = {0, 0, 0};
+	const char *sens_seeds[] = {"{}", "{\"sobol\": true, \"src\": false}",
+	                            "{\"sobol\": {\"samples\": 1024, \"bootstrap\": 0, \"sampler\": \"random\"}}",
+	                            "{\"sobol\": {\"sampler\": \"lhs\", \"bootstrap\": 1}}"};
+	for (size_t i = 0; i < sizeof sens_seeds / sizeof sens_seeds[0]; i++) {
+		cJSON *sec = cJSON_Parse(sens_seeds[i]);
+		assert_non_null(sec);
+		compare_sens(sec, &ts);
+		mutate_all(sec, sec, &ts, compare_sens);
+		fill_absent(sec, sec, sens_node, &ts, compare_sens);
+		cJSON_Delete(sec);
+	}
+	print_message("study sensitivity sections and their variants: %d documents (%d valid, %d invalid), identical\n",
+	              ts.documents, ts.valid, ts.invalid);
+	assert_true(ts.invalid > 50 && ts.valid > 10);
 	print_message("study monte_carlo sections and their variants: %d documents (%d valid, %d invalid), identical\n",
 	              t.documents, t.valid, t.invalid);
 	assert_true(t.invalid > 100 && t.valid > 20);
@@ -515,12 +564,13 @@ static void test_study_monte_carlo(void **state)
 int prsm_io_defaults_design(prsm_problems *problems);
 int prsm_io_defaults_assembly_options(prsm_problems *problems);
 int prsm_io_defaults_monte_carlo(prsm_problems *problems);
+int prsm_io_defaults_sensitivity(prsm_problems *problems);
 
 static void test_schema_defaults(void **state)
 {
 	(void)state;
 	int (*const check[])(prsm_problems *) = {prsm_io_defaults_design, prsm_io_defaults_assembly_options,
-	                                          prsm_io_defaults_monte_carlo};
+	                                          prsm_io_defaults_monte_carlo, prsm_io_defaults_sensitivity};
 	for (size_t i = 0; i < sizeof check / sizeof check[0]; i++) {
 		prsm_problems p;
 		prsm_problems_init(&p);

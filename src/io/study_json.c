@@ -48,7 +48,6 @@ static const char *const dist_names[] = {"normal", "truncnormal", "uniform", "tr
 static const char *const sampler_names[] = {"random", "lhs", "sobol", NULL};
 static const char *const target_keys[] = {"output", "standard_error", "cv", "yield_interval_width", NULL};
 static const char *const spec_keys[] = {"lower", "upper", NULL};
-static const char *const sens_keys[] = {"src", "stack", "sobol", NULL};
 static const char *const sobol_keys[] = {"samples", "bootstrap", "sampler", NULL};
 static const char *const corr_keys[] = {"between", "rho", NULL};
 
@@ -751,17 +750,10 @@ void prsm_io_study_mc_from_json(prsm_io_study *s, const cJSON *doc, prsm_problem
 	}
 }
 
-static void read_sensitivity(prsm_io_study *s, const cJSON *doc, prsm_problems *pr)
+/* "sensitivity"."sobol": true, false or the Saltelli design's options */
+void prsm_io_hook_sobol(void *base, const cJSON *sec, const char *p, prsm_problems *pr)
 {
-	prsm_sens_options *o = &s->study.sens;
-	prsm_sens_options_default(o);
-	const cJSON *sec = NULL;
-	char p[PRSM_JSON_POINTER_MAX];
-	if (prsm_json_get_section(&sec, p, sizeof p, doc, "", "sensitivity", PRSM_JSON_OPTIONAL, sens_keys, pr) !=
-	    PRSM_JSON_PRESENT)
-		return;
-	prsm_json_get_bool(&o->src, sec, p, "src", PRSM_JSON_OPTIONAL, pr);
-	prsm_json_get_bool(&o->stack, sec, p, "stack", PRSM_JSON_OPTIONAL, pr);
+	prsm_sens_options *o = base;
 	const cJSON *sob = cJSON_GetObjectItemCaseSensitive(sec, "sobol");
 	if (!sob)
 		return;
@@ -798,6 +790,17 @@ static void read_sensitivity(prsm_io_study *s, const cJSON *doc, prsm_problems *
 		}
 		o->sobol_sampler = (prsm_sampler_kind)v;
 	}
+}
+
+void prsm_io_study_sensitivity_from_json(prsm_io_study *s, const cJSON *doc, prsm_problems *pr)
+{
+	prsm_sens_options *o = &s->study.sens;
+	prsm_sens_options_default(o);
+	const cJSON *sec = NULL;
+	if (prsm_json_get_object(&sec, doc, "", "sensitivity", PRSM_JSON_OPTIONAL, pr) != PRSM_JSON_PRESENT)
+		return;
+	/* schemas/study.schema.json, $defs/sensitivity (x-prsm) */
+	prsm_io_read(o, &prsm_io_t_sensitivity, sec, "/sensitivity", pr);
 }
 
 static void read_correlations_list(prsm_io_study *s, const cJSON *doc, prsm_problems *pr);
@@ -949,7 +952,7 @@ int prsm_io_study_load(prsm_io_study *out, const cJSON *doc, prsm_problems *warn
 	read_outputs(out, doc, design_rc == 0, pr);
 	read_specs(out, doc, pr);
 	prsm_io_study_mc_from_json(out, doc, pr);
-	read_sensitivity(out, doc, pr);
+	prsm_io_study_sensitivity_from_json(out, doc, pr);
 
 	/* variables, once everything they depend on is valid */
 	prsm_study *st = &out->study;

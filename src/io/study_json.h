@@ -73,6 +73,9 @@ cJSON *prsm_io_study_result_to_json(const prsm_io_study *s, const prsm_study_res
  * read first). Problems go to pr. */
 void prsm_io_study_mc_from_json(prsm_io_study *s, const cJSON *doc, prsm_problems *pr);
 
+/* The "sensitivity" section of doc into s->study.sens. */
+void prsm_io_study_sensitivity_from_json(prsm_io_study *s, const cJSON *doc, prsm_problems *pr);
+
 int prsm_io_study_write_csv(FILE *f, const prsm_io_study *s, const prsm_study_result *r);
 
 #endif

@@ -19,5 +19,6 @@ int prsm_legacy_assembly_options_from_json(prsm_assembly_options *out, const cJS
 #include "io/study_json.h"
 
 void prsm_legacy_study_mc_from_json(prsm_io_study *s, const cJSON *doc, prsm_problems *pr);
+void prsm_legacy_study_sensitivity_from_json(prsm_io_study *s, const cJSON *doc, prsm_problems *pr);
 
 #endif

@@ -1,5 +1,6 @@
 /*
- * study_mc_legacy.c: the hand-written reader of a study's "monte_carlo" section before the
+ * study_mc_legacy.c: the hand-written readers of a study's "monte_carlo" and "sensitivity"
+ * sections before the
  * table-driven one (issue 24's side-by-side proof, tests/test_io_doc.c). Delete it with that
  * test once every document is ported.
  */
@@ -17,6 +18,8 @@ static const char *const sampler_names[] = {"random", "lhs", "sobol", NULL};
 static const char *const failure_keys[] = {"policy", "max_failed_fraction", NULL};
 static const char *const policy_names[] = {"skip", "abort", NULL};
 static const char *const edge_names[] = {"exclude", "include", NULL};
+static const char *const sens_keys[] = {"src", "stack", "sobol", NULL};
+static const char *const sobol_keys[] = {"samples", "bootstrap", "sampler", NULL};
 static const char *const target_keys[] = {"output", "standard_error", "cv", "yield_interval_width", NULL};
 static const prsm_json_range POSITIVE = {0.0, HUGE_VAL, 1, 0};
 
@@ -124,5 +127,54 @@ void prsm_legacy_study_mc_from_json(prsm_io_study *s, const cJSON *doc, prsm_pro
 			}
 			o->n_targets++;
 		}
+	}
+}
+
+void prsm_legacy_study_sensitivity_from_json(prsm_io_study *s, const cJSON *doc, prsm_problems *pr)
+{
+	prsm_sens_options *o = &s->study.sens;
+	prsm_sens_options_default(o);
+	const cJSON *sec = NULL;
+	char p[PRSM_JSON_POINTER_MAX];
+	if (prsm_json_get_section(&sec, p, sizeof p, doc, "", "sensitivity", PRSM_JSON_OPTIONAL, sens_keys, pr) !=
+	    PRSM_JSON_PRESENT)
+		return;
+	prsm_json_get_bool(&o->src, sec, p, "src", PRSM_JSON_OPTIONAL, pr);
+	prsm_json_get_bool(&o->stack, sec, p, "stack", PRSM_JSON_OPTIONAL, pr);
+	const cJSON *sob = cJSON_GetObjectItemCaseSensitive(sec, "sobol");
+	if (!sob)
+		return;
+	if (cJSON_IsBool(sob)) {
+		o->sobol = cJSON_IsTrue(sob);
+		return;
+	}
+	char sp[PRSM_JSON_POINTER_MAX];
+	prsm_json_pointer_append(sp, sizeof sp, p, "sobol");
+	if (!cJSON_IsObject(sob)) {
+		prsm_problems_add(pr, sp, "type", "sobol: true, false or an object {samples, bootstrap, sampler}");
+		return;
+	}
+	prsm_json_check_keys(sob, sp, sobol_keys, pr);
+	o->sobol = 1;
+	int v;
+	if (prsm_json_get_int(&v, sob, sp, "samples", PRSM_JSON_OPTIONAL, 16, PRSM_IO_STUDY_SOBOL_MAX_SAMPLES, pr) ==
+	    PRSM_JSON_PRESENT)
+		o->sobol_samples = (size_t)v;
+	if (prsm_json_get_int(&v, sob, sp, "bootstrap", PRSM_JSON_OPTIONAL, 0, PRSM_IO_STUDY_MAX_BOOTSTRAP, pr) ==
+	    PRSM_JSON_PRESENT) {
+		if (v == 1) {
+			char bp[PRSM_JSON_POINTER_MAX];
+			prsm_json_pointer_append(bp, sizeof bp, sp, "bootstrap");
+			prsm_problems_add(pr, bp, "range", "bootstrap: 0 (none) or at least 2 resamples");
+		}
+		o->bootstrap = (size_t)v;
+	}
+	if (prsm_json_get_enum(&v, sob, sp, "sampler", PRSM_JSON_OPTIONAL, sampler_names, pr) == PRSM_JSON_PRESENT) {
+		if (v == PRSM_SAMPLER_LHS) {
+			char bp[PRSM_JSON_POINTER_MAX];
+			prsm_json_pointer_append(bp, sizeof bp, sp, "sampler");
+			prsm_problems_add(pr, bp, "enum", "the Saltelli design takes random or sobol");
+		}
+		o->sobol_sampler = (prsm_sampler_kind)v;
 	}
 }
