@@ -111,7 +111,7 @@ sed 's/"pitch_mm": 2/"pitch_mm": 1e999/' "$src/studies/case-a.json" > "$tmp/inf.
 "$prsm" analyze "$src/studies/case-a.json" --format pdf > /dev/null 2>&1; check "bad format" 64 $?
 "$prsm" analyze "$tmp/does-not-exist.json" > /dev/null 2>&1; check "missing file" 64 $?
 
-# the request form {design, errors, assembly}: the error analysis (MODEL.md §3, §4)
+# the request form {design, errors, assembly}: the error analysis (docs/model/errors-and-assembly.md)
 measured="$src/studies/case-a-measured.json"
 "$prsm" analyze "$measured" > "$tmp/m.json" 2> "$tmp/err"; check "analyze request (case A measured)" 0 $?
 ok "measured: errors and assembly" $py - "$tmp/m.json" <<'PY'
@@ -133,7 +133,7 @@ assert all(isinstance(v, (int, float)) and math.isfinite(v) for v in b.values())
 assert b["min_over_revolution_um"] <= b["at_zero_um"] <= b["max_over_revolution_um"], b
 PY
 
-# no errors: equal sharing, no TE, the design's 20 um clearance all round (MODEL.md §4)
+# no errors: equal sharing, no TE, the design's 20 um clearance all round (docs/model/errors-and-assembly.md)
 $py - "$measured" "$tmp/zero.json" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))

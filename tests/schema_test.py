@@ -1037,7 +1037,7 @@ for name, req in REQUESTS:
           near(pk["amplitude_um"], best[0], 1e-12) and (best[0] == 0 or near(pk["frequency_per_rev"], best[1], 1e-12)),
           f"{pk} vs {best}")
 
-# what the figures must be (MODEL.md §4)
+# what the figures must be (docs/model/errors-and-assembly.md)
 r = req_results.get("measured (example)")
 if r:
     s_ = r["assembly"]["transmission_error"]["stroke"]
@@ -1976,7 +1976,7 @@ found = [(p.get("pointer"), p.get("code")) for p in (vdoc or {}).get("errors", [
 check("prsm validate names /outputs/1 for load_sharing_factor after a refused /outputs/0",
       ("/outputs/1", "no_load") in found, str(found))
 
-# ---- 10. multi-stage designs (MODEL.md §7) ---------------------------------------------------
+# ---- 10. multi-stage designs (docs/model/kinematics-efficiency-stiffness-life.md) ---------------------------------------------------
 V_MULTI = make_validator(schemas["multistage-design.schema.json"])
 check("studies/ has a multi-stage design", len(multistage_documents) >= 1)
 for path in multistage_documents:

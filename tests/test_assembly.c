@@ -1,5 +1,5 @@
 /*
- * test_assembly.c: MODEL.md §3 and §4 at the assembly level — part errors to every flank gap
+ * test_assembly.c: docs/model/errors-and-assembly.md and §4 at the assembly level — part errors to every flank gap
  * (linear against exact), backlash, the elastic load sharing against closed forms and finite
  * differences, transmission error and its spectrum, invariance under relabelling.
  */
@@ -20,7 +20,7 @@ typedef struct {
 	prsm_assembly_gaps plus, minus, ref, ref2;
 } fixture;
 
-/* Case A (MODEL.md §2), 20 um of total axial play, 7000 N. */
+/* Case A (docs/model/geometry-and-meshing.md), 20 um of total axial play, 7000 N. */
 static fixture *make(int starts, double pitch, double rr, double beta_deg, int Z, int nt, int hand)
 {
 	fixture *f = calloc(1, sizeof *f);
@@ -121,7 +121,7 @@ static void test_zero_errors_nominal(void **state)
 	free(f);
 }
 
-/* MODEL.md §3: linear within 1 % of the gap change of exact, for random error sets up to 50 um,
+/* docs/model/errors-and-assembly.md: linear within 1 % of the gap change of exact, for random error sets up to 50 um,
  * both hands, at several angles. "Gap change" is the sum of the first-order contributions'
  * magnitudes. Profile errors (roller arc radius, flank angles) are left out here: at the nut's
  * conformal contact their first-order effect vanishes and the whole change is the second-order
@@ -298,7 +298,7 @@ static void test_roller_radial_shift(void **state)
 }
 
 /* Screw run-out e: the chain of each roller changes by about e tan(beta) times the cosine of the
- * angle between the offset and the roller (MODEL.md §3), closing where the screw leans towards
+ * angle between the offset and the roller (docs/model/errors-and-assembly.md), closing where the screw leans towards
  * the roller. At beta = 38.5 and 52 deg as well. */
 static void test_screw_runout_chain(void **state)
 {
@@ -435,7 +435,7 @@ static void test_open_roller_carries_less(void **state)
 	free(f);
 }
 
-/* MODEL.md §9: a solve that cannot balance is reported, never returned as a result. A gap that
+/* docs/model/errors-and-assembly.md: a solve that cannot balance is reported, never returned as a result. A gap that
  * is not finite (a corrupted perturbation), a load that is not finite or not positive: each
  * returns PRSM_ENOCONVERGE with converged 0, and the TE record counts it as failed. Before this
  * check the solver ran its 200 iterations and returned 0 with NaN loads. */
@@ -598,7 +598,7 @@ static void test_signal_amplitude(void **state)
 	free(x);
 }
 
-/* MODEL.md §4 frequencies: a roller-fixed error is seen at the roller's spin rate; screw run-out
+/* docs/model/errors-and-assembly.md frequencies: a roller-fixed error is seen at the roller's spin rate; screw run-out
  * alone cancels at its first harmonic 1 - k_c among evenly spaced rollers and shows at the
  * roller pass frequency Z (1 - k_c); nut run-out at Z k_c; one roller's position error breaks
  * the cancellation. */

@@ -1,8 +1,8 @@
 /*
- * test_compliance.c: MODEL.md §6 thread compliance — Yamamoto's five terms against values
+ * test_compliance.c: docs/model/kinematics-efficiency-stiffness-life.md thread compliance — Yamamoto's five terms against values
  * computed independently (30-digit mpmath transcription of the formulas as printed in
  * compliance.h after Yamamoto 1980 / Zhang et al. 2016), the tooth shapes of a design against
- * a brute-force scan of the MODEL.md §2 flank functions, scaling with E, width and
+ * a brute-force scan of the docs/model/geometry-and-meshing.md flank functions, scaling with E, width and
  * calibration, the `none` rule, the negative-term flags of 45-degree flanks, and the stretch
  * compliance P/(E A).
  */
@@ -102,7 +102,7 @@ static void test_nut_radial_limits(void **state)
 	assert_true(thin.radial > 5.0 * thick.radial);
 }
 
-/* Roller tooth thickness by brute force from MODEL.md §2's flank functions: the roller tooth
+/* Roller tooth thickness by brute force from docs/model/geometry-and-meshing.md's flank functions: the roller tooth
  * at radius u spans P - 2 Z_r(u) axially, Z_r = z_c - sqrt(R^2 - u^2), z_c = P/4 + sqrt(R^2 -
  * r_r^2). Scan u down from r_r until the groove closes (thickness P) or the root is reached. */
 static void roller_tooth_brute(const prsm_design *d, double *a, double *c)

@@ -1,5 +1,5 @@
 /*
- * test_contact.c: MODEL.md §2 — contact points, gaps, normals, curvatures, the Newton solver
+ * test_contact.c: docs/model/geometry-and-meshing.md — contact points, gaps, normals, curvatures, the Newton solver
  * against a brute-force minimum and finite differences, the offset rule, thinning.
  */
 #include "test_support.h"
@@ -122,7 +122,7 @@ static void test_derivatives_finite_difference(void **state)
 
 /* Relative principal curvatures: extremes over directions of the relative normal curvature
  * H(d,d) / (|grad Z| factor * I(d,d)), computed here by sweeping directions. The simple
- * estimate of MODEL.md §2 agrees on the sum within a few per cent. */
+ * estimate of docs/model/geometry-and-meshing.md agrees on the sum within a few per cent. */
 static void test_curvatures(void **state)
 {
 	(void)state;
@@ -158,7 +158,7 @@ static void test_curvatures(void **state)
 	}
 }
 
-/* MODEL.md §2: y_c ~ P cot(beta) / pi within 4 % over n = 3..8 and beta = 30..60 deg. The rule is
+/* docs/model/geometry-and-meshing.md: y_c ~ P cot(beta) / pi within 4 % over n = 3..8 and beta = 30..60 deg. The rule is
  * the quadratic approximation of G, so its error grows like (P / r_r)^2: at case A's
  * P / r_r = 0.62 it is 8 % for n = 3, beta = 30 deg (a coarse pitch on a 3-start screw); the test
  * uses P / r_r = 0.29 and checks that scaling on the worst corner as well. */

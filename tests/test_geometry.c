@@ -1,5 +1,5 @@
 /*
- * test_geometry.c: MODEL.md §1 — standard rules, lead, helix angles, Z_max, rule checks.
+ * test_geometry.c: docs/model/geometry-and-meshing.md — standard rules, lead, helix angles, Z_max, rule checks.
  */
 #include "test_support.h"
 

@@ -1,7 +1,7 @@
 /*
- * test_hertz.c: the Hertz ellipticity solve (MODEL.md §6) by GSL's Brent solver, against the
+ * test_hertz.c: the Hertz ellipticity solve (docs/model/kinematics-efficiency-stiffness-life.md) by GSL's Brent solver, against the
  * bisection it replaced (kept here as an independent reference), the circular contact, the
- * small- and large-ellipticity limits, and the bearing-handbook coefficients of MODEL.md §6.
+ * small- and large-ellipticity limits, and the bearing-handbook coefficients of docs/model/kinematics-efficiency-stiffness-life.md.
  * GSL's error handler is left as it is (abort): the solver must never raise a GSL error.
  */
 #include "test_support.h"
@@ -199,7 +199,7 @@ static void test_limits(void **state)
 	}
 }
 
-/* MODEL.md §6: a = C_a E0 (Q/sum rho)^(1/3), b = C_b ..., delta = C_delta E0^2 (sum rho Q^2)^(1/3),
+/* docs/model/kinematics-efficiency-stiffness-life.md: a = C_a E0 (Q/sum rho)^(1/3), b = C_b ..., delta = C_delta E0^2 (sum rho Q^2)^(1/3),
  * E0 = (1.137e5 (1/E01 + 1/E02))^(1/3): F 0 -> C_a = C_b = 0.02363; 0.5 -> 0.03511, 0.01694,
  * 0.0002617; 0.9 -> 0.07305, 0.01089, 0.0001898 (to the handbook's 4 digits, 0.1 %). */
 static void test_model_md_coefficients(void **state)

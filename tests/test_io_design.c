@@ -91,7 +91,7 @@ static void case_a_loads_and_resolves(void **state)
 	assert_int_equal(g.z_max, 10);
 	assert_int_equal(g.standard_rules, 1);
 	assert_near(g.lead_mm, 10.0, 1e-12);
-	assert_near(g.helix_screw_rad * 180.0 / M_PI, 9.2710, 5e-5); /* MODEL.md §1 */
+	assert_near(g.helix_screw_rad * 180.0 / M_PI, 9.2710, 5e-5); /* docs/model/geometry-and-meshing.md */
 }
 
 static void every_field_converts(void **state)
@@ -657,7 +657,7 @@ static void studies_load_without_problems(void **state)
 			dump(&p);
 			fail_msg("%s does not parse", path);
 		}
-		/* a multi-stage design (MODEL.md §7) loads and analyses as a whole */
+		/* a multi-stage design (docs/model/kinematics-efficiency-stiffness-life.md) loads and analyses as a whole */
 		if (prsm_io_is_multistage(doc)) {
 			prsm_io_multistage *ms = calloc(1, sizeof *ms);
 			assert_non_null(ms);

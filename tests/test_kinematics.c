@@ -1,5 +1,5 @@
 /*
- * test_kinematics.c: MODEL.md §5 — speed ratios, sliding, sliding efficiency against the
+ * test_kinematics.c: docs/model/kinematics-efficiency-stiffness-life.md — speed ratios, sliding, sliding efficiency against the
  * closed forms, and §6 — Hertz coefficients of the bearing handbook.
  */
 #include "test_support.h"
@@ -48,7 +48,7 @@ static void test_slip_tangent_to_flank(void **state)
 	}
 }
 
-/* MODEL.md §5: eta = tan b / tan(b + rho), eta' = tan(b - rho) / tan b; at 45 deg both are
+/* docs/model/kinematics-efficiency-stiffness-life.md: eta = tan b / tan(b + rho), eta' = tan(b - rho) / tan b; at 45 deg both are
  * (1 - mu)/(1 + mu): 0.9048 at mu = 0.05, 0.8182 at 0.10; the 3-D sum agrees within 0.001. */
 static void test_efficiency_closed_form(void **state)
 {
@@ -83,7 +83,7 @@ static void test_efficiency_closed_form(void **state)
 	assert_close(a.efficiency.eta_back, 1.0, 1e-15);
 }
 
-/* To first order the sliding efficiency does not depend on lead or radii (MODEL.md §5). */
+/* To first order the sliding efficiency does not depend on lead or radii (docs/model/kinematics-efficiency-stiffness-life.md). */
 static void test_efficiency_independent_of_lead(void **state)
 {
 	(void)state;
@@ -116,7 +116,7 @@ static void test_operating_torque(void **state)
 	assert_close(a.efficiency.input_power_W - a.efficiency.loss_power_W, a.efficiency.output_power_W, 1e-9);
 }
 
-/* MODEL.md §6: a = C_a E0 (Q / sum rho)^(1/3), b likewise, delta = C_delta E0^2 (sum rho Q^2)^(1/3),
+/* docs/model/kinematics-efficiency-stiffness-life.md: a = C_a E0 (Q / sum rho)^(1/3), b likewise, delta = C_delta E0^2 (sum rho Q^2)^(1/3),
  * E0 = (1.137e5 (1/E01 + 1/E02))^(1/3); coefficients to 0.1 %. */
 static void test_hertz_handbook_coefficients(void **state)
 {

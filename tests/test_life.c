@@ -1,5 +1,5 @@
 /*
- * test_life.c: MODEL.md §6 capacity and life — the duty-cycle check (217.7 lbf), L10 and its
+ * test_life.c: docs/model/kinematics-efficiency-stiffness-life.md capacity and life — the duty-cycle check (217.7 lbf), L10 and its
  * units, reliability factors, static capacity against a brute-force Hertz solve, the
  * Lundberg–Palmgren dynamic capacity (values from an independent 30-digit mpmath transcription
  * of the formulas in life.h, homogeneity, the combination rule, a catalogue-size band), the
@@ -15,7 +15,7 @@
 
 #define LBF_N 4.4482216152605 /* N per lbf */
 
-/* MODEL.md §6: 500, 100, 250, 50 lbf over 0.5, 2.9, 1.0, 3.5 in give F_m = 217.7 lbf. Units
+/* docs/model/kinematics-efficiency-stiffness-life.md: 500, 100, 250, 50 lbf over 0.5, 2.9, 1.0, 3.5 in give F_m = 217.7 lbf. Units
  * cancel in the weights; the loads are given in N and converted back. */
 static void test_cubic_mean_model_check(void **state)
 {
@@ -75,7 +75,7 @@ static void test_l10_and_units(void **state)
 	assert_int_equal(prsm_life_l10(&r2, 48731.0 * 1.37, 9137.0 * 0.71, 873.0, 7.5, 90, &err), 0);
 	const double s = 1.37 / 0.71;
 	assert_close(r2.revolutions / r.revolutions, s * s * s, 1e-12);
-	/* reliability factors (MODEL.md §6) */
+	/* reliability factors (docs/model/kinematics-efficiency-stiffness-life.md) */
 	const int pct[] = {90, 95, 96, 97, 98, 99};
 	const double a1[] = {1.0, 0.62, 0.53, 0.44, 0.33, 0.21};
 	for (int i = 0; i < 6; i++) {

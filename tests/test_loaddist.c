@@ -1,5 +1,5 @@
 /*
- * test_loaddist.c: MODEL.md §6 load distribution over threads (spring chain) and the axial
+ * test_loaddist.c: docs/model/kinematics-efficiency-stiffness-life.md load distribution over threads (spring chain) and the axial
  * stiffness of the nut unit — rigid bodies share equally; the equilibrium against an
  * independent minimisation of the total potential energy (GSL BFGS, displacement unknowns,
  * bisection for the contact law, lift-off by a gap); a linear n_t = 2 chain against its 2x2
@@ -518,7 +518,7 @@ static void test_case_a_design_path(void **state)
 			assert_int_equal(r.side[0].max_index, 0);
 	}
 	assert_true(factor[1] < factor[0]);
-	/* a calibration factor of 2.37 on the thread compliance (MODEL.md §6: uncertain by ~3)
+	/* a calibration factor of 2.37 on the thread compliance (docs/model/kinematics-efficiency-stiffness-life.md: uncertain by ~3)
 	 * lowers the stiffness and evens the distribution out */
 	{
 		prsm_design_compliance tc;

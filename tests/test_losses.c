@@ -1,5 +1,5 @@
 /*
- * test_losses.c: MODEL.md §5 efficiency with spin, ring-gear mesh, drag and seal losses
+ * test_losses.c: docs/model/kinematics-efficiency-stiffness-life.md efficiency with spin, ring-gear mesh, drag and seal losses
  * (model/losses.h): sliding-only equals prsm_efficiency and the closed form; the spin moment
  * against a numerical integral of mu p r over the Hertz ellipse; the spin speed against the
  * curl of the bodies' velocity fields; the spin torque against per-contact Hertz solves; the
@@ -63,7 +63,7 @@ static void to_cartesian(double out[3], const double v[3], double th)
 /* ---- 1. sliding only ---------------------------------------------------------------------- */
 
 /* With spin, gear and drag off eta and eta' are prsm_efficiency's exactly, and within 0.001 of
- * tan b / tan(b + rho) (MODEL.md §5: 0.9048 at mu 0.05, beta 45 deg). */
+ * tan b / tan(b + rho) (docs/model/kinematics-efficiency-stiffness-life.md: 0.9048 at mu 0.05, beta 45 deg). */
 static void test_sliding_only(void **state)
 {
 	(void)state;

@@ -1,11 +1,11 @@
 /*
  * test_performance.c: the operating-point analysis of issue 4 through prsm_performance_compute
- * (MODEL.md §5, §6): the §5 closed form when spin, gear and drag are off; efficiency rising
+ * (docs/model/kinematics-efficiency-stiffness-life.md): the §5 closed form when spin, gear and drag are off; efficiency rising
  * with lead when a drag torque is given; stiffness rising with rollers, engaged threads and
  * load and falling with thread compliance; the first thread at the load entry carrying most
  * ("same side"); uniform thread loads and the equal-share Hertz results with rigid bodies;
  * C_0a reached exactly at p_allow; life = a1 (C_a/F)^3 10^6 and its cube law; the duty cycle
- * of MODEL.md §6 (217.66 lbf) and the preload derating through the design; the column limits;
+ * of docs/model/kinematics-efficiency-stiffness-life.md (217.66 lbf) and the preload derating through the design; the column limits;
  * the load-deflection curve against the stiffness at the operating load.
  */
 #include "test_support.h"
@@ -219,7 +219,7 @@ static void test_capacity_and_life(void **state)
 	compute(&q, &d, &a);
 	assert_close(q.life.revolutions / p.life.revolutions, 0.62, 1e-12);
 	prsm_performance_free(&q);
-	/* the duty cycle of MODEL.md §6: 500, 100, 250, 50 lbf over 0.5, 2.9, 1.0, 3.5 in */
+	/* the duty cycle of docs/model/kinematics-efficiency-stiffness-life.md: 500, 100, 250, 50 lbf over 0.5, 2.9, 1.0, 3.5 in */
 	d.life.reliability_percent = 90;
 	d.life.duty_steps = 4;
 	const double lbf[] = {500.0, 100.0, 250.0, 50.0}, in[] = {0.5, 2.9, 1.0, 3.5};

@@ -1,6 +1,6 @@
 /*
- * test_perturb.c: MODEL.md §3 — flank gaps under errors, exact against linear, sensitivities
- * against finite differences of the exact mode and against the values MODEL.md gives.
+ * test_perturb.c: docs/model/errors-and-assembly.md — flank gaps under errors, exact against linear, sensitivities
+ * against finite differences of the exact mode and against the reference values of docs/model/errors-and-assembly.md.
  */
 #include "test_support.h"
 
@@ -28,7 +28,7 @@ static double exact(const side_fixture *f, const double *e)
 	return g;
 }
 
-/* MODEL.md §3 case A: dgap/dt = 1 on both sides; dgap_sr/da = +1.008, dgap_nr/da = -1.000;
+/* docs/model/errors-and-assembly.md case A: dgap/dt = 1 on both sides; dgap_sr/da = +1.008, dgap_nr/da = -1.000;
  * dgap_sr/dr_s = -1.000; a flank-angle error (screw beta and roller via R = r_r / sin beta)
  * moves the gap 0.16 um per mrad. */
 static void test_case_a_sensitivities(void **state)
@@ -82,7 +82,7 @@ static void test_sensitivities_match_exact_fd(void **state)
 			}
 }
 
-/* Linear against exact for errors up to 50 um (MODEL.md §3): within 1 % of the gap change, or
+/* Linear against exact for errors up to 50 um (docs/model/errors-and-assembly.md): within 1 % of the gap change, or
  * of the change a 50 um error of the dominant kind makes (50 um tan(beta) = 0.5 um), whichever is
  * larger: an error that barely acts (a tangential offset, the arc radius) has a small first-order
  * effect and a second-order residue of a few tenths of a um. The roller pitch-radius deviation is

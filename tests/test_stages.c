@@ -1,5 +1,5 @@
 /*
- * test_stages.c: MODEL.md §7, the multi-stage chain — output speed omega sum L / 2pi; with the
+ * test_stages.c: docs/model/kinematics-efficiency-stiffness-life.md, the multi-stage chain — output speed omega sum L / 2pi; with the
  * couplings frictionless the chain efficiency is the travel-weighted harmonic rule
  * sum L / sum (L_k / eta_k); the exact power balance with friction; the closed-form torques
  * against an independent fixed-point solution of the force balances; locking and bad input.

@@ -117,7 +117,7 @@ static void test_per_roller_and_shared(void **state)
 	assert_string_equal(s->study.info[2].name, "roller[0].runout_phase_rad");
 	assert_int_equal(s->study.info[1].phase, 2);
 	assert_int_equal(s->study.info[2].phase_of, 1);
-	/* a shared thickness deviation t thickens every roller: each flank moves t/2 (MODEL.md §3,
+	/* a shared thickness deviation t thickens every roller: each flank moves t/2 (docs/model/errors-and-assembly.md,
 	 * dgap/dt = 1 for a part's thickness), a direction's chain has a screw-side and a nut-side
 	 * roller flank, and B adds both directions: B falls by 2 t */
 	double x[21] = {0}, y0, y1;
@@ -220,7 +220,7 @@ static void test_ls1(void **state)
 }
 
 /* nut_unit_stiffness_N_per_um: the sample's contacts in series with the nominal unit's other
- * compliance (MODEL.md §6). An error-free sample is the nominal nut unit of prsm_performance
+ * compliance (docs/model/kinematics-efficiency-stiffness-life.md). An error-free sample is the nominal nut unit of prsm_performance
  * (prsm analyze's stiffness); with errors the extra compliance is the same for every sample, so
  * the unit stiffness varies less than the contacts' (dk_unit/dk_c = (k_unit/k_c)^2 < 1). */
 static void test_nut_unit_stiffness(void **state)

@@ -98,7 +98,7 @@ static inline void standard_design(prsm_design *d, int starts, double pitch_mm, 
 	assert_int_equal(prsm_design_resolve(d, &e), 0);
 }
 
-/* Case A of MODEL.md §2: r_s 9.75, r_r 3.25, r_n 16.25, P 2, n 5, beta 45 deg, t = 0. */
+/* Case A of docs/model/geometry-and-meshing.md: r_s 9.75, r_r 3.25, r_n 16.25, P 2, n 5, beta 45 deg, t = 0. */
 static inline void case_a(prsm_design *d)
 {
 	standard_design(d, 5, 2.0, 3.25, 45.0, 10, 10);

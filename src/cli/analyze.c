@@ -210,7 +210,7 @@ int prsm_cli_version(int argc, char **argv)
 	(void)argc;
 	(void)argv;
 	printf("{\"engine\": \"prsm\", \"version\": \"%s\", \"build\": \"%s\", \"git_revision\": \"%s\", "
-	       "\"model\": \"MODEL.md 2026-11\"}\n",
+	       "\"model\": \"prsm model 2026-11\"}\n",
 	       PRSM_VERSION, prsm_engine_build(), prsm_git_revision());
 	return 0;
 }

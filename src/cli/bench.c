@@ -1,7 +1,7 @@
 /*
  * bench.c: `prsm bench`, throughput of the engine's kernels as JSON:
  *   {"benchmarks": [{"name", "value", "unit", "threads"}, ...]}
- * Each kernel runs on case A of MODEL.md for a fixed wall-clock budget; every later kernel
+ * Each kernel runs on case A (studies/case-a.json) for a fixed wall-clock budget; every later kernel
  * (assembly, Monte Carlo, optimisation) adds its entry to the same list.
  */
 #include <cJSON.h>
@@ -98,7 +98,7 @@ static double bench_analysis(double budget_s)
 	return (double)n / (t - t0);
 }
 
-/* The operating-point analysis of case A at 7 kN (MODEL.md §5, §6: losses, load distribution,
+/* The operating-point analysis of case A at 7 kN (docs/model/kinematics-efficiency-stiffness-life.md: losses, load distribution,
  * stiffness, C_0a by bisection, C_a, life) after one nominal analysis; what the optimiser pays
  * for an efficiency-and-stiffness evaluation. */
 static double bench_performance(double budget_s)
@@ -199,7 +199,7 @@ static void sample_errors(prsm_errors *e, int Z, int n, long i)
 	}
 }
 
-/* MODEL.md §4 kernels, case A (Z = 10, n_t = 10): (a) gaps of both directions, backlash and the
+/* docs/model/errors-and-assembly.md kernels, case A (Z = 10, n_t = 10): (a) gaps of both directions, backlash and the
  * elastic load sharing at the operating load; (b) the TE curve, 64 screw angles at 50 N. */
 static double bench_assembly(double budget_s, int mode, int te)
 {

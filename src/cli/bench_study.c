@@ -14,7 +14,7 @@
 #include "io/study_json.h"
 #include "util/clock.h"
 
-/* Case A (MODEL.md §2) with the tolerances of studies/case-a-tolerances.json, linear mode, the
+/* Case A (docs/model/geometry-and-meshing.md) with the tolerances of studies/case-a-tolerances.json, linear mode, the
  * outputs at screw angle 0 (backlash, load sharing, stiffness). */
 static const char case_a_study[] =
 	"{\"design\": {\"geometry\": {\"starts\": 5, \"pitch_mm\": 2, \"flank_angle_deg\": 45,"

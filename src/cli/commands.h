@@ -34,7 +34,7 @@ void prsm_cli_bench_add(cJSON *list, const char *name, double value, const char 
 void prsm_cli_bench_study(cJSON *list, double budget_s);
 /* The design-optimisation entry of `prsm bench` (src/cli/bench_opt.c). */
 void prsm_cli_bench_opt(cJSON *list);
-/* Case A of MODEL.md §2 as the benches take it (Z = 10, 10 engaged threads, 20 um target
+/* Case A of docs/model/geometry-and-meshing.md as the benches take it (Z = 10, 10 engaged threads, 20 um target
  * clearance, 7000 N at 100 rad/s), not yet resolved by the standard rules. */
 void prsm_cli_bench_case_a(prsm_design *d);
 

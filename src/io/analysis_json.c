@@ -231,7 +231,7 @@ static void losses_json(cJSON *root, const prsm_performance *p)
 {
 	const prsm_losses_result *l = &p->losses;
 	cJSON *eff = cJSON_AddObjectToObject(root, "efficiency");
-	cJSON_AddStringToObject(eff, "model", "sliding friction at the screw and nut contacts (3-D normals and slip), spin friction (3/8) mu Q a E(e) at every contact of the load distribution, ring-gear mesh loss (Ohlendorf's H_v, internal mesh), drag and seal torques (MODEL.md §5); T = F L / (2 pi eta_sliding) + T_spin + T_gear + T_drag + T_seal");
+	cJSON_AddStringToObject(eff, "model", "sliding friction at the screw and nut contacts (3-D normals and slip), spin friction (3/8) mu Q a E(e) at every contact of the load distribution, ring-gear mesh loss (Ohlendorf's H_v, internal mesh), drag and seal torques (docs/model/kinematics-efficiency-stiffness-life.md); T = F L / (2 pi eta_sliding) + T_spin + T_gear + T_drag + T_seal");
 	prsm_json_add_number(eff, "eta", l->eta);
 	prsm_json_add_number(eff, "eta_back", l->eta_back);
 	prsm_json_add_number(eff, "eta_sliding", l->eta_slide);
@@ -290,7 +290,7 @@ static void side_json(cJSON *o, const char *name, const prsm_loaddist_side_resul
 	cJSON_AddNumberToObject(x, "lifted_off_contacts", s->lifted_off);
 }
 
-/* Thread compliance, load distribution, stiffness, capacity, life, column (MODEL.md §6). */
+/* Thread compliance, load distribution, stiffness, capacity, life, column (docs/model/kinematics-efficiency-stiffness-life.md). */
 static void performance_json(cJSON *root, const prsm_performance *p, const prsm_design *d)
 {
 	const prsm_design_compliance *c = &p->compliance;
@@ -300,7 +300,7 @@ static void performance_json(cJSON *root, const prsm_performance *p, const prsm_
 		"yamamoto, width share: width_fraction x the thread circumference at the pitch radius per contact (2 pi r_s / Z screw, 2 pi r_n / Z nut, pi r_r roller)",
 		"yamamoto, width given", "yamamoto, width ellipse: ellipse_factor x the Hertz major axis 2a at the operating load"};
 	cJSON_AddStringToObject(tc, "rule", rules[c->options.width_rule]);
-	cJSON_AddStringToObject(tc, "caution", "thread stiffness is uncertain by a factor of about 3 between the width rules (MODEL.md §6): compare them before trusting a stiffness");
+	cJSON_AddStringToObject(tc, "caution", "thread stiffness is uncertain by a factor of about 3 between the width rules (docs/model/kinematics-efficiency-stiffness-life.md): compare them before trusting a stiffness");
 	prsm_json_add_number(tc, "calibration", c->options.calibration);
 	cJSON_AddStringToObject(tc, "negative_terms", prsm_io_negative_terms_names[c->options.negative_terms]);
 	prsm_json_add_number(tc, "nut_outer_radius_mm", c->nut_outer_radius_mm);
@@ -319,7 +319,7 @@ static void performance_json(cJSON *root, const prsm_performance *p, const prsm_
 
 	const double F = fabs(d->axial_load_N);
 	cJSON *ld = cJSON_AddObjectToObject(root, "load_distribution");
-	cJSON_AddStringToObject(ld, "model", "spring chain per roller (MODEL.md §6): Hertz + thread compliance per contact, screw core, roller core and nut body stretch between threads; rollers share the load equally");
+	cJSON_AddStringToObject(ld, "model", "spring chain per roller (docs/model/kinematics-efficiency-stiffness-life.md): Hertz + thread compliance per contact, screw core, roller core and nut body stretch between threads; rollers share the load equally");
 	cJSON_AddStringToObject(ld, "load_entry", prsm_io_load_entry_names[d->stiffness.load_entry]);
 	prsm_json_add_number(ld, "axial_load_N", F);
 	cJSON_AddNumberToObject(ld, "rollers", d->rollers);
@@ -349,7 +349,7 @@ static void performance_json(cJSON *root, const prsm_performance *p, const prsm_
 
 	cJSON *cap = cJSON_AddObjectToObject(root, "capacity");
 	cJSON *s0 = cJSON_AddObjectToObject(cap, "static");
-	cJSON_AddStringToObject(s0, "definition", "C_0a: the axial load at which the most loaded contact of the load distribution reaches p_allow (MODEL.md §6), the smaller of the two sides");
+	cJSON_AddStringToObject(s0, "definition", "C_0a: the axial load at which the most loaded contact of the load distribution reaches p_allow (docs/model/kinematics-efficiency-stiffness-life.md), the smaller of the two sides");
 	prsm_json_add_number(s0, "C0a_N", p->C0a_N);
 	prsm_json_add_number(s0, "screw_side_N", p->C0a_screw_N);
 	prsm_json_add_number(s0, "nut_side_N", p->C0a_nut_N);
@@ -384,7 +384,7 @@ static void performance_json(cJSON *root, const prsm_performance *p, const prsm_
 
 	const prsm_life_rating *lr = &p->life;
 	cJSON *li = cJSON_AddObjectToObject(root, "life");
-	cJSON_AddStringToObject(li, "definition", "L = a1 (C_a / F_e)^3 10^6 screw revolutions (MODEL.md §6); F_e the cubic mean load of the duty cycle weighted by travel (or the operating load), raised by the preload derating; null when F_e = 0");
+	cJSON_AddStringToObject(li, "definition", "L = a1 (C_a / F_e)^3 10^6 screw revolutions (docs/model/kinematics-efficiency-stiffness-life.md); F_e the cubic mean load of the duty cycle weighted by travel (or the operating load), raised by the preload derating; null when F_e = 0");
 	prsm_json_add_number(li, "mean_load_N", p->mean_load_N);
 	prsm_json_add_number(li, "equivalent_load_N", p->equivalent_load_N);
 	cJSON_AddNumberToObject(li, "duty_cycle_steps", d->life.duty_steps);
@@ -475,7 +475,7 @@ cJSON *prsm_io_analysis_to_json(const prsm_analysis *a, const prsm_design *d,
 	} else {
 		const prsm_efficiency *e = &a->efficiency;
 		cJSON *eff = cJSON_AddObjectToObject(root, "efficiency");
-		cJSON_AddStringToObject(eff, "model", "sliding friction only, at the screw and nut contacts, 3-D normals and slip (MODEL.md §5)");
+		cJSON_AddStringToObject(eff, "model", "sliding friction only, at the screw and nut contacts, 3-D normals and slip (docs/model/kinematics-efficiency-stiffness-life.md)");
 		prsm_json_add_number(eff, "eta", e->eta);
 		prsm_json_add_number(eff, "eta_back", e->eta_back);
 		prsm_json_add_number(eff, "eta_closed_form", e->eta_closed_form);

@@ -13,9 +13,9 @@
 #include "util/problems.h"
 
 /* Build the result object; the caller owns it (cJSON_Delete). NULL when out of memory. perf
- * (may be NULL: sliding efficiency only) adds the operating-point analysis of MODEL.md §5-§6. */
+ * (may be NULL: sliding efficiency only) adds the operating-point analysis of docs/model/kinematics-efficiency-stiffness-life.md-§6. */
 /* The model the results follow (what the "engine"."model" field of a result names). */
-#define PRSM_MODEL_VERSION "MODEL.md 2026-11 (§1, §2, §3, §4, §5, §6, §7)"
+#define PRSM_MODEL_VERSION "prsm model 2026-11 (docs/model: geometry and meshing; errors and assembly; kinematics, efficiency, stiffness and life)"
 
 cJSON *prsm_io_analysis_to_json(const prsm_analysis *a, const prsm_design *d,
                                 const prsm_performance *perf, const prsm_problems *warnings);

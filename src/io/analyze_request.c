@@ -1,5 +1,5 @@
 /*
- * analyze_request.c: the analyze request from JSON to its result (MODEL.md §2–§6), for the CLI
+ * analyze_request.c: the analyze request from JSON to its result (docs/model/geometry-and-meshing.md–§6), for the CLI
  * and the service alike.
  */
 #include "io/analyze_request.h"

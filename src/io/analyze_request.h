@@ -3,8 +3,8 @@
  * result, shared by `prsm analyze`/`prsm validate` and the service's POST /v1/designs/analyze.
  *
  * A request is a design document alone (the nominal and operating-point analysis), a
- * multi-stage design ({"stages": [...]}, MODEL.md §7) or {"design", "errors", "assembly"} (the
- * analysis and the error analysis of MODEL.md §3, §4 for one concrete error set). Every problem of the document is reported at once, with its JSON pointer; the
+ * multi-stage design ({"stages": [...]}, docs/model/kinematics-efficiency-stiffness-life.md) or {"design", "errors", "assembly"} (the
+ * analysis and the error analysis of docs/model/errors-and-assembly.md for one concrete error set). Every problem of the document is reported at once, with its JSON pointer; the
  * contact solver's findings (an edge contact, no contact point) are problems too, at the
  * pointer of the design's geometry.
  */
@@ -25,12 +25,12 @@
 #include "util/problems.h"
 
 typedef struct {
-	int multistage;                /* the multi-stage form (MODEL.md §7): only ms is set */
+	int multistage;                /* the multi-stage form (docs/model/kinematics-efficiency-stiffness-life.md): only ms is set */
 	prsm_io_multistage *ms;        /* its stages and chain, owned here */
 	prsm_performance ms_perf[PRSM_STAGES_MAX]; /* each stage's operating-point analysis */
 	prsm_design d;                 /* the resolved design (thinning solved when asked) */
 	prsm_analysis a;               /* its nominal analysis */
-	prsm_performance perf;         /* its operating-point analysis (MODEL.md §5, §6) */
+	prsm_performance perf;         /* its operating-point analysis (docs/model/kinematics-efficiency-stiffness-life.md) */
 	int with_errors;               /* the request form with errors and/or assembly */
 	prsm_errors errors;            /* the error set (with_errors) */
 	prsm_assembly_options options; /* error-analysis options (with_errors) */

@@ -111,7 +111,7 @@ cJSON *prsm_io_assembly_to_json(const prsm_assembly_report *r, const prsm_assemb
 	}
 	cJSON_AddStringToObject(ls, "contact_law",
 	                        "Hertz point contacts, axial K from the nominal curvatures; no thread or body "
-	                        "compliance (MODEL.md §6 thread compliance comes with the load distribution)");
+	                        "compliance (docs/model/kinematics-efficiency-stiffness-life.md thread compliance comes with the load distribution)");
 
 	cJSON *te = cJSON_AddObjectToObject(root, "transmission_error");
 	prsm_json_add_number(te, "measuring_load_N", r->measuring_load_N);

@@ -1,5 +1,5 @@
 /*
- * assembly_json.h: the error analysis of one error set (MODEL.md §3, §4) as the `assembly`
+ * assembly_json.h: the error analysis of one error set (docs/model/errors-and-assembly.md) as the `assembly`
  * member of the analyze result, and as a section of the text summary. Units in every name:
  * um, N, N/um, deg, mm, cycles per screw revolution (per_rev), Hz at the operating speed.
  */

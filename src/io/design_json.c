@@ -106,7 +106,7 @@ void prsm_io_hook_engagement(void *base, const cJSON *g, const char *gp, prsm_pr
 }
 
 /* "stiffness"."thread_compliance": model and width share one member, and width_mm is required
- * with width "given" (MODEL.md §6). */
+ * with width "given" (docs/model/kinematics-efficiency-stiffness-life.md). */
 void prsm_io_hook_thread_compliance(void *base, const cJSON *s, const char *sp, prsm_problems *problems)
 {
 	prsm_design_stiffness *o = base;
@@ -147,7 +147,7 @@ void prsm_io_hook_thread_compliance(void *base, const cJSON *s, const char *sp, 
 			o->negative_terms = neg == 0 ? PRSM_YAMAMOTO_CLAMP : PRSM_YAMAMOTO_KEEP;
 	}
 }
-/* "life"."reliability_percent": 90, or 95 to 99 (the table of reliability factors, MODEL.md §6) */
+/* "life"."reliability_percent": 90, or 95 to 99 (the table of reliability factors, docs/model/kinematics-efficiency-stiffness-life.md) */
 void prsm_io_hook_reliability(void *base, const cJSON *l, const char *lp, prsm_problems *problems)
 {
 	prsm_design_life *o = base;
@@ -164,7 +164,7 @@ void prsm_io_hook_reliability(void *base, const cJSON *l, const char *lp, prsm_p
 	}
 }
 
-/* "life"."duty_cycle": steps of load and travel (MODEL.md §6) */
+/* "life"."duty_cycle": steps of load and travel (docs/model/kinematics-efficiency-stiffness-life.md) */
 void prsm_io_hook_duty_cycle(void *base, const cJSON *l, const char *lp, prsm_problems *problems)
 {
 	prsm_design_life *o = base;

@@ -2,7 +2,7 @@
  * design_json.h: the design document (schemas/design.schema.json) to prsm_design and back to the
  * document's JSON pointers for every problem.
  *
- * Units convert here and nowhere else (MODEL.md: the API names the unit, the engine works in mm,
+ * Units convert here and nowhere else (the API names the unit, the engine works in mm,
  * N, MPa, rad, s): E_GPa * 1000 -> MPa, deg -> rad, rpm -> rad/s, thinning in µm of tooth
  * thickness -> per-flank shift in mm (half of it), clearance µm -> mm.
  *

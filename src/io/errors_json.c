@@ -1,6 +1,6 @@
 /*
  * errors_json.c: the `errors` and `assembly` objects of an analyze request (see errors_json.h,
- * MODEL.md §3), reporting every problem at once with its JSON pointer.
+ * docs/model/errors-and-assembly.md), reporting every problem at once with its JSON pointer.
  *
  * Each part's scalar fields are one table (key, struct offset, unit scale, limit) that both the
  * reader and the writer walk, so the two cannot disagree on a name or a unit. The field list and

@@ -1,6 +1,6 @@
 /*
  * errors_json.h: the analyze request's `errors` object (one concrete error set: a measured part
- * or one Monte Carlo sample, MODEL.md §3) to prsm_errors and back, and its `assembly` options
+ * or one Monte Carlo sample, docs/model/errors-and-assembly.md) to prsm_errors and back, and its `assembly` options
  * object to prsm_assembly_options (schemas/analyze-request.schema.json).
  *
  * Units convert here and nowhere else: the API names the unit in the field, the engine works in

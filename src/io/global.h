@@ -4,7 +4,7 @@
  * prsm_global_init() must be called before any other prsm function, from any thread, any number
  * of times (pthread_once). It
  *   - switches GSL's error handler off: model code reads GSL's return codes and reports them
- *     (MODEL.md §9); the default handler would abort the process, and nothing below this file
+ *     (docs/model/errors-and-assembly.md); the default handler would abort the process, and nothing below this file
  *     ever switches the handler again (a process-wide switch around one call races with every
  *     other thread);
  *   - installs cJSON allocation hooks that count failed allocations per thread, so a document

@@ -27,7 +27,7 @@
 #include "util/utf8.h"
 #include "util/version.h"
 
-#define PRSM_OPT_MODEL_VERSION "MODEL.md 2026-11 (§1, §2, §5, §6)"
+#define PRSM_OPT_MODEL_VERSION "prsm model 2026-11 (docs/model: geometry and meshing; kinematics, efficiency, stiffness and life)"
 #define PRSM_OPT_ENGINE_NAME "prsm-opt 1 (NLopt local runs from GSL Sobol starts, integers enumerated with pruning)"
 
 enum { METHOD_SINGLE = 0, METHOD_WEIGHTED = 1, METHOD_PARETO = 2 };

@@ -1,5 +1,5 @@
 /*
- * stages_json.c: the multi-stage document and its analysis (MODEL.md §7).
+ * stages_json.c: the multi-stage document and its analysis (docs/model/kinematics-efficiency-stiffness-life.md).
  */
 #include "io/stages_json.h"
 
@@ -45,7 +45,7 @@ static void read_radii(double *r, int *is_default, const cJSON *c, const char *c
 	}
 }
 
-/* Input torque of stage k at axial load F: its analysis at that load (MODEL.md §5). */
+/* Input torque of stage k at axial load F: its analysis at that load (docs/model/kinematics-efficiency-stiffness-life.md). */
 static double stage_torque(void *ctx, int k, double load_N)
 {
 	prsm_io_multistage *m = ctx;
@@ -158,7 +158,7 @@ cJSON *prsm_io_multistage_to_json(const prsm_io_multistage *m, const prsm_perfor
 	const prsm_chain *c = &m->chain;
 	const prsm_chain_input *in = &m->chain_input;
 	cJSON *ch = cJSON_AddObjectToObject(root, "chain");
-	cJSON_AddStringToObject(ch, "model", "nested stages (MODEL.md §7): screws coupled by splines turn at the input speed, nut k pushes screw k+1 through a thrust bearing; spline friction s_k = mu_SS M_k / r_SS and thrust-bearing torque mu_NS B_k r_NS (seed 000); eta = F sum L / (2 pi T_in)");
+	cJSON_AddStringToObject(ch, "model", "nested stages (docs/model/kinematics-efficiency-stiffness-life.md): screws coupled by splines turn at the input speed, nut k pushes screw k+1 through a thrust bearing; spline friction s_k = mu_SS M_k / r_SS and thrust-bearing torque mu_NS B_k r_NS (seed 000); eta = F sum L / (2 pi T_in)");
 	cJSON_AddNumberToObject(ch, "stages", c->stages);
 	prsm_json_add_number(ch, "axial_load_N", in->axial_load_N);
 	prsm_json_add_number(ch, "screw_speed_rpm", in->screw_speed_rad_s * RPM_PER_RAD_S);

@@ -1,5 +1,5 @@
 /*
- * stages_json.h: the multi-stage design document (MODEL.md §7; schemas/design.schema.json,
+ * stages_json.h: the multi-stage design document (docs/model/kinematics-efficiency-stiffness-life.md; schemas/design.schema.json,
  * its "stages" form) and its analysis result.
  *
  * {"name", "description", "stages": [design, ...], "couplings": {...}, "operating_point"}:

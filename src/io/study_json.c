@@ -33,7 +33,7 @@
 #define PRSM_VERSION "0.0.0"
 #endif
 #define PRSM_ENGINE_NAME "prsm-mc 1 (Philox4x64 blocks, GSL Sobol, Saltelli/Jansen)"
-#define PRSM_STUDY_MODEL_VERSION "MODEL.md 2026-11 (§3, §4, §5)"
+#define PRSM_STUDY_MODEL_VERSION "prsm model 2026-11 (docs/model: errors and assembly; kinematics, efficiency, stiffness and life)"
 
 static const char *const study_keys[] = {"name", "design", "model", "errors", "assembly",
                                          "tolerances", "correlations", "outputs", "specs",
@@ -522,7 +522,7 @@ static int output_index(const prsm_io_study *s, const char *name)
 }
 
 /* What the outputs at the nominal operating point need from the nut unit's performance
- * (prsm_performance, MODEL.md §5, §6), computed once: for nut_unit_stiffness_N_per_um the
+ * (prsm_performance, docs/model/kinematics-efficiency-stiffness-life.md), computed once: for nut_unit_stiffness_N_per_um the
  * compliance beyond the contacts, 1/k_unit - 1/k_contacts of the nominal design (mm/N, k_unit the
  * load distribution's stiffness, k_contacts the assembly's with nominal gaps); for
  * efficiency_with_losses the distribution's normal loads of one roller's contacts. Returns 0, or

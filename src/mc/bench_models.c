@@ -1,6 +1,6 @@
 /*
  * bench_models.c: the analytic benchmark models and their exact moments and Sobol indices
- * (../shared/reference/benchmarks.md; Ishigami & Homma 1990, Sobol's G-function).
+ * (Ishigami & Homma 1990; Sobol's G-function, Saltelli et al. 2008).
  */
 #include "mc/bench_models.h"
 

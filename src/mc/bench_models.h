@@ -1,7 +1,7 @@
 /*
  * bench_models.h: analytic models a study may name instead of a design, so anyone can check
- * the Monte Carlo and sensitivity engine against exact values (../shared/reference/
- * benchmarks.md): the Ishigami function, Sobol's G-function and a linear stack.
+ * the Monte Carlo and sensitivity engine against exact values (docs/studies.md): the
+ * Ishigami function, Sobol's G-function and a linear stack.
  */
 #ifndef PRSM_MC_BENCH_MODELS_H
 #define PRSM_MC_BENCH_MODELS_H

@@ -1,6 +1,6 @@
 /*
  * prsm_model.c: one Monte Carlo sample of a roller screw: bind the sampled values to an error
- * set and evaluate the assembly's outputs (MODEL.md §3, §4) and the sliding efficiency (§5).
+ * set and evaluate the assembly's outputs (docs/model/errors-and-assembly.md) and the sliding efficiency (§5).
  */
 #include "mc/prsm_model.h"
 
@@ -215,7 +215,7 @@ static int prsm_eval(double *y, unsigned *flags, const void *ctx, void *wsp, con
 		case PRSM_OUT_EFFICIENCY: v = eta; break;
 		case PRSM_OUT_EFFICIENCY_BACK: v = eta_back; break;
 		case PRSM_OUT_EFFICIENCY_LOSSES: v = eta_losses; break;
-		case PRSM_OUT_UNIT_STIFFNESS: /* springs in series (MODEL.md §6), N/mm to N/um */
+		case PRSM_OUT_UNIT_STIFFNESS: /* springs in series (docs/model/kinematics-efficiency-stiffness-life.md), N/mm to N/um */
 			v = w->st.stiffness_N_per_mm > 0.0
 			        ? 1e-3 / (1.0 / w->st.stiffness_N_per_mm + p->unit_rest_compliance_mm_per_N)
 			        : NAN;

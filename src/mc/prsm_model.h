@@ -1,5 +1,5 @@
 /*
- * prsm_model.h: the roller screw as a Monte Carlo model (MODEL.md §3, §4, §5).
+ * prsm_model.h: the roller screw as a Monte Carlo model (docs/model/errors-and-assembly.md, docs/model/kinematics-efficiency-stiffness-life.md).
  *
  * Each sampled variable is bound to one error of model/errors.h (or a friction coefficient):
  * the sample's value times `scale` is added to the base error set, then the assembly is
@@ -40,15 +40,15 @@ typedef enum {
 	PRSM_OUT_STIFFNESS_RATIO,       /* stiffness_ratio: over the nominal-gap stiffness */
 	PRSM_OUT_TE_PP,                 /* te_pp_um: transmission error p-p over one revolution */
 	PRSM_OUT_TE_RMS,                /* te_rms_um */
-	PRSM_OUT_EFFICIENCY,            /* efficiency: direct, sliding (MODEL.md §5) */
+	PRSM_OUT_EFFICIENCY,            /* efficiency: direct, sliding (docs/model/kinematics-efficiency-stiffness-life.md) */
 	PRSM_OUT_EFFICIENCY_BACK,       /* efficiency_back */
 	PRSM_OUT_UNIT_STIFFNESS,        /* nut_unit_stiffness_N_per_um: the sampled contacts' dF/du in
 	                                   series with the rest of the nut unit's compliance (threads,
-	                                   cores, nut body: MODEL.md §6) as the nominal design has it,
+	                                   cores, nut body: docs/model/kinematics-efficiency-stiffness-life.md) as the nominal design has it,
 	                                   so that the error-free sample is prsm analyze's
 	                                   stiffness.axial_N_per_um */
 	PRSM_OUT_EFFICIENCY_LOSSES,     /* efficiency_with_losses: direct efficiency with every loss of
-	                                   MODEL.md §5 (sliding, spin, gear mesh, drag) at the sample's
+	                                   docs/model/kinematics-efficiency-stiffness-life.md (sliding, spin, gear mesh, drag) at the sample's
 	                                   friction and the nominal load distribution, so the error-free
 	                                   sample is prsm analyze's efficiency.eta */
 	PRSM_OUT_COUNT

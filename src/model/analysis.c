@@ -1,5 +1,5 @@
 /*
- * analysis.c: the nominal analysis (MODEL.md §2, §5, §6).
+ * analysis.c: the nominal analysis (docs/model/geometry-and-meshing.md, docs/model/kinematics-efficiency-stiffness-life.md).
  */
 #include "model/analysis.h"
 
@@ -53,7 +53,7 @@ int prsm_analysis_nominal(prsm_analysis *out, prsm_design *d, prsm_problems *war
 	prsm_problems_init(&scratch);
 	prsm_geometry_check(&out->geometry, &scratch, &scratch, d);
 
-	/* G0: gaps with no flank shifts (MODEL.md §2, "Tooth thickness and backlash") */
+	/* G0: gaps with no flank shifts (docs/model/geometry-and-meshing.md, "Tooth thickness and backlash") */
 	prsm_design bare = *d;
 	bare.flank_shift_screw_mm = bare.flank_shift_roller_mm = bare.flank_shift_nut_mm = 0.0;
 	prsm_contact c0;
@@ -86,7 +86,7 @@ int prsm_analysis_nominal(prsm_analysis *out, prsm_design *d, prsm_problems *war
 	prsm_kinematics_compute(&out->kinematics, d, &out->screw, &out->nut);
 	prsm_efficiency_sliding(&out->efficiency, d, &out->kinematics, &out->screw, &out->nut);
 
-	/* Hertz at the operating load shared equally over rollers and threads (MODEL.md §6) */
+	/* Hertz at the operating load shared equally over rollers and threads (docs/model/kinematics-efficiency-stiffness-life.md) */
 	out->contacts_sharing = d->rollers * d->engaged_threads;
 	out->axial_load_per_contact_N = d->axial_load_N / out->contacts_sharing;
 	const double Qs = out->axial_load_per_contact_N / fabs(out->screw.normal[2]);

@@ -1,6 +1,6 @@
 /*
  * analysis.h: the nominal analysis of one design, everything `prsm analyze` reports that
- * depends on no error set: contacts and gaps (MODEL.md §2), backlash, kinematics and sliding
+ * depends on no error set: contacts and gaps (docs/model/geometry-and-meshing.md), backlash, kinematics and sliding
  * efficiency (§5), Hertz contact at the operating load shared equally (§6).
  */
 #ifndef PRSM_MODEL_ANALYSIS_H
@@ -17,7 +17,7 @@
 
 typedef struct {
 	prsm_geometry geometry;
-	double gap0_screw_mm, gap0_nut_mm; /* flank gaps with no thinning (G0, MODEL.md §2) */
+	double gap0_screw_mm, gap0_nut_mm; /* flank gaps with no thinning (G0, docs/model/geometry-and-meshing.md) */
 	prsm_contact screw, nut;           /* contacts with the design's flank shifts */
 	double backlash_mm;                /* nominal axial play of nut on screw, both directions */
 	double offset_rule_mm;             /* P cot(beta) / pi, the rule of thumb for y_c */

@@ -1,6 +1,6 @@
 /*
  * assembly.c: part errors to flank gaps, rigid backlash and the elastic load sharing
- * (MODEL.md §3, §4; conventions in docs/assembly-model.md).
+ * (docs/model/errors-and-assembly.md; conventions in docs/assembly-model.md).
  */
 #include "model/assembly.h"
 
@@ -19,7 +19,7 @@ void prsm_assembly_options_default(prsm_assembly_options *o)
 	o->deadline_s = 0.0;
 }
 
-/* The "+" chain (MODEL.md §4: screw side closes with w_j, nut side with u - w_j) is the nut
+/* The "+" chain (docs/model/errors-and-assembly.md: screw side closes with w_j, nut side with u - w_j) is the nut
  * pair as contact.c models it and the screw pair mirrored; "-" the opposite. */
 static int is_mirrored(int side, int dir)
 {
@@ -50,7 +50,7 @@ static int prepare_pair(prsm_assembly_pair *ap, const prsm_design *d, int side, 
 
 /* Axial Hertz constant K (N/mm^1.5): normal approach delta_n = C Q^{2/3} gives K_n = Q /
  * delta_n^{3/2} (any Q); an axial approach delta_a is a normal one of |n_z| delta_a and a
- * normal load Q an axial one of |n_z| Q, so f = K_n |n_z|^{5/2} delta_a^{3/2} (MODEL.md §4, §6). */
+ * normal load Q an axial one of |n_z| Q, so f = K_n |n_z|^{5/2} delta_a^{3/2} (docs/model/errors-and-assembly.md, docs/model/kinematics-efficiency-stiffness-life.md). */
 static int axial_constant(double *K, const prsm_contact *c, const prsm_material *mb,
                           const prsm_material *mr)
 {
@@ -83,7 +83,7 @@ int prsm_assembly_init(prsm_assembly *as, const prsm_design *d, const prsm_analy
 	as->pitch_mm = d->pitch_mm;
 	as->screw_p = prsm_design_screw_p(d);
 	as->roller_p = prsm_design_roller_p(d);
-	/* the gear mesh holds the rolling ratios of the pitch circles (MODEL.md §4, §5) */
+	/* the gear mesh holds the rolling ratios of the pitch circles (docs/model/errors-and-assembly.md, docs/model/kinematics-efficiency-stiffness-life.md) */
 	as->carrier_ratio = a->kinematics.carrier_ratio_ideal;
 	as->spin_ratio = a->kinematics.roller_spin_ratio_ideal;
 	for (int side = 0; side < 2; side++)
@@ -251,7 +251,7 @@ void prsm_assembly_perturbation(double *out, const prsm_assembly *as, const prsm
 /* Linear-mode gap change of e at the frozen nominal contact. The roller's pitch and arc radii
  * enter G only through z_c - sqrt(R^2 - u^2), which is cheap to evaluate exactly at the fixed
  * point: its curvature would otherwise cost 1.5 % at 50 um of pitch radius (test_perturb). The
- * rest is the envelope theorem (MODEL.md §3): sens . e. */
+ * rest is the envelope theorem (docs/model/errors-and-assembly.md): sens . e. */
 static double linear_change(const prsm_assembly_pair *ap, const double *e)
 {
 	double s = 0.0;
@@ -299,7 +299,7 @@ int prsm_assembly_gaps_at(prsm_assembly_gaps *out, const prsm_assembly *as, cons
 			/* e1 holds no radius terms: its part is the plain dot product */
 			const double g0 = prsm_assembly_gap_linear(ap, e0), g1 = dot(ap->sens, e1);
 			double *g = &out->gap_mm[side][j * nt];
-			/* linear mode (MODEL.md §3): nominal gap + sensitivities . perturbation; the shift
+			/* linear mode (docs/model/errors-and-assembly.md): nominal gap + sensitivities . perturbation; the shift
 			 * sensitivity is exactly 1 */
 			for (int k = 0; k < nt; k++)
 				g[k] = g0 + g1 * thread_z(as, k) - ax * start_shift(as, b, k, t.start_offset);
@@ -436,7 +436,7 @@ int prsm_assembly_solve(prsm_assembly_state *st, const prsm_assembly *as,
 	for (int i = 0; i < Z * nt && finite; i++)
 		finite = isfinite(g->gap_mm[0][i]) && isfinite(g->gap_mm[1][i]);
 	if (!finite) {
-		/* MODEL.md §9: nothing to balance; reported, and the state says so */
+		/* docs/model/errors-and-assembly.md: nothing to balance; reported, and the state says so */
 		memset(st, 0, sizeof *st);
 		st->load_N = F;
 		st->u_mm = NAN;
@@ -452,7 +452,7 @@ int prsm_assembly_solve(prsm_assembly_state *st, const prsm_assembly *as,
 		chain_hi = fmax(chain_hi, c);
 		chain_mean += c / Z;
 	}
-	/* bracket (MODEL.md §4): below the smallest closed chain nothing carries load; once every
+	/* bracket (docs/model/errors-and-assembly.md): below the smallest closed chain nothing carries load; once every
 	 * chain is closed by the approach that one contact per side needs for F, every roller
 	 * carries at least F */
 	const double ds = pow(F / Ks, 2.0 / 3.0), dn = pow(F / Kn, 2.0 / 3.0);
@@ -503,7 +503,7 @@ int prsm_assembly_solve(prsm_assembly_state *st, const prsm_assembly *as,
 	st->load_N = F;
 	st->u_mm = u;
 	st->iterations = done ? it : PRSM_ASSEMBLY_MAX_ITERATIONS;
-	/* MODEL.md §9: a solve that ran out of iterations, or whose last iterate is not finite, is
+	/* docs/model/errors-and-assembly.md: a solve that ran out of iterations, or whose last iterate is not finite, is
 	 * reported, not passed on as a result */
 	st->converged = done && rollers_ok && isfinite(u) && isfinite(total) && isfinite(F) && F > 0.0;
 	st->stiffness_N_per_mm = dtotal;

@@ -1,5 +1,5 @@
 /*
- * assembly.h: the assembly under errors (MODEL.md §3, §4): every flank gap of every roller,
+ * assembly.h: the assembly under errors (docs/model/errors-and-assembly.md): every flank gap of every roller,
  * engaged thread, flank side and load direction at any screw angle; rigid backlash; the elastic
  * load sharing under an axial load; transmission error over a revolution and a stroke.
  *
@@ -10,9 +10,9 @@
  * flank, the roller's lower flank under the nut's upper flank), "-" the opposite. Gaps are
  * measured in the frame that moves with the nominal nut and roller positions, so only errors
  * make them depend on theta. Elastic unknowns: u, the nut's axial displacement relative to the
- * screw in the load direction, and w_j, each roller's (MODEL.md §4).
+ * screw in the load direction, and w_j, each roller's (docs/model/errors-and-assembly.md).
  *
- * Two evaluation modes behind one interface (MODEL.md §3): exact re-solves every contact of
+ * Two evaluation modes behind one interface (docs/model/errors-and-assembly.md): exact re-solves every contact of
  * the perturbed pairs, linear sums the sensitivities at the nominal contacts. Nothing here
  * allocates: a prsm_assembly is a plain struct prepared once per design.
  */
@@ -47,7 +47,7 @@ typedef struct {
 	double carrier_ratio;            /* k_c: carrier turns per screw turn */
 	double spin_ratio;               /* s_r: roller spin relative to the carrier per screw turn */
 	prsm_assembly_pair pairs[2][2];  /* [side][direction] */
-	/* axial contact law f = K delta^{3/2} (MODEL.md §4, §6): Hertz K converted to the axial
+	/* axial contact law f = K delta^{3/2} (docs/model/errors-and-assembly.md, docs/model/kinematics-efficiency-stiffness-life.md): Hertz K converted to the axial
 	 * direction, K = K_n |n_z|^{5/2}, N / mm^{3/2}; no thread compliance (issue 4) */
 	double k_axial[2];               /* [side] */
 	double nominal_stiffness_N_per_mm; /* dF/du at the operating load with nominal gaps */
@@ -71,7 +71,7 @@ typedef struct {
 	double sharing_factor;           /* max_j roller load / (F / Z) */
 	int loaded_rollers;              /* rollers carrying load */
 	int iterations;                  /* outer Newton iterations */
-	int converged;                   /* 1 when the nut and every roller balanced (MODEL.md §9) */
+	int converged;                   /* 1 when the nut and every roller balanced (docs/model/errors-and-assembly.md) */
 } prsm_assembly_state;
 
 /* Prepare a design that passed prsm_analysis_nominal (a): pairs, contacts, sensitivities, K.
@@ -95,22 +95,22 @@ int prsm_assembly_gaps_at(prsm_assembly_gaps *out, const prsm_assembly *as, cons
                           int dir, double theta_rad, int mode);
 
 /* Rigid backlash B(theta), mm: per direction min_j [min_k g_sr + min_k g_nr], summed over both
- * directions (MODEL.md §4). plus/minus (may be NULL) get the two directions' shares. */
+ * directions (docs/model/errors-and-assembly.md). plus/minus (may be NULL) get the two directions' shares. */
 double prsm_assembly_backlash(const prsm_assembly *as, const prsm_assembly_gaps *plus,
                               const prsm_assembly_gaps *minus, double *plus_mm, double *minus_mm);
 
-/* Elastic solve (MODEL.md §4) at axial load F_N > 0 on the gaps g of one direction. st->u_mm
+/* Elastic solve (docs/model/errors-and-assembly.md) at axial load F_N > 0 on the gaps g of one direction. st->u_mm
  * and st->w_mm are used as the starting point when warm is 1. Bracketed Newton on u over
  * monotone 1-D roots in w_j, which converges for finite gaps and F > 0; returns 0, or
  * PRSM_ENOCONVERGE (st->converged 0, st still filled with the last iterate) when the nut or a
  * roller did not balance within PRSM_ASSEMBLY_MAX_ITERATIONS, or an input was not finite
- * (MODEL.md §9: the caller counts it, never uses it silently). */
+ * (docs/model/errors-and-assembly.md: the caller counts it, never uses it silently). */
 #define PRSM_ASSEMBLY_MAX_ITERATIONS 200
 
 int prsm_assembly_solve(prsm_assembly_state *st, const prsm_assembly *as,
                         const prsm_assembly_gaps *g, double F_N, int warm);
 
-/* Named frequencies of MODEL.md §4 in cycles per screw revolution. */
+/* Named frequencies of docs/model/errors-and-assembly.md in cycles per screw revolution. */
 typedef struct {
 	double screw;           /* a screw-fixed error passing one roller: 1 - k_c */
 	double carrier;         /* a nut-fixed error passing one roller: k_c */

@@ -1,5 +1,5 @@
 /*
- * assembly_report.c: the error analysis of one error set (MODEL.md §3, §4).
+ * assembly_report.c: the error analysis of one error set (docs/model/errors-and-assembly.md).
  */
 #include "model/assembly_report.h"
 #include "util/clock.h"
@@ -149,7 +149,7 @@ static int te_record(double *te, int n, double dtheta, const prsm_assembly *as, 
 		if (failed)
 			*failed += ws->failed_contacts;
 		if (prsm_assembly_solve(&st, as, ws, F, i > 0) && failed)
-			++*failed; /* MODEL.md §9: counted, as a failed contact solve is */
+			++*failed; /* docs/model/errors-and-assembly.md: counted, as a failed contact solve is */
 		if (i == 0)
 			u0 = st.u_mm;
 		te[i] = st.u_mm - u0;
@@ -186,7 +186,7 @@ int prsm_assembly_analyse(prsm_assembly_report *r, const prsm_assembly *as, cons
 	const double dtheta = 2.0 * M_PI / M;
 	const double F = as->design.axial_load_N;
 
-	/* transmission error at the measuring load (MODEL.md §4); ws->minus is its scratch */
+	/* transmission error at the measuring load (docs/model/errors-and-assembly.md); ws->minus is its scratch */
 	int n, fft;
 	prsm_assembly_record_length(&n, &fft, as, o);
 	r->record_length = n;

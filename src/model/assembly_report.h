@@ -1,6 +1,6 @@
 /*
  * assembly_report.h: everything the error analysis of one concrete error set reports
- * (MODEL.md §3, §4): gaps and backlash over a revolution, load sharing and stiffness at the
+ * (docs/model/errors-and-assembly.md): gaps and backlash over a revolution, load sharing and stiffness at the
  * operating load, transmission error over a revolution and a stroke, its spectrum with the
  * named frequencies. Also the signal helpers the TE statistics use.
  */
@@ -29,7 +29,7 @@ typedef struct {
 	/* at the operating load, theta = 0, "+" direction */
 	prsm_assembly_state operating;
 	double stiffness_ratio;         /* dF/du over its value with nominal gaps */
-	/* transmission error at the measuring load, "+" direction (MODEL.md §4) */
+	/* transmission error at the measuring load, "+" direction (docs/model/errors-and-assembly.md) */
 	double measuring_load_N;
 	double te_revolution_pp_mm, te_revolution_rms_mm; /* first screw revolution */
 	int has_stroke;
@@ -59,7 +59,7 @@ void prsm_assembly_record_length(int *record_length, int *fft_length, const prsm
 #define PRSM_ASSEMBLY_EXACT_COST 16.0
 double prsm_assembly_cost(const prsm_assembly *as, const prsm_assembly_options *o);
 
-/* The whole error analysis of error set e (MODEL.md §3, §4). ws buffers sized by
+/* The whole error analysis of error set e (docs/model/errors-and-assembly.md). ws buffers sized by
  * prsm_assembly_record_length(). Returns 0, or PRSM_ECANCELLED when o->cancel was raised or
  * o->deadline_s passed (checked every PRSM_ASSEMBLY_STOP_EVERY angles; r is then incomplete). */
 #define PRSM_ASSEMBLY_STOP_EVERY 32

@@ -1,6 +1,6 @@
 /*
  * compliance.c: Yamamoto's thread-tooth compliance with an explicit effective width, and the
- * stretch compliance of body segments (MODEL.md §6). See compliance.h for the formulas, the
+ * stretch compliance of body segments (docs/model/kinematics-efficiency-stiffness-life.md). See compliance.h for the formulas, the
  * width rules and the negative-term pathology.
  */
 #include "model/compliance.h"
@@ -43,7 +43,7 @@ int prsm_compliance_yamamoto(prsm_yamamoto *out, const prsm_thread_tooth *t, int
 
 	const double tb = tan(beta), cot = 1.0 / tb;
 	const double ba = b / a, ca = c / a, lnab = log(a / b);
-	/* MODEL.md §6 thread compliance; Yamamoto's terms, each per unit load per unit width */
+	/* docs/model/kinematics-efficiency-stiffness-life.md thread compliance; Yamamoto's terms, each per unit load per unit width */
 	out->bending = (1.0 - nu * nu) * 0.75 / E *
 	               ((1.0 - (2.0 - ba) * (2.0 - ba) + 2.0 * lnab) * cot * cot * cot - 4.0 * ca * ca * tb);
 	out->shear = (1.0 + nu) * 1.2 / E * cot * lnab;
@@ -144,7 +144,7 @@ int prsm_compliance_tooth(prsm_thread_tooth *out, const prsm_design *d, int part
 		straight_tooth(out, P, beta, b, depth);
 		return 0;
 	}
-	/* roller: arc flank of radius R about the roller axis (MODEL.md §1, §2); the tooth is
+	/* roller: arc flank of radius R about the roller axis (docs/model/geometry-and-meshing.md); the tooth is
 	 * b + 2 (sqrt(R^2 - u^2) - sqrt(R^2 - r_r^2)) thick at radius u */
 	const double R = d->roller_arc_radius_mm, rr = d->roller_radius_mm;
 	const double u_root = d->roller_root_radius_mm;
@@ -201,7 +201,7 @@ int prsm_compliance_thread(prsm_thread_compliance *out, const prsm_thread_tooth 
 	int rc = prsm_compliance_yamamoto(&out->terms, tooth, o->negative_terms, err);
 	if (rc)
 		return rc;
-	/* MODEL.md §6: per-unit-width terms over the explicit width, times the calibration */
+	/* docs/model/kinematics-efficiency-stiffness-life.md: per-unit-width terms over the explicit width, times the calibration */
 	out->compliance_mm_per_N = o->calibration * out->terms.sum_mm2_per_N / w;
 	return 0;
 }
@@ -274,7 +274,7 @@ int prsm_compliance_segments(prsm_segment_compliance *out, const prsm_design *d,
 		return prsm_error_set(err, PRSM_EINVAL, "/geometry",
 		                      "segment stretch: needs positive root radii, a nut outer radius (%g mm) "
 		                      "beyond the nut root (%g mm), P > 0 and positive moduli", Ro, rn);
-	/* MODEL.md §6 spring chain: P / (E A) per pitch */
+	/* docs/model/kinematics-efficiency-stiffness-life.md spring chain: P / (E A) per pitch */
 	out->screw_mm_per_N = prsm_compliance_stretch(d->pitch_mm, d->screw_material.E_MPa, out->screw_area_mm2);
 	out->roller_mm_per_N = prsm_compliance_stretch(d->pitch_mm, d->roller_material.E_MPa, out->roller_area_mm2);
 	out->nut_mm_per_N = prsm_compliance_stretch(d->pitch_mm, d->nut_material.E_MPa, out->nut_area_mm2);

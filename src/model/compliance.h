@@ -1,5 +1,5 @@
 /*
- * compliance.h: thread-tooth compliance and body-segment stretch compliance (MODEL.md §6,
+ * compliance.h: thread-tooth compliance and body-segment stretch compliance (docs/model/kinematics-efficiency-stiffness-life.md,
  * "Thread compliance" and "Load distribution over threads").
  *
  * Yamamoto's tooth formulas (A. Yamamoto, The Theory and Computation of Threads Connection,
@@ -35,7 +35,7 @@
  *   PRSM_THREAD_WIDTH_ELLIPSE: w = factor x 2a, a the Hertz semi-major axis at the contact
  *     (load-dependent; the caller passes a).
  *   PRSM_THREAD_COMPLIANCE_NONE: rigid threads, compliance 0.
- * Stiffness differs by a factor of about 3 or more between these rules (MODEL.md §6): the
+ * Stiffness differs by a factor of about 3 or more between these rules (docs/model/kinematics-efficiency-stiffness-life.md): the
  * caller must echo the rule, the width and the calibration factor with every result.
  *
  * The known pathology: with 90-degree profiles (beta = 45 deg) the short, wide teeth of a PRSM
@@ -145,7 +145,7 @@ typedef struct {
 	int negative_terms;                       /* OR of the parts' negative-term bits */
 } prsm_design_compliance;
 
-/* Axial stretch compliances of the body segments over one pitch (spring chain, MODEL.md §6). */
+/* Axial stretch compliances of the body segments over one pitch (spring chain, docs/model/kinematics-efficiency-stiffness-life.md). */
 typedef struct {
 	double screw_area_mm2;      /* pi r_root^2 of the screw */
 	double roller_area_mm2;     /* pi r_root^2 of the roller */
@@ -162,7 +162,7 @@ typedef struct {
 int prsm_compliance_yamamoto(prsm_yamamoto *out, const prsm_thread_tooth *tooth,
                              int negative_policy, prsm_error *err);
 
-/* Tooth shape of a part of a resolved design (MODEL.md §1, §2): b = P/2 - 2 t (flank shift t),
+/* Tooth shape of a part of a resolved design (docs/model/geometry-and-meshing.md): b = P/2 - 2 t (flank shift t),
  * c = the depth from the pitch line to the root radius, or to where the groove between two
  * teeth closes if that comes first (the default dedendum 0.3 P is deeper than the V of a
  * 45-degree thread), a = the tooth thickness there (at most P). The roller's arc flank gives

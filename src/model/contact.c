@@ -1,6 +1,6 @@
 /*
  * contact.c: helicoid flank gap, its analytic derivatives and the Newton contact solve
- * (MODEL.md §2).
+ * (docs/model/geometry-and-meshing.md).
  *
  *   body flank:   Z_b = P/4 + sigma (rho - r_b) tan beta + p_b theta - t_b
  *                 sigma = -1 for the screw (flank falls outwards), +1 for the nut
@@ -111,7 +111,7 @@ void prsm_contact_start(const prsm_flank_pair *p, double *x, double *y)
 	dy /= dn;
 	double off = 0.0;
 	if (p->side == PRSM_SIDE_SCREW) {
-		/* MODEL.md §2: y_c ~ P cot(beta)/pi on the side the hand gives */
+		/* docs/model/geometry-and-meshing.md: y_c ~ P cot(beta)/pi on the side the hand gives */
 		double P = 4.0 * p->quarter_pitch_mm;
 		off = (p->roller_p >= 0.0 ? 1.0 : -1.0) * P / (M_PI * p->body_tan_beta);
 	}
@@ -212,7 +212,7 @@ int prsm_contact_solve(prsm_contact *out, const prsm_flank_pair *p)
 	out->normal[2] = 1.0 / norm;
 
 	/* relative principal curvatures: generalized eigenvalues of Hess G with the first
-	 * fundamental form I of the body flank, scaled by the normal's axial part (MODEL.md §2) */
+	 * fundamental form I of the body flank, scaled by the normal's axial part (docs/model/geometry-and-meshing.md) */
 	double g[2], h[3];
 	prsm_contact_gap_derivatives(p, x, y, g, h);
 	const double I11 = 1.0 + zx * zx, I12 = zx * zy, I22 = 1.0 + zy * zy;

@@ -1,5 +1,5 @@
 /*
- * contact.h: flank gap functions and the contact solver (MODEL.md §2), the innermost kernel.
+ * contact.h: flank gap functions and the contact solver (docs/model/geometry-and-meshing.md), the innermost kernel.
  *
  * A flank pair is one roller flank against one screw or nut flank, written as axial height
  * fields over the (x, y) plane of a frame in which the pair's geometry is given (nominally the
@@ -60,14 +60,14 @@ typedef struct {
 /* The nominal flank pair of a resolved design: screw axis at the origin, roller at (a, 0). */
 void prsm_flank_pair_nominal(prsm_flank_pair *out, const prsm_design *d, int side);
 
-/* Axial gap G(x, y) of the pair, mm (MODEL.md §2). */
+/* Axial gap G(x, y) of the pair, mm (docs/model/geometry-and-meshing.md). */
 double prsm_contact_gap(const prsm_flank_pair *pair, double x_mm, double y_mm);
 
 /* Gradient (2) and Hessian (xx, xy, yy) of G at (x, y); hess may be NULL. */
 void prsm_contact_gap_derivatives(const prsm_flank_pair *pair, double x_mm, double y_mm,
                                   double grad[2], double hess[3]);
 
-/* Newton start point of MODEL.md §2: screw side (r_s, P cot beta / pi) towards the roller,
+/* Newton start point of docs/model/geometry-and-meshing.md: screw side (r_s, P cot beta / pi) towards the roller,
  * nut side (r_n, 0). */
 void prsm_contact_start(const prsm_flank_pair *pair, double *x_mm, double *y_mm);
 

@@ -1,5 +1,5 @@
 /*
- * design.h: the typed nominal design of a single-stage planetary roller screw (MODEL.md §1).
+ * design.h: the typed nominal design of a single-stage planetary roller screw (docs/model/geometry-and-meshing.md).
  *
  * This is what io/ fills from a design document and what every model function reads. All
  * quantities are in the engine's units: mm, N, MPa, rad, s. Fields that the document may leave
@@ -20,7 +20,7 @@ typedef struct {
 	double density_kg_m3; /* density, kg/m^3 (column critical speed, masses) */
 } prsm_material;
 
-/* Losses beyond flank sliding (MODEL.md §5, second bullet); src/model/losses.h computes them. */
+/* Losses beyond flank sliding (docs/model/kinematics-efficiency-stiffness-life.md, second bullet); src/model/losses.h computes them. */
 typedef struct {
 	int spin;                     /* spin friction at every contact: 1 on (default), 0 off */
 	int gear_mesh;                /* ring-gear mesh loss: 1 on (default), 0 off */
@@ -34,10 +34,10 @@ typedef struct {
 	double seal_torque_Nm;        /* seal torque, N m */
 } prsm_design_losses;
 
-/* Load entry of the spring-chain load distribution (MODEL.md §6). */
+/* Load entry of the spring-chain load distribution (docs/model/kinematics-efficiency-stiffness-life.md). */
 enum { PRSM_ENTRY_SAME_SIDE = 0, PRSM_ENTRY_OPPOSITE_SIDE = 1 };
 
-/* Thread compliance, load distribution and stiffness settings (MODEL.md §6). The thread
+/* Thread compliance, load distribution and stiffness settings (docs/model/kinematics-efficiency-stiffness-life.md). The thread
  * compliance fields mirror prsm_compliance_options (model/compliance.h). */
 typedef struct {
 	int width_rule;               /* PRSM_THREAD_COMPLIANCE_NONE or PRSM_THREAD_WIDTH_* */
@@ -53,7 +53,7 @@ typedef struct {
 
 #define PRSM_DUTY_CYCLE_MAX 64
 
-/* Capacity and life settings (MODEL.md §6). */
+/* Capacity and life settings (docs/model/kinematics-efficiency-stiffness-life.md). */
 typedef struct {
 	double p_allow_MPa;           /* allowed peak pressure for C_0a, MPa */
 	int reliability_percent;      /* 90, 95, 96, 97, 98 or 99 */
@@ -71,7 +71,7 @@ typedef struct {
 enum { PRSM_THINNING_GIVEN = 0, PRSM_THINNING_EQUAL_GAPS = 1 };
 
 typedef struct {
-	/* threads (MODEL.md §1) */
+	/* threads (docs/model/geometry-and-meshing.md) */
 	int starts;                   /* n: starts of screw and nut */
 	int hand;                     /* PRSM_HAND_RIGHT or PRSM_HAND_LEFT, shared by all threads */
 	double pitch_mm;              /* P, shared by all threads */
@@ -88,7 +88,7 @@ typedef struct {
 	int rollers;                  /* Z */
 	int engaged_threads;          /* n_t: threads of one roller engaged on each side */
 	double running_clearance_mm;  /* c: minimum gap between adjacent roller crests */
-	/* tooth thinning: axial flank shift per flank t_i (MODEL.md §2), mm; half the thickness
+	/* tooth thinning: axial flank shift per flank t_i (docs/model/geometry-and-meshing.md), mm; half the thickness
 	 * reduction of the tooth. Positive removes material and opens the gap. */
 	double flank_shift_screw_mm, flank_shift_roller_mm, flank_shift_nut_mm;
 	int thinning_rule;            /* PRSM_THINNING_* */
@@ -106,7 +106,7 @@ typedef struct {
 	double screw_speed_rad_s;     /* omega of the screw, rad/s */
 } prsm_design;
 
-/* Lead L = n P, mm (MODEL.md §1). */
+/* Lead L = n P, mm (docs/model/geometry-and-meshing.md). */
 double prsm_design_lead_mm(const prsm_design *d);
 /* Screw helicoid parameter p_s = hand n P / 2 pi, mm/rad. */
 double prsm_design_screw_p(const prsm_design *d);

@@ -1,5 +1,5 @@
 /*
- * efficiency.c: sliding efficiency by power balance over the contacts (MODEL.md §5).
+ * efficiency.c: sliding efficiency by power balance over the contacts (docs/model/kinematics-efficiency-stiffness-life.md).
  */
 #include "model/efficiency.h"
 
@@ -33,7 +33,7 @@ int prsm_efficiency_sliding(prsm_efficiency *out, const prsm_design *d, const pr
 	out->eta_closed_form = beta + rho < M_PI / 2 ? tan(beta) / tan(beta + rho) : 0.0;
 	out->eta_back_closed_form = beta > rho ? tan(beta - rho) / tan(beta) : 0.0;
 
-	/* operating point: T = F L / (2 pi eta) (MODEL.md §5), N mm -> N m */
+	/* operating point: T = F L / (2 pi eta) (docs/model/kinematics-efficiency-stiffness-life.md), N mm -> N m */
 	const double F = d->axial_load_N, L = prsm_design_lead_mm(d);
 	out->ideal_torque_Nm = F * L / (2.0 * M_PI) * 1e-3;
 	out->input_torque_Nm = out->eta > 0.0 ? out->ideal_torque_Nm / out->eta : INFINITY;

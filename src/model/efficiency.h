@@ -1,5 +1,5 @@
 /*
- * efficiency.h: sliding efficiency from the 3-D contact model (MODEL.md §5).
+ * efficiency.h: sliding efficiency from the 3-D contact model (docs/model/kinematics-efficiency-stiffness-life.md).
  *
  * Every roller and thread carries the same axial force through a screw contact and a nut
  * contact. At each contact the normal force N acts along the flank normal and Coulomb friction

@@ -1,5 +1,5 @@
 /*
- * errors.c: the error set (MODEL.md §3).
+ * errors.c: the error set (docs/model/errors-and-assembly.md).
  */
 #include "model/errors.h"
 

@@ -1,5 +1,5 @@
 /*
- * errors.h: one concrete set of manufacturing and assembly errors of a PRSM (MODEL.md §3).
+ * errors.h: one concrete set of manufacturing and assembly errors of a PRSM (docs/model/errors-and-assembly.md).
  *
  * A measured part, or one Monte Carlo sample. Every error is a perturbation of a surface or an
  * axis; model/assembly.h maps them, with the phases the screw angle gives, onto the flank pairs

@@ -1,5 +1,5 @@
 /*
- * geometry.c: standard-rule completion and the rule checks of MODEL.md §1.
+ * geometry.c: standard-rule completion and the rule checks of docs/model/geometry-and-meshing.md.
  */
 #include "model/geometry.h"
 
@@ -10,7 +10,7 @@
 
 double prsm_design_lead_mm(const prsm_design *d)
 {
-	return d->starts * d->pitch_mm; /* MODEL.md §1: L = n P */
+	return d->starts * d->pitch_mm; /* docs/model/geometry-and-meshing.md: L = n P */
 }
 
 double prsm_design_screw_p(const prsm_design *d)
@@ -55,9 +55,9 @@ void prsm_design_init(prsm_design *d)
 	d->axial_load_N = 0.0;
 	d->screw_speed_rad_s = 0.0;
 	d->nut_outer_radius_mm = NAN;
-	/* MODEL.md §5: drag and seal torques default 0; spin and gear mesh on */
+	/* docs/model/kinematics-efficiency-stiffness-life.md: drag and seal torques default 0; spin and gear mesh on */
 	d->losses = (prsm_design_losses){1, 1, 0.05, 0, 0, 1.5, 20.0 * M_PI / 180.0, 0.0, 0.0, 0.0};
-	/* MODEL.md §6: Yamamoto with the circumference-share width, calibration 1, clamped */
+	/* docs/model/kinematics-efficiency-stiffness-life.md: Yamamoto with the circumference-share width, calibration 1, clamped */
 	d->stiffness = (prsm_design_stiffness){PRSM_THREAD_WIDTH_SHARE, 1.0, 1.0, 1.0, 1.0,
 	                                       PRSM_YAMAMOTO_CLAMP, PRSM_ENTRY_SAME_SIDE, 0, NAN};
 	d->life = (prsm_design_life){0};
@@ -72,7 +72,7 @@ int prsm_design_resolve(prsm_design *d, prsm_problems *errors)
 	int before = prsm_problems_total(errors);
 	double P = d->pitch_mm, rr = d->roller_radius_mm;
 	if (isnan(d->screw_radius_mm)) {
-		/* MODEL.md §1: r_s = (n - 2) r_r needs n >= 3 */
+		/* docs/model/geometry-and-meshing.md: r_s = (n - 2) r_r needs n >= 3 */
 		if (d->starts < 3)
 			prsm_problems_add(errors, "/geometry/starts", "starts_min",
 			                  "the standard rule r_s = (n-2) r_r needs at least 3 starts (got %d); "
@@ -103,7 +103,7 @@ int prsm_geometry_z_max(double roller_crest_radius_mm, double running_clearance_
 	double s = (roller_crest_radius_mm + 0.5 * running_clearance_mm) / orbit_radius_mm;
 	if (!(s > 0.0) || s >= 1.0)
 		return s >= 1.0 ? 1 : 0;
-	return (int)floor(M_PI / asin(s)); /* MODEL.md §1 */
+	return (int)floor(M_PI / asin(s)); /* docs/model/geometry-and-meshing.md */
 }
 
 static int near(double a, double b)
@@ -125,7 +125,7 @@ int prsm_geometry_check(prsm_geometry *out, prsm_problems *warnings, prsm_proble
 	out->helix_roller_rad = atan(P / (2.0 * M_PI * rr));
 	out->helix_nut_rad = atan(n * P / (2.0 * M_PI * rn));
 	out->ring_gear_ratio = rn / rr;
-	out->migration_mm_per_rad = P / (2.0 * M_PI) * (n - rn / rr); /* MODEL.md §1 */
+	out->migration_mm_per_rad = P / (2.0 * M_PI) * (n - rn / rr); /* docs/model/geometry-and-meshing.md */
 	out->z_max = prsm_geometry_z_max(d->roller_crest_radius_mm, d->running_clearance_mm, a);
 	out->standard_rules = near(rs, (n - 2.0) * rr) && near(rn, n * rr);
 

@@ -1,5 +1,5 @@
 /*
- * geometry.h: completing a design by the standard rules and checking it (MODEL.md §1).
+ * geometry.h: completing a design by the standard rules and checking it (docs/model/geometry-and-meshing.md).
  *
  * prsm_design_resolve() fills the fields a document may leave out (marked NaN by io/): nut and
  * screw radii from the standard rule, the roller arc radius, crest and root radii from the
@@ -42,7 +42,7 @@ int prsm_design_resolve(prsm_design *d, prsm_problems *errors);
 int prsm_geometry_check(prsm_geometry *out, prsm_problems *warnings, prsm_problems *errors,
                         const prsm_design *d);
 
-/* Z_max = floor(pi / asin((r_ro + c/2) / a)) (MODEL.md §1); 0 when not even one fits. */
+/* Z_max = floor(pi / asin((r_ro + c/2) / a)) (docs/model/geometry-and-meshing.md); 0 when not even one fits. */
 int prsm_geometry_z_max(double roller_crest_radius_mm, double running_clearance_mm,
                         double orbit_radius_mm);
 

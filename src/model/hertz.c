@@ -1,5 +1,5 @@
 /*
- * hertz.c: Hertz point contact, Harris's formulation (MODEL.md §6).
+ * hertz.c: Hertz point contact, Harris's formulation (docs/model/kinematics-efficiency-stiffness-life.md).
  */
 #include "model/hertz.h"
 

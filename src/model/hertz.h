@@ -1,5 +1,5 @@
 /*
- * hertz.h: Hertz point contact in Harris's formulation (MODEL.md §6).
+ * hertz.h: Hertz point contact in Harris's formulation (docs/model/kinematics-efficiency-stiffness-life.md).
  *
  * From the relative principal curvatures k1 <= k2 (1/mm): sum rho = k1 + k2 and the curvature
  * difference F(rho) = (k2 - k1)/(k1 + k2). The ellipticity kappa = a/b solves

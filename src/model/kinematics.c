@@ -1,5 +1,5 @@
 /*
- * kinematics.c: ideal and contact-radius kinematics, sliding velocities (MODEL.md §5).
+ * kinematics.c: ideal and contact-radius kinematics, sliding velocities (docs/model/kinematics-efficiency-stiffness-life.md).
  */
 #include "model/kinematics.h"
 
@@ -34,7 +34,7 @@ int prsm_kinematics_compute(prsm_kinematics *out, const prsm_design *d, const pr
 {
 	const double rs = d->screw_radius_mm, rr = d->roller_radius_mm, rn = d->nut_radius_mm;
 	const double a = prsm_design_orbit_radius_mm(d);
-	/* MODEL.md §5: rolling at the pitch circles */
+	/* docs/model/kinematics-efficiency-stiffness-life.md: rolling at the pitch circles */
 	out->carrier_ratio_ideal = rs / (2.0 * (rs + rr));
 	out->roller_spin_ratio_ideal = -(rn / rr) * out->carrier_ratio_ideal;
 	out->roller_abs_ratio_ideal = out->carrier_ratio_ideal + out->roller_spin_ratio_ideal;
@@ -44,7 +44,7 @@ int prsm_kinematics_compute(prsm_kinematics *out, const prsm_design *d, const pr
 	out->carrier_ratio = rho_s / (rho_s + u_s * rho_n / u_n);
 	out->roller_spin_ratio = -out->carrier_ratio * rho_n / u_n;
 	out->roller_abs_ratio = out->carrier_ratio + out->roller_spin_ratio;
-	/* the nut advances one lead per screw turn, against the helix (MODEL.md §1) */
+	/* the nut advances one lead per screw turn, against the helix (docs/model/geometry-and-meshing.md) */
 	const double v = -prsm_design_screw_p(d);
 	out->nut_speed_mm_per_rad = v;
 	relative_velocity(out->slip_screw, screw, a, out->carrier_ratio, out->roller_spin_ratio, v, 1.0, 0.0);

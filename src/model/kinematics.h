@@ -1,5 +1,5 @@
 /*
- * kinematics.h: speed ratios and sliding velocities of a PRSM with the nut held (MODEL.md §5).
+ * kinematics.h: speed ratios and sliding velocities of a PRSM with the nut held (docs/model/kinematics-efficiency-stiffness-life.md).
  *
  * Ratios are per unit screw speed. The carrier ratio from the contact radii assumes rolling
  * without circumferential slip at the contact radii found by the contact solver: on the nut

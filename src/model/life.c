@@ -1,6 +1,6 @@
 /*
  * life.c: duty-cycle mean load, L10 life, static and dynamic capacity, preload derating and
- * column limits (MODEL.md §6). See life.h for the methods and their sources.
+ * column limits (docs/model/kinematics-efficiency-stiffness-life.md). See life.h for the methods and their sources.
  */
 #include "model/life.h"
 
@@ -25,7 +25,7 @@ int prsm_life_cubic_mean_load(double *out_N, const double *F, const double *w, s
 	}
 	if (!(den > 0.0))
 		return prsm_error_set(err, PRSM_EINVAL, "/duty_cycle", "duty cycle: the weights sum to 0");
-	*out_N = cbrt(num / den); /* MODEL.md §6 cubic mean */
+	*out_N = cbrt(num / den); /* docs/model/kinematics-efficiency-stiffness-life.md cubic mean */
 	return 0;
 }
 
@@ -55,7 +55,7 @@ int prsm_life_cubic_mean_load_speed_time(double *out_N, const double *F, const d
 
 int prsm_life_reliability_factor(double *a1, int percent, prsm_error *err)
 {
-	/* MODEL.md §6 */
+	/* docs/model/kinematics-efficiency-stiffness-life.md */
 	static const int pct[] = {90, 95, 96, 97, 98, 99};
 	static const double fac[] = {1.0, 0.62, 0.53, 0.44, 0.33, 0.21};
 	for (size_t i = 0; i < sizeof pct / sizeof pct[0]; i++)
@@ -84,7 +84,7 @@ int prsm_life_l10(prsm_life_rating *out, double C, double Fm, double speed_rpm, 
 		                      "L10: needs C_a > 0 (%g N), F_m > 0 (%g N), speed >= 0 (%g rpm), lead > 0 "
 		                      "(%g mm)", C, Fm, speed_rpm, lead_mm);
 	const double r = C / Fm;
-	out->revolutions = out->reliability_factor * r * r * r * 1e6; /* MODEL.md §6 */
+	out->revolutions = out->reliability_factor * r * r * r * 1e6; /* docs/model/kinematics-efficiency-stiffness-life.md */
 	out->hours = speed_rpm > 0.0 ? out->revolutions / (60.0 * speed_rpm) : 0.0;
 	out->distance_km = out->revolutions * lead_mm * 1e-6;
 	return 0;
@@ -104,7 +104,7 @@ int prsm_life_static_capacity(prsm_static_capacity *out, const prsm_hertz *h, do
 		                      "static capacity: needs a Hertz solution at a positive load, p_allow > 0 "
 		                      "(%g MPa), 0 < n_z <= 1 (%g), contacts >= 1 (%d), load factor >= 1 (%g)",
 		                      p_allow, nz, contacts, K);
-	/* p_max ~ Q^(1/3) at fixed geometry (MODEL.md §6, Hertz) */
+	/* p_max ~ Q^(1/3) at fixed geometry (docs/model/kinematics-efficiency-stiffness-life.md, Hertz) */
 	const double s = p_allow / h->p_max_MPa;
 	out->q_allow_N = h->load_N * s * s * s;
 	out->C0a_N = out->q_allow_N * nz * contacts / K;

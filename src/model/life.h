@@ -1,19 +1,19 @@
 /*
- * life.h: capacity and life of a PRSM, the parts of MODEL.md §6 that need no load
+ * life.h: capacity and life of a PRSM, the parts of docs/model/kinematics-efficiency-stiffness-life.md that need no load
  * distribution: cubic mean load of a duty cycle, L10 life in revolutions, hours and distance
  * with reliability factors, static capacity from an allowed peak pressure, a Lundberg–Palmgren
  * dynamic capacity, the preload derating of ball-screw practice, and the screw column limits
  * (critical speed, Euler buckling).
  *
  * Dynamic capacity (there is no ISO standard for roller screws; makers borrow from ball
- * bearings and ball screws, MODEL.md §6). The method used here, named in prsm_lp_method.name:
+ * bearings and ball screws, docs/model/kinematics-efficiency-stiffness-life.md). The method used here, named in prsm_lp_method.name:
  * Lundberg–Palmgren's basic dynamic capacity of a ball-bearing raceway (Harris & Kotzalas,
  * Rolling Bearing Analysis; the basis of ISO 281):
  *
  *   Q_c = b_m 98.1 (2f/(2f - 1))^0.41 ((1 -+ g)^1.39 / (1 +- g)^(1/3)) (g / cos alpha)^0.3
  *         D^1.8 Z^(-1/3)            [N, mm; upper signs inner raceway, lower outer]
  *
- * with the roller flank as the ball: MODEL.md §1 makes it a spherical zone of radius R, so
+ * with the roller flank as the ball: docs/model/geometry-and-meshing.md makes it a spherical zone of radius R, so
  * D = 2R, centred on the roller axis, so the "ball set" pitch diameter is d_m = 2a (a = orbit
  * radius); the contact angle from the radial plane is alpha = pi/2 - beta; then
  * g = D cos alpha / d_m = r_r / a, the screw is the inner raceway (contact radius
@@ -45,13 +45,13 @@
 #include "model/hertz.h"
 #include "util/error.h"
 
-/* Default allowed peak contact pressure for the static capacity, MPa (MODEL.md §6; the
+/* Default allowed peak contact pressure for the static capacity, MPa (docs/model/kinematics-efficiency-stiffness-life.md; the
  * ISO 76 figure for ball contacts). */
 #define PRSM_STATIC_P_ALLOW_MPA 4200.0
 
 /* ---- duty cycle and life ---- */
 
-/* Cubic mean load F_m = (sum |F_i|^3 w_i / sum w_i)^(1/3) (MODEL.md §6), with the weights w_i
+/* Cubic mean load F_m = (sum |F_i|^3 w_i / sum w_i)^(1/3) (docs/model/kinematics-efficiency-stiffness-life.md), with the weights w_i
  * the travel of each step (mm, or any unit). Returns 0 or PRSM_EINVAL (n = 0, a negative or
  * non-finite weight, all weights 0, a non-finite load). */
 int prsm_life_cubic_mean_load(double *out_N, const double *loads_N, const double *travel,
@@ -65,7 +65,7 @@ int prsm_life_cubic_mean_load_speed_time(double *out_N, const double *loads_N,
                                          size_t n, prsm_error *err);
 
 /* Reliability factor a1 for 90, 95, 96, 97, 98, 99 %: 1, 0.62, 0.53, 0.44, 0.33, 0.21
- * (MODEL.md §6). Returns 0 or PRSM_EINVAL for any other percentage. */
+ * (docs/model/kinematics-efficiency-stiffness-life.md). Returns 0 or PRSM_EINVAL for any other percentage. */
 int prsm_life_reliability_factor(double *a1, int reliability_percent, prsm_error *err);
 
 typedef struct {
@@ -78,7 +78,7 @@ typedef struct {
 	double distance_km;         /* L x lead, km */
 } prsm_life_rating;
 
-/* L10 life (MODEL.md §6) at the given reliability, in revolutions, hours at speed_rpm (>= 0)
+/* L10 life (docs/model/kinematics-efficiency-stiffness-life.md) at the given reliability, in revolutions, hours at speed_rpm (>= 0)
  * and distance with lead_mm. Returns 0 or PRSM_EINVAL. */
 int prsm_life_l10(prsm_life_rating *out, double capacity_N, double mean_load_N, double speed_rpm,
                   double lead_mm, int reliability_percent, prsm_error *err);
@@ -94,7 +94,7 @@ typedef struct {
 	double C0a_N;               /* q_allow n_z contacts / load_factor */
 } prsm_static_capacity;
 
-/* Static capacity of one side (MODEL.md §6): the axial load at which the most loaded contact
+/* Static capacity of one side (docs/model/kinematics-efficiency-stiffness-life.md): the axial load at which the most loaded contact
  * reaches p_allow. From a Hertz solution h at any load Q_ref > 0 of this contact
  * (p_max ~ Q^(1/3)): Q_allow = Q_ref (p_allow / p_ref)^3, C_0a = Q_allow n_z contacts / K.
  * Returns 0 or PRSM_EINVAL. */

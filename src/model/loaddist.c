@@ -1,6 +1,6 @@
 /*
  * loaddist.c: the spring-chain load distribution over the threads and the axial stiffness of
- * the nut unit (MODEL.md §6, "Load distribution over threads"). The model, the sign conventions
+ * the nut unit (docs/model/kinematics-efficiency-stiffness-life.md, "Load distribution over threads"). The model, the sign conventions
  * and the solver are described in loaddist.h.
  */
 #include "model/loaddist.h"
@@ -123,7 +123,7 @@ static void band_solve(const double *ab, const int *piv, const double *inv_diag,
 	}
 }
 
-/* ---- the contact law (MODEL.md §6: Hertz in series with the thread) ----
+/* ---- the contact law (docs/model/kinematics-efficiency-stiffness-life.md: Hertz in series with the thread) ----
  *
  * A contact's state is the parameter t of the curve (compression e, load q), explicit both ways:
  *   Hertz term present: t = q^(2/3) for t > 0:  q = t^(3/2),  e = t (hertz + linear t^(1/2));
@@ -195,7 +195,7 @@ static double gap_at(const prsm_loaddist_side *s, int i)
 
 /* ---- the spring chain ---- */
 
-/* Segment compliances per roller, mm/N: c_s, c_r, c_n (MODEL.md §6; core and body x Z). */
+/* Segment compliances per roller, mm/N: c_s, c_r, c_n (docs/model/kinematics-efficiency-stiffness-life.md; core and body x Z). */
 typedef struct {
 	double screw, roller, nut;
 } chain;
@@ -421,7 +421,7 @@ int prsm_loaddist_capacity(const prsm_loaddist_workspace *ws)
 	return ws ? ws->capacity : 0;
 }
 
-/* Result fields of one side from the loads (MODEL.md §6: p_max ~ Q^(1/3)). */
+/* Result fields of one side from the loads (docs/model/kinematics-efficiency-stiffness-life.md: p_max ~ Q^(1/3)). */
 static void side_result(prsm_loaddist_side_result *out, double *normal, const double *load,
                         const prsm_loaddist_side *s, int n, double W)
 {
@@ -652,7 +652,7 @@ int prsm_loaddist_params_from_design(prsm_loaddist_params *out, const prsm_desig
 	for (int side = 0; side < 2; side++) {
 		prsm_loaddist_side *s = &out->side[side];
 		prsm_hertz *h = &s->reference;
-		/* Hertz at a reference load, as in prsm_analysis_nominal (MODEL.md §6) */
+		/* Hertz at a reference load, as in prsm_analysis_nominal (docs/model/kinematics-efficiency-stiffness-life.md) */
 		if (prsm_hertz_solve(h, c[side]->curvature_per_mm[0], c[side]->curvature_per_mm[1],
 		                     body[side]->E_MPa, body[side]->poisson, mr->E_MPa, mr->poisson,
 		                     PRSM_LOADDIST_REFERENCE_LOAD_N) ||

@@ -1,9 +1,9 @@
 /*
  * loaddist.h: load distribution over the threads of a PRSM by the spring chain, the axial
- * stiffness of the nut unit and its load-deflection curve (MODEL.md §6, "Load distribution
+ * stiffness of the nut unit and its load-deflection curve (docs/model/kinematics-efficiency-stiffness-life.md, "Load distribution
  * over threads").
  *
- * THE MODEL. The Z rollers share the axial load F equally (nominal assembly: MODEL.md §4 adds
+ * THE MODEL. The Z rollers share the axial load F equally (nominal assembly: docs/model/errors-and-assembly.md adds
  * the unequal sharing), so one roller is modelled, carrying W = F/Z. Threads are numbered
  * i = 1..n_t along the axis (index i-1 in the arrays). At each thread there are three axial
  * displacements, screw x_i, roller y_i, nut z_i (mm, positive in the direction of the load
@@ -25,8 +25,8 @@
  *   compression = C n_z^(-5/3) q^(2/3) + c_t q     for q > 0,   q = 0 for compression <= 0
  *
  * i.e. Hertz (normal approach delta_n = C Q^(2/3), normal load Q = q/n_z, axial approach
- * delta_n/n_z, MODEL.md §6 "Hertz point contact") in series with the linear axial thread
- * compliance c_t (MODEL.md §6 "Thread compliance", both threads of the contact); contacts carry
+ * delta_n/n_z, docs/model/kinematics-efficiency-stiffness-life.md "Hertz point contact") in series with the linear axial thread
+ * compliance c_t (docs/model/kinematics-efficiency-stiffness-life.md "Thread compliance", both threads of the contact); contacts carry
  * compression only (lift-off). PRSM_LOADDIST_LINEAR replaces Hertz by delta_n = C Q, i.e.
  * approach = (C/n_z^2 + c_t) q (for tests and linear studies).
  *
@@ -64,7 +64,7 @@
  * displacement of the nut's load point from the screw's load point:
  *   SAME      u = z_1 - x_1 = a_1 + b_1
  *   OPPOSITE  u = z_{n_t} - x_1 = c_s sum_{i<n_t} T_i + a_{n_t} + b_{n_t}
- * and the axial stiffness is the tangent K = dF/du = Z dW/du (MODEL.md §6). Uniform flank play
+ * and the axial stiffness is the tangent K = dF/du = Z dW/du (docs/model/kinematics-efficiency-stiffness-life.md). Uniform flank play
  * (backlash) is not part of u unless given as gaps; the nut is radially guided.
  *
  * THE SOLVER. A contact's state is a parameter t on its load-compression curve, explicit
@@ -191,7 +191,7 @@ void prsm_loaddist_free(prsm_loaddist_workspace *ws);
 /* Largest n_t the workspace takes (0 for NULL). */
 int prsm_loaddist_capacity(const prsm_loaddist_workspace *ws);
 
-/* Solve the spring chain (MODEL.md §6) for the total axial load load_N (> 0) of the nut. The
+/* Solve the spring chain (docs/model/kinematics-efficiency-stiffness-life.md) for the total axial load load_N (> 0) of the nut. The
  * per-thread arrays of out point into ws. Returns 0; PRSM_EINVAL (err says which) for a NULL or
  * too small workspace or invalid params or load; PRSM_ENOCONVERGE when Newton does not reach
  * the tolerance in max_iterations (out then holds the last iterate, its iterations and residual). */

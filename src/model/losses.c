@@ -1,5 +1,5 @@
 /*
- * losses.c: efficiency with spin, ring-gear mesh, drag and seal losses (MODEL.md §5, §6).
+ * losses.c: efficiency with spin, ring-gear mesh, drag and seal losses (docs/model/kinematics-efficiency-stiffness-life.md).
  * The physics and its assumptions are stated in losses.h.
  */
 #include "model/losses.h"
@@ -50,7 +50,7 @@ void prsm_losses_options_from_design(prsm_losses_options *out, const prsm_design
 
 double prsm_losses_spin_moment_Nmm(double mu, double Q_N, double a_mm, double b_mm)
 {
-	/* MODEL.md §5: (3/8) mu Q a E(e); GSL takes the modulus e = sqrt(1 - b^2/a^2) */
+	/* docs/model/kinematics-efficiency-stiffness-life.md: (3/8) mu Q a E(e); GSL takes the modulus e = sqrt(1 - b^2/a^2) */
 	const double r = b_mm / a_mm;
 	const double e = sqrt(fmax(0.0, 1.0 - r * r));
 	return 0.375 * mu * Q_N * a_mm * gsl_sf_ellint_Ecomp(e, GSL_PREC_DOUBLE);
@@ -92,7 +92,7 @@ static void side_coefficients(side *s, const prsm_contact *c, const double slip[
 	s->helix_mm = -mu * sz * p_r;
 }
 
-/* Hertz semi-major axis at 1 N and E(e) of a contact (MODEL.md §6); a scales as Q^(1/3). */
+/* Hertz semi-major axis at 1 N and E(e) of a contact (docs/model/kinematics-efficiency-stiffness-life.md); a scales as Q^(1/3). */
 static int contact_hertz(double *a1_mm, double *ellint_E, const prsm_contact *c,
                          const prsm_material *body, const prsm_material *roller)
 {
@@ -309,7 +309,7 @@ int prsm_losses_compute_prepared(prsm_losses_result *out, const prsm_losses_nomi
 		return prsm_error_set(err, PRSM_EINVAL, NULL,
 		                      "losses: the nominal part was prepared with spin off");
 
-	/* 1. sliding (MODEL.md §5), from prsm_efficiency */
+	/* 1. sliding (docs/model/kinematics-efficiency-stiffness-life.md), from prsm_efficiency */
 	prsm_efficiency eff;
 	prsm_efficiency_sliding(&eff, d, k, screw, nut);
 	out->eta_slide = eff.eta;
@@ -357,7 +357,7 @@ int prsm_losses_compute_prepared(prsm_losses_result *out, const prsm_losses_nomi
 		n.a1_mm = nm->a1_mm[1];
 		n.ellint_E = nm->ellint_E[1];
 	}
-	/* equal share of MODEL.md §6: F / (Z n_t |n_z|) per contact */
+	/* equal share of docs/model/kinematics-efficiency-stiffness-life.md: F / (Z n_t |n_z|) per contact */
 	side_loads(&s, screw_loads_N, nt, F / (Z * nt * s.nz), spin);
 	side_loads(&n, nut_loads_N, nt, F / (Z * nt * n.nz), spin);
 	out->spin_speed_screw_rad_s = s.spin_ratio * d->screw_speed_rad_s;
@@ -406,7 +406,7 @@ int prsm_losses_compute_prepared(prsm_losses_result *out, const prsm_losses_nomi
 	out->drag_torque_Nm = o->drag_torque_Nm + o->viscous_drag_Nm_s_per_rad * w;
 	out->seal_torque_Nm = o->seal_torque_Nm;
 
-	/* the split (MODEL.md §5): T = F L / (2 pi eta_slide) + T_spin + T_gear + T_drag + T_seal */
+	/* the split (docs/model/kinematics-efficiency-stiffness-life.md): T = F L / (2 pi eta_slide) + T_spin + T_gear + T_drag + T_seal */
 	const double per_N = L / (2.0 * M_PI) * NMM_TO_NM; /* ideal torque per N of load, N m/N */
 	out->ideal_torque_Nm = F * per_N;
 	out->sliding_torque_Nm = out->ideal_torque_Nm / eff.eta - out->ideal_torque_Nm;

@@ -1,6 +1,6 @@
 /*
  * losses.h: efficiency of a PRSM at an operating point with every loss, and the torque and
- * power split by cause (MODEL.md §5, second bullet).
+ * power split by cause (docs/model/kinematics-efficiency-stiffness-life.md, second bullet).
  *
  * Input torque on the screw (N m), direct drive (torque in, axial force out):
  *   T = F L / (2 pi eta_slide) + T_spin + T_gear + T_drag + T_seal,   eta = F L / (2 pi T)
@@ -11,7 +11,7 @@
  *
  * 1. Sliding: eta_slide and eta'_slide are prsm_efficiency_sliding's (model/efficiency.h).
  *
- * 2. Spin (MODEL.md §5 with the Hertz contact of §6). Every body turns about an axis parallel
+ * 2. Spin (docs/model/kinematics-efficiency-stiffness-life.md with the Hertz contact of §6). Every body turns about an axis parallel
  *    to the screw axis z in the nominal design: screw omega, nut 0, carrier k_c omega, and the
  *    roller k_c omega about z plus its spin relative to the carrier about its own axis, also
  *    along z. Angular velocities add as free vectors (the axis offsets only add translations),
@@ -64,7 +64,7 @@
  *    Teeth: z_1 given, or the smallest z_1 >= 17 (the undercut limit of a 20 deg standard
  *    pinion) for which z_1 r_n / r_r is an integer within 1e-9, or 17 when none up to 1000 is;
  *    z_2 given, or round(z_1 r_n / r_r). When z_2 / z_1 differs from r_n / r_r the gears fight
- *    the threads (roller migration, MODEL.md §1): PRSM_LOSSES_GEAR_RATIO; the loss is still
+ *    the threads (roller migration, docs/model/geometry-and-meshing.md): PRSM_LOSSES_GEAR_RATIO; the loss is still
  *    computed from the thread kinematics. eps_1 = eps_2 = eps_alpha / 2 unless both are given.
  *    The pressure angle only sets the normal and radial tooth forces reported.
  *
@@ -72,7 +72,7 @@
  *
  * Loads: the normal loads of one roller's n_t screw-side and n_t nut-side contacts (from a
  * load distribution; every roller alike), or NULL for the equal share F / (Z n_t |n_z|) of
- * MODEL.md §6. Given loads are used as they are (not checked against F).
+ * docs/model/kinematics-efficiency-stiffness-life.md. Given loads are used as they are (not checked against F).
  *
  * Special operating points:
  *  - omega = 0 (PRSM_LOSSES_AT_REST): torques and efficiencies are the omega -> 0+ limits
@@ -134,7 +134,7 @@ typedef struct {
 	double eta;                    /* direct: F L / (2 pi T) */
 	double eta_back;               /* back-driving: 2 pi T_out / (F L), >= 0 */
 	double eta_slide, eta_back_slide; /* sliding only (prsm_efficiency_sliding) */
-	double eta_closed_form;        /* tan(beta) / tan(beta + atan mu) (MODEL.md §5) */
+	double eta_closed_form;        /* tan(beta) / tan(beta + atan mu) (docs/model/kinematics-efficiency-stiffness-life.md) */
 	double eta_back_closed_form;   /* tan(beta - atan mu) / tan(beta) */
 	/* torques on the screw, N m */
 	double ideal_torque_Nm;        /* F L / 2 pi */
@@ -146,7 +146,7 @@ typedef struct {
 	double input_power_W, output_power_W; /* T omega, F v */
 	double sliding_power_W, spin_power_W, gear_power_W, drag_power_W, seal_power_W;
 	double loss_power_W;           /* sum of the five losses */
-	/* spin (MODEL.md §5) */
+	/* spin (docs/model/kinematics-efficiency-stiffness-life.md) */
 	double spin_speed_screw_rad_s, spin_speed_nut_rad_s; /* signed, along the contact normal */
 	double spin_moment_screw_Nm, spin_moment_nut_Nm;     /* sum over one roller's n_t contacts */
 	double spin_ellint_E_screw, spin_ellint_E_nut;       /* E(e) of the contact ellipses, - */
@@ -169,7 +169,7 @@ typedef struct {
 void prsm_losses_options_from_design(prsm_losses_options *out, const prsm_design *d);
 
 /* Spin moment (3/8) mu Q a E(e), e^2 = 1 - b^2/a^2, of a Hertz contact with semi-axes
- * a_mm >= b_mm > 0 under the normal load Q_N, N mm (MODEL.md §5). */
+ * a_mm >= b_mm > 0 under the normal load Q_N, N mm (docs/model/kinematics-efficiency-stiffness-life.md). */
 double prsm_losses_spin_moment_Nmm(double mu, double Q_N, double a_mm, double b_mm);
 
 /* Ohlendorf's tooth-loss factor of an internal spur mesh, pi (u - 1)/(z_1 u)

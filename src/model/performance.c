@@ -1,6 +1,6 @@
 /*
  * performance.c: efficiency with every loss, thread compliance, load distribution, stiffness,
- * capacity, life and column limits at the design's operating point (MODEL.md §5, §6).
+ * capacity, life and column limits at the design's operating point (docs/model/kinematics-efficiency-stiffness-life.md).
  */
 #include "model/performance.h"
 
@@ -65,7 +65,7 @@ static double peak_pressure(prsm_loaddist_workspace *ws, const prsm_loaddist_par
 	return r.side[side].p_max_MPa;
 }
 
-/* C_0a of one side: the load at which its most loaded contact reaches p_allow (MODEL.md §6).
+/* C_0a of one side: the load at which its most loaded contact reaches p_allow (docs/model/kinematics-efficiency-stiffness-life.md).
  * p_max ~ F^(1/3) at a fixed distribution, so F <- F (p_allow / p_max(F))^3 converges fast (the
  * max/mean factor changes slowly with F); it starts from the equal-sharing figure and falls
  * back to bisection in log F if it has not converged in 30 steps. */
@@ -199,7 +199,7 @@ int prsm_performance_compute(prsm_performance *out, const prsm_design *d, const 
 		rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory for the load distribution");
 		goto cleanup;
 	}
-	/* load distribution and stiffness at the operating load (MODEL.md §6) */
+	/* load distribution and stiffness at the operating load (docs/model/kinematics-efficiency-stiffness-life.md) */
 	if (F > 0.0) {
 		if ((rc = prsm_loaddist_solve(&out->dist, ws, &p, F, err)))
 			goto cleanup;
@@ -208,7 +208,7 @@ int prsm_performance_compute(prsm_performance *out, const prsm_design *d, const 
 		memcpy(out->thread_normal_screw_N, out->dist.normal_screw_N, (size_t)nt * sizeof(double));
 		memcpy(out->thread_normal_nut_N, out->dist.normal_nut_N, (size_t)nt * sizeof(double));
 		out->stiffness_N_per_um = out->dist.stiffness_N_per_mm * 1e-3;
-		/* efficiency with every loss, spin at the distributed loads (MODEL.md §5) */
+		/* efficiency with every loss, spin at the distributed loads (docs/model/kinematics-efficiency-stiffness-life.md) */
 		rc = torque_with_losses(&out->losses, d, a, &out->dist, err);
 	} else {
 		rc = torque_with_losses(&out->losses, d, a, NULL, err);

@@ -1,6 +1,6 @@
 /*
  * performance.h: the operating-point analysis of a single-stage PRSM beyond its geometry
- * (MODEL.md §5 second bullet, §6): efficiency with spin, gear-mesh, drag and seal losses and
+ * (docs/model/kinematics-efficiency-stiffness-life.md second bullet, §6): efficiency with spin, gear-mesh, drag and seal losses and
  * the input torque split by cause; thread compliance (with its rule echoed); the spring-chain
  * load distribution over the threads, its max/mean factor and the most loaded contact's
  * p_max; the axial stiffness of the nut unit and, on request, its load-deflection curve; the
@@ -10,7 +10,7 @@
  * Everything here reads the design's settings (prsm_design.losses, .stiffness, .life) and its
  * nominal analysis (prsm_analysis_nominal: contacts, kinematics, sliding efficiency).
  *
- * Static capacity C_0a (MODEL.md §6): the axial load at which the most loaded contact of the
+ * Static capacity C_0a (docs/model/kinematics-efficiency-stiffness-life.md): the axial load at which the most loaded contact of the
  * distribution reaches p_allow, found by solving the load distribution at that load (the
  * factor max/mean grows with the load, so the operating point's factor is not used); each
  * side separately, C_0a the smaller. Dynamic capacity C_a: model/life.h's Lundberg–Palmgren
@@ -36,9 +36,9 @@ typedef struct {
 	/* thread compliance and body segments (echo of the rule with the values) */
 	prsm_design_compliance compliance;
 	prsm_segment_compliance segments;
-	/* efficiency with every loss (MODEL.md §5) */
+	/* efficiency with every loss (docs/model/kinematics-efficiency-stiffness-life.md) */
 	prsm_losses_result losses;
-	/* load distribution at the operating load (MODEL.md §6) */
+	/* load distribution at the operating load (docs/model/kinematics-efficiency-stiffness-life.md) */
 	int threads;                 /* n_t */
 	double *thread_load_screw_N; /* axial load of each thread, screw side, per roller, N */
 	double *thread_load_nut_N;   /* axial load of each thread, nut side, per roller, N */
@@ -73,7 +73,7 @@ void prsm_performance_free(prsm_performance *p);
 
 /* The input torque of the design at its axial load (d->axial_load_N), with every loss and the
  * load distribution of this load, N m; NaN when it cannot be computed. For the multi-stage
- * chain (MODEL.md §7). */
+ * chain (docs/model/kinematics-efficiency-stiffness-life.md). */
 double prsm_performance_input_torque(const prsm_design *d, const prsm_analysis *a);
 
 #endif

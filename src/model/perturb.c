@@ -1,5 +1,5 @@
 /*
- * perturb.c: exact and linear flank gaps under errors (MODEL.md §3).
+ * perturb.c: exact and linear flank gaps under errors (docs/model/errors-and-assembly.md).
  */
 #include "model/perturb.h"
 

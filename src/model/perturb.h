@@ -1,5 +1,5 @@
 /*
- * perturb.h: what manufacturing errors do to one flank pair (MODEL.md §3).
+ * perturb.h: what manufacturing errors do to one flank pair (docs/model/errors-and-assembly.md).
  *
  * A perturbation moves the surfaces and axes of one pair: the body's (screw or nut) axis
  * offset, pitch radius, flank angle and axial flank shift, the roller's axis offset, pitch

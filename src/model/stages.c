@@ -1,5 +1,5 @@
 /*
- * stages.c: the multi-stage chain of MODEL.md §7 (see stages.h for the equations).
+ * stages.c: the multi-stage chain of docs/model/kinematics-efficiency-stiffness-life.md (see stages.h for the equations).
  */
 #include "model/stages.h"
 
@@ -32,7 +32,7 @@ int prsm_stages_chain(prsm_chain *out, const prsm_chain_input *in, prsm_stage_to
 			                      in->spline_radius_mm[k], in->thrust_radius_mm[k]);
 		out->total_lead_mm += in->lead_mm[k];
 	}
-	/* MODEL.md §7, backwards from the last stage (stages.h) */
+	/* docs/model/kinematics-efficiency-stiffness-life.md, backwards from the last stage (stages.h) */
 	const double two_pi = 2.0 * M_PI;
 	double M_next = 0.0, s_next = 0.0; /* M_{k+1}, N m; s_{k+1}, N */
 	for (int k = K - 1; k >= 0; k--) {

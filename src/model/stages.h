@@ -1,5 +1,5 @@
 /*
- * stages.h: the chain of a multi-stage PRSM (MODEL.md §7, seed 000), in steady motion.
+ * stages.h: the chain of a multi-stage PRSM (docs/model/kinematics-efficiency-stiffness-life.md, seed 000), in steady motion.
  *
  * Stages k = 1..K are nested: every screw turns at the input speed omega (the screws are
  * coupled by splines), no nut turns, and the nut of stage k pushes the screw of stage k+1
@@ -20,7 +20,7 @@
  * drag losses, model/losses.h). M_k appears in s_k and so in N_k: solved in closed form,
  *   M_k = (T_k + M_{k+1} + mu_NS r_NS F) / (1 - mu_NS mu_SS r_NS / r_SS),
  * going from stage K down to stage 1, since F_k needs only s_{k+1}. The chain locks when
- * mu_NS mu_SS r_NS / r_SS >= 1. Efficiency (MODEL.md §7): eta = F sum L / (2 pi T_in).
+ * mu_NS mu_SS r_NS / r_SS >= 1. Efficiency (docs/model/kinematics-efficiency-stiffness-life.md): eta = F sum L / (2 pi T_in).
  *
  * Power balance, exact: T_in omega = F v + sum (T_k omega - F_k omega L_k / 2pi) (stage
  * losses) + sum s_k omega L_{k-1} / 2pi (splines) + sum N_k omega (thrust bearings).

@@ -1,6 +1,6 @@
 /*
  * alloc.h: tolerance allocation with a linear stack model (issue 7, item 4;
- * shared/reference/benchmarks.md "Tolerance allocation, closed form").
+ * the closed form for power-law costs is in docs/allocation.md).
  *
  * Minimise the total cost sum_i cost_i(T_i) of tolerance half-widths T_i (each in its own unit)
  * within bounds t_min_i <= T_i <= t_max_i, subject to one linear stack constraint per output:

@@ -1,6 +1,6 @@
 /*
  * design_problem.c: the PRSM design problem of design_problem.h: variables to a design by the
- * standard rules (MODEL.md §1), the design through the nominal and operating-point analyses
+ * standard rules (docs/model/geometry-and-meshing.md), the design through the nominal and operating-point analyses
  * (§2, §5, §6), objectives and scaled constraints, and the cheap bounds that prune integer
  * combinations.
  */
@@ -73,7 +73,7 @@ void prsm_dp_design_at(prsm_design *out, const prsm_dp_spec *s, const double *x,
 		out->rollers = (int)levels[di[1]];
 	if (di[2] >= 0)
 		out->engaged_threads = (int)levels[di[2]];
-	/* pitch, or lead L = n P (MODEL.md §1) */
+	/* pitch, or lead L = n P (docs/model/geometry-and-meshing.md) */
 	if (ci[0] >= 0)
 		out->pitch_mm = s->pitch_is_lead ? x[ci[0]] / n : x[ci[0]];
 	else if (s->pitch_is_lead)
@@ -106,7 +106,7 @@ static void mass_inertia(double *mass_kg, double *inertia_kg_m2, const prsm_desi
 	double j_screw = 0.5 * d->screw_material.density_kg_m3 * M_PI * rs_m * rs_m * rs_m * rs_m *
 	                 screw_length_mm * mm;
 	double lead_per_rad_m = prsm_design_lead_mm(d) * mm / (2.0 * M_PI);
-	double a_m = (rs + rr) * mm, kc = rs / (2.0 * (rs + rr)); /* MODEL.md §5 */
+	double a_m = (rs + rr) * mm, kc = rs / (2.0 * (rs + rr)); /* docs/model/kinematics-efficiency-stiffness-life.md */
 	double spin = (1.0 - d->starts) * kc;
 	double j_rollers = d->rollers * m_roller *
 	                   (a_m * a_m * kc * kc + 0.5 * rr * mm * rr * mm * spin * spin);
@@ -158,7 +158,7 @@ int prsm_dp_analyse(prsm_dp_figures *fig, prsm_design *d, const prsm_dp_spec *s,
 	fig->rule_warnings = warnings.count + warnings.dropped;
 	double sfit = (d->roller_crest_radius_mm + 0.5 * d->running_clearance_mm) / g.orbit_radius_mm;
 	if (sfit > 0.0)
-		fig->roller_fit = d->rollers * asin(fmin(sfit, 1.0)) / M_PI; /* MODEL.md §1: Z <= Z_max */
+		fig->roller_fit = d->rollers * asin(fmin(sfit, 1.0)) / M_PI; /* docs/model/geometry-and-meshing.md: Z <= Z_max */
 	fig->screw_diameter_mm = 2.0 * d->screw_radius_mm;
 	fig->nut_outer_diameter_mm = 2.0 * prsm_compliance_nut_outer_radius_mm(d->nut_outer_radius_mm, d);
 	for (int i = 0; i < errors.count; i++)
@@ -226,7 +226,7 @@ double prsm_dp_violation(const prsm_dp_spec *s, int i, const prsm_dp_figures *fi
 	const int kind = s->constraint_kind[i];
 	double g = scaled(kind, s->constraint_limit[i], fig->constraint_value[kind]);
 	if (kind == PRSM_DP_C_ROLLER_FIT && fig->z_max > 0) {
-		/* Z_max is an integer: the floor decides (MODEL.md §1), the smooth value only steers */
+		/* Z_max is an integer: the floor decides (docs/model/geometry-and-meshing.md), the smooth value only steers */
 		if (rollers > fig->z_max)
 			g = g > 1e-3 ? g : 1e-3;
 		else

@@ -1,7 +1,7 @@
 /*
  * design_problem.h: the PRSM design optimisation as a problem of opt/optimize.h (issue 7).
  *
- * Variables: screw starts n (a set: the nut has n starts too, the rollers one, MODEL.md §1),
+ * Variables: screw starts n (a set: the nut has n starts too, the rollers one, docs/model/geometry-and-meshing.md),
  * pitch P or lead L = n P (mm, a range), roller pitch radius r_r or screw pitch radius r_s (mm, a
  * range; the other follows the standard rule r_s = (n - 2) r_r, the nut r_n = r_s + 2 r_r = n r_r,
  * crest, root and arc radii the defaults of model/geometry.c), roller count Z (a set, at most
@@ -10,13 +10,13 @@
  * speed, friction, materials, target clearance, losses, stiffness and life settings, column) is
  * the base design's.
  *
- * Objectives: efficiency eta at the operating point with every loss (MODEL.md §5, maximise),
+ * Objectives: efficiency eta at the operating point with every loss (docs/model/kinematics-efficiency-stiffness-life.md, maximise),
  * axial stiffness of the nut unit at the operating load (N/um, §6, maximise), mass of the nut
  * unit (nut body from the nut pitch radius to its outer radius and the Z rollers, over the
  * engaged length n_t P; kg, minimise), and the inertia reflected to the screw (kg m^2, minimise):
  * the screw's own (a solid cylinder of radius r_s over the column's free length, or over the
  * engaged length without one), the nut unit's mass translating at L/2pi per radian, and each
- * roller orbiting at the carrier ratio r_s/(2a) and spinning at (1 - n) times it (MODEL.md §5).
+ * roller orbiting at the carrier ratio r_s/(2a) and spinning at (1 - n) times it (docs/model/kinematics-efficiency-stiffness-life.md).
  *
  * Constraints (scaled: g = (value - limit)/|limit| for an upper limit, the reverse for a lower;
  * feasible when g <= 0, i.e. exactly when the value meets its raw limit): the design can be

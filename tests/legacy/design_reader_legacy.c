@@ -178,7 +178,7 @@ static void read_backlash(prsm_design *d, const cJSON *doc, const char *base, pr
 		};
 		for (size_t i = 0; i < sizeof parts / sizeof parts[0]; i++) {
 			double um;
-			/* MODEL.md §3: a thickness change dt shifts each flank by dt/2 */
+			/* docs/model/errors-and-assembly.md: a thickness change dt shifts each flank by dt/2 */
 			if (prsm_json_get_number(&um, t, tp, parts[i].key, PRSM_JSON_OPTIONAL, thin, problems) == PRSM_JSON_PRESENT)
 				*parts[i].shift = um / 2.0 / 1000.0;
 		}
@@ -252,7 +252,7 @@ static void legacy_operating_point_from_json(prsm_design *d, const cJSON *doc, c
 		d->screw_speed_rad_s = rpm * (2.0 * M_PI / 60.0);
 }
 
-/* "losses": spin, gear mesh, drag and seal (MODEL.md §5) */
+/* "losses": spin, gear mesh, drag and seal (docs/model/kinematics-efficiency-stiffness-life.md) */
 static void read_losses(prsm_design *d, const cJSON *doc, const char *base, prsm_problems *problems)
 {
 	char lp[PRSM_JSON_POINTER_MAX];
@@ -283,7 +283,7 @@ static void read_losses(prsm_design *d, const cJSON *doc, const char *base, prsm
 	                     range(0.0, 0, PRSM_DESIGN_TORQUE_MAX_NM, 0), problems);
 }
 
-/* "stiffness": thread compliance, load entry, load-deflection curve (MODEL.md §6) */
+/* "stiffness": thread compliance, load entry, load-deflection curve (docs/model/kinematics-efficiency-stiffness-life.md) */
 static void read_stiffness(prsm_design *d, const cJSON *doc, const char *base, prsm_problems *problems)
 {
 	char sp[PRSM_JSON_POINTER_MAX], cp[PRSM_JSON_POINTER_MAX];
@@ -337,7 +337,7 @@ static void read_stiffness(prsm_design *d, const cJSON *doc, const char *base, p
 	}
 }
 
-/* "life": allowed pressure, reliability, duty cycle, preload (MODEL.md §6) */
+/* "life": allowed pressure, reliability, duty cycle, preload (docs/model/kinematics-efficiency-stiffness-life.md) */
 static void read_life(prsm_design *d, const cJSON *doc, const char *base, prsm_problems *problems)
 {
 	char lp[PRSM_JSON_POINTER_MAX], dp[PRSM_JSON_POINTER_MAX], ip[PRSM_JSON_POINTER_MAX];
@@ -391,7 +391,7 @@ static void read_life(prsm_design *d, const cJSON *doc, const char *base, prsm_p
 		prsm_problems_add(problems, dp, "range", "the steps' travel_mm must not all be 0");
 }
 
-/* "column": free length and end fixity of the screw (MODEL.md §6) */
+/* "column": free length and end fixity of the screw (docs/model/kinematics-efficiency-stiffness-life.md) */
 static void read_column(prsm_design *d, const cJSON *doc, const char *base, prsm_problems *problems)
 {
 	char cp[PRSM_JSON_POINTER_MAX];
