@@ -26,8 +26,9 @@ typedef struct {
 } prsm_hertz;
 
 /* Solve the contact of two bodies with relative principal curvatures k1, k2 (1/mm, both > 0)
- * under normal load Q_N >= 0. Returns 0, or PRSM_EINVAL for non-positive curvature sums or
- * moduli (or prsm_hertz_coefficients' error). */
+ * under normal load Q_N >= 0. Returns 0, or PRSM_EINVAL when either principal curvature is not
+ * positive, a modulus is not positive, the load is negative or the curvature sum is not finite
+ * (or prsm_hertz_coefficients' error). */
 int prsm_hertz_solve(prsm_hertz *out, double k1_per_mm, double k2_per_mm, double E1_MPa,
                      double nu1, double E2_MPa, double nu2, double Q_N);
 
