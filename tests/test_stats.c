@@ -227,6 +227,16 @@ static void test_yield_wilson_closed_form(void **state)
 	assert_close(low, 50.0 / (50.0 + Z95 * Z95), 1e-15);
 	prsm_stats_wilson(0, 0, Z95, &low, &high);
 	assert_true(low == 0.0 && high == 1.0);
+	/* every sample in spec: the standard error is not 0 but the Wilson interval's width over 2 z,
+	 * (1 - n / (n + z^2)) / (2 z) by the closed form above; none in spec alike */
+	const prsm_spec wide = {1, 1, -1e9, 1e9}, none = {1, 1, 1e8, 1e9};
+	assert_int_equal(prsm_stats_summarise(&s, y, 50, &wide, scratch, &err), 0);
+	assert_true(s.yield == 1.0);
+	assert_close(s.se_yield, (1.0 - 50.0 / (50.0 + Z95 * Z95)) / (2.0 * Z95), 1e-15);
+	assert_true(s.se_yield > 0.0);
+	assert_int_equal(prsm_stats_summarise(&s, y, 50, &none, scratch, &err), 0);
+	assert_true(s.yield == 0.0);
+	assert_close(s.se_yield, Z95 * Z95 / (50.0 + Z95 * Z95) / (2.0 * Z95), 1e-15);
 }
 
 /* The Wilson interval of k covers p exactly when the score test accepts p:

@@ -116,6 +116,10 @@ static void spec_figures(prsm_stats_summary *out, const double *sorted, size_t n
 	out->yield = (double)inside / nn;
 	prsm_stats_wilson(inside, n, PRSM_STATS_Z95, &out->yield_low95, &out->yield_high95);
 	out->se_yield = sqrt(out->yield * (1.0 - out->yield) / nn);
+	/* no sample (or every one) out of spec: the binomial formula says 0, which is not how sure
+	 * n samples make us; the Wilson interval's half-width in standard errors says it */
+	if (inside == 0 || inside == n)
+		out->se_yield = (out->yield_high95 - out->yield_low95) / (2.0 * PRSM_STATS_Z95);
 	out->ppm_low = 1e6 * (double)below / nn;
 	out->ppm_high = 1e6 * (double)above / nn;
 
