@@ -8,6 +8,7 @@
 #include "test_support.h"
 
 #include "mc/sens.h"
+#include "util/clock.h"
 
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
@@ -329,6 +330,30 @@ static void test_sobol_reproducible(void **state)
 	assert_true(V1 == V2);
 	assert_int_equal(prsm_sens_sobol(none, &V0, yA, yB, yAB, n, d, 0, NULL, &err), 0);
 	assert_true(V0 == V1);
+	/* the bootstrap stops at a raised cancel flag or a deadline already past: the indices as
+	 * without a bootstrap, no errors or intervals, 0 resamples done; an unreached deadline and a
+	 * lowered flag change nothing (bit for bit) */
+	prsm_sobol_index stopped[3], free_run[3];
+	size_t done = 99;
+	prsm_cancel_flag flag = 0;
+	prsm_cancel_set(&flag, 1);
+	assert_int_equal(prsm_sens_sobol_until(stopped, NULL, yA, yB, yAB, n, d, 50, r, &flag, 0.0, &done, &err), 0);
+	assert_int_equal(done, 0);
+	for (size_t i = 0; i < d; i++) {
+		assert_true(stopped[i].first == one[i].first && stopped[i].total == one[i].total);
+		assert_true(isnan(stopped[i].first_se) && isnan(stopped[i].total_low));
+	}
+	done = 99;
+	assert_int_equal(prsm_sens_sobol_until(stopped, NULL, yA, yB, yAB, n, d, 50, r, NULL, prsm_clock_seconds() - 1.0,
+	                                       &done, &err), 0);
+	assert_int_equal(done, 0);
+	assert_true(isnan(stopped[0].first_se));
+	prsm_cancel_set(&flag, 0);
+	gsl_rng_set(r, 12345);
+	assert_int_equal(prsm_sens_sobol_until(free_run, NULL, yA, yB, yAB, n, d, 50, r, &flag,
+	                                       prsm_clock_seconds() + 3600.0, &done, &err), 0);
+	assert_int_equal(done, 50);
+	assert_memory_equal(free_run, one, sizeof one);
 	for (size_t i = 0; i < d; i++) {
 		assert_true(none[i].first == one[i].first && none[i].total == one[i].total);
 		assert_true(isnan(none[i].first_se) && isnan(none[i].total_high));

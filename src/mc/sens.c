@@ -5,6 +5,7 @@
  * reached on a valid call.
  */
 #include "mc/sens.h"
+#include "util/clock.h"
 
 #include <assert.h>
 #include <gsl/gsl_matrix.h>
@@ -213,6 +214,16 @@ static void bootstrap_figures(double *se, double *low, double *high, double *b, 
 int prsm_sens_sobol(prsm_sobol_index *out, double *variance_out, const double *yA, const double *yB,
                     const double *yAB, size_t n, size_t d, size_t nboot, gsl_rng *rng, prsm_error *err)
 {
+	return prsm_sens_sobol_until(out, variance_out, yA, yB, yAB, n, d, nboot, rng, NULL, 0.0, NULL, err);
+}
+
+int prsm_sens_sobol_until(prsm_sobol_index *out, double *variance_out, const double *yA, const double *yB,
+                          const double *yAB, size_t n, size_t d, size_t nboot, gsl_rng *rng,
+                          const prsm_cancel_flag *cancel, double deadline_s, size_t *boot_done,
+                          prsm_error *err)
+{
+	if (boot_done != NULL)
+		*boot_done = 0;
 	assert(out != NULL && yA != NULL && yB != NULL && yAB != NULL);
 	if (n < 2 || d == 0)
 		return prsm_error_set(err, PRSM_EINVAL, NULL, "Sobol' indices need n >= 2 rows and d >= 1 inputs");
@@ -263,6 +274,12 @@ int prsm_sens_sobol(prsm_sobol_index *out, double *variance_out, const double *y
 		goto cleanup;
 	}
 	for (size_t b = 0; b < nboot; b++) {
+		if (prsm_cancel_requested(cancel) || (deadline_s > 0.0 && prsm_clock_seconds() > deadline_s)) {
+			/* stopped: the indices stand, no error or interval from a partial bootstrap */
+			if (boot_done != NULL)
+				*boot_done = b;
+			goto cleanup;
+		}
 		for (size_t j = 0; j < n; j++)
 			rows[j] = (size_t)gsl_rng_uniform_int(rng, n);
 		double Vb;
@@ -272,6 +289,8 @@ int prsm_sens_sobol(prsm_sobol_index *out, double *variance_out, const double *y
 			boot[(2 * i + 1) * nboot + b] = total[i];
 		}
 	}
+	if (boot_done != NULL)
+		*boot_done = nboot;
 	for (size_t i = 0; i < d; i++) {
 		bootstrap_figures(&out[i].first_se, &out[i].first_low, &out[i].first_high, boot + (2 * i) * nboot, nboot);
 		bootstrap_figures(&out[i].total_se, &out[i].total_low, &out[i].total_high, boot + (2 * i + 1) * nboot,

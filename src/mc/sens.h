@@ -19,6 +19,7 @@
 #include <gsl/gsl_rng.h>
 #include <stddef.h>
 
+#include "util/cancel.h"
 #include "util/error.h"
 
 /* Standardized regression coefficients of y on the columns of x (n rows x d columns,
@@ -58,5 +59,14 @@ typedef struct {
 int prsm_sens_sobol(prsm_sobol_index *out /* d entries */, double *variance_out, const double *yA,
                     const double *yB, const double *yAB, size_t n, size_t d, size_t nboot,
                     gsl_rng *rng, prsm_error *err);
+
+/* prsm_sens_sobol that also stops resampling when cancel is raised or the monotonic clock
+ * (util/clock.h, s) passes deadline_s (0: none), checked before every resample: the indices are
+ * computed, the errors and intervals stay NAN, and *boot_done (may be NULL) says how many
+ * resamples ran (nboot when none was stopped). */
+int prsm_sens_sobol_until(prsm_sobol_index *out, double *variance_out, const double *yA, const double *yB,
+                          const double *yAB, size_t n, size_t d, size_t nboot, gsl_rng *rng,
+                          const prsm_cancel_flag *cancel, double deadline_s, size_t *boot_done,
+                          prsm_error *err);
 
 #endif

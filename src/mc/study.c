@@ -216,7 +216,7 @@ cleanup:
 	return rc;
 }
 
-static int sobol(prsm_study_result *r, const prsm_study *s, prsm_error *err)
+static int sobol(prsm_study_result *r, const prsm_study *s, double deadline_s, prsm_error *err)
 {
 	prsm_mc_options mo = s->mc;
 	prsm_mc_result sr;
@@ -266,9 +266,16 @@ static int sobol(prsm_study_result *r, const prsm_study *s, prsm_error *err)
 		/* every output's bootstrap draws the same resamples */
 		prsm_rng_set_stream(rng, s->mc.seed, SALTELLI_STREAM_OFFSET - 1);
 		double V;
-		rc = prsm_sens_sobol(idx, &V, buf, buf + nk, buf + 2 * nk, nk, G, s->sens.bootstrap, rng, err);
+		size_t done = 0;
+		rc = prsm_sens_sobol_until(idx, &V, buf, buf + nk, buf + 2 * nk, nk, G, s->sens.bootstrap, rng,
+		                           s->mc.cancel, deadline_s, &done, err);
 		if (rc)
 			goto cleanup;
+		if (done < s->sens.bootstrap)
+			warn(r, "Sobol indices of %s: the bootstrap stopped (%s) after %zu of %zu resamples: no "
+			        "standard errors or intervals",
+			     s->outputs[o].name, prsm_cancel_requested(s->mc.cancel) ? "cancelled" : "time cap", done,
+			     s->sens.bootstrap);
 		r->out[o].has_sobol = 1;
 		r->out[o].sobol_variance = V;
 		for (size_t g = 0; g < G; g++)
@@ -309,7 +316,8 @@ int prsm_study_run(prsm_study_result *r, const prsm_study *s, prsm_error *err)
 	if (rc)
 		goto fail;
 	if (s->sens.sobol) {
-		rc = sobol(r, s, err);
+		/* every phase honours the study's time cap and cancel, the bootstrap too */
+		rc = sobol(r, s, s->mc.time_cap_s > 0.0 ? t0 + s->mc.time_cap_s : 0.0, err);
 		if (rc)
 			goto fail;
 	}

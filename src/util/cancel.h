@@ -13,7 +13,7 @@
 typedef atomic_int prsm_cancel_flag;
 
 /* Nonzero when flag (may be NULL: never cancelled) has been raised. */
-static inline int prsm_cancel_requested(prsm_cancel_flag *flag)
+static inline int prsm_cancel_requested(const prsm_cancel_flag *flag)
 {
 	return flag != NULL && atomic_load_explicit(flag, memory_order_relaxed) != 0;
 }
