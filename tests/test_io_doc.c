@@ -25,6 +25,41 @@ typedef struct {
 	int documents, valid, invalid;
 } tally;
 
+/* One document through both readers: the return codes (ra, rb), the problem lists (pointer,
+ * code, message, in order, and the count dropped) and the structs (sa, sb: size bytes) must be
+ * identical; what differs is printed with the document. `what` names the part. */
+static void check_same(const char *what, const cJSON *doc, int ra, int rb, const prsm_problems *pa,
+                       const prsm_problems *pb, const void *sa, const void *sb, size_t size, tally *t)
+{
+	t->documents++;
+	if (ra == 0)
+		t->valid++;
+	else
+		t->invalid++;
+	int same = ra == rb && pa->count == pb->count && pa->dropped == pb->dropped;
+	for (int i = 0; same && i < pa->count; i++)
+		same = !strcmp(pa->items[i].pointer, pb->items[i].pointer) && !strcmp(pa->items[i].code, pb->items[i].code) &&
+		       !strcmp(pa->items[i].message, pb->items[i].message);
+	size_t at = 0;
+	const unsigned char *x = sa, *y = sb;
+	while (at < size && x[at] == y[at])
+		at++;
+	if (same && at == size)
+		return;
+	char *text = cJSON_PrintUnformatted(doc);
+	print_error("%s %s\nlegacy rc %d, %d problems; table rc %d, %d problems", what, text, ra, pa->count, rb,
+	            pb->count);
+	if (at < size)
+		print_error("; the structs differ from byte %zu on", at);
+	print_error("\n");
+	for (int i = 0; i < pa->count; i++)
+		print_error("  legacy: %s %s %s\n", pa->items[i].pointer, pa->items[i].code, pa->items[i].message);
+	for (int i = 0; i < pb->count; i++)
+		print_error("  table:  %s %s %s\n", pb->items[i].pointer, pb->items[i].code, pb->items[i].message);
+	cJSON_free(text);
+	fail();
+}
+
 static void compare_design(const cJSON *doc, tally *t)
 {
 	prsm_design a, b;
@@ -35,46 +70,7 @@ static void compare_design(const cJSON *doc, tally *t)
 	memset(&b, 0, sizeof b);
 	int ra = prsm_legacy_design_from_json(&a, doc, "/design", &pa);
 	int rb = prsm_io_design_from_json(&b, doc, "/design", &pb);
-	t->documents++;
-	if (ra == 0)
-		t->valid++;
-	else
-		t->invalid++;
-	if (ra != rb || pa.count != pb.count || pa.dropped != pb.dropped) {
-		char *text = cJSON_PrintUnformatted(doc);
-		print_error("document %s\nlegacy rc %d, %d problems; table rc %d, %d problems\n", text, ra, pa.count, rb,
-		            pb.count);
-		for (int i = 0; i < pa.count || i < pb.count; i++)
-			print_error("  %-40s | %s\n", i < pa.count ? pa.items[i].pointer : "",
-			            i < pb.count ? pb.items[i].pointer : "");
-		for (int i = 0; i < pa.count; i++)
-			print_error("  legacy: %s %s %s\n", pa.items[i].pointer, pa.items[i].code, pa.items[i].message);
-		for (int i = 0; i < pb.count; i++)
-			print_error("  table:  %s %s %s\n", pb.items[i].pointer, pb.items[i].code, pb.items[i].message);
-		cJSON_free(text);
-		fail();
-	}
-	for (int i = 0; i < pa.count; i++) {
-		if (strcmp(pa.items[i].pointer, pb.items[i].pointer) || strcmp(pa.items[i].code, pb.items[i].code) ||
-		    strcmp(pa.items[i].message, pb.items[i].message)) {
-			char *text = cJSON_PrintUnformatted(doc);
-			print_error("document %s\nproblem %d: legacy %s %s %s\n            table  %s %s %s\n", text, i,
-			            pa.items[i].pointer, pa.items[i].code, pa.items[i].message, pb.items[i].pointer,
-			            pb.items[i].code, pb.items[i].message);
-			cJSON_free(text);
-			fail();
-		}
-	}
-	if (memcmp(&a, &b, sizeof a) != 0) {
-		char *text = cJSON_PrintUnformatted(doc);
-		const unsigned char *x = (const unsigned char *)&a, *y = (const unsigned char *)&b;
-		size_t at = 0;
-		while (x[at] == y[at])
-			at++;
-		print_error("document %s\nthe structs differ from byte %zu on\n", text, at);
-		cJSON_free(text);
-		fail();
-	}
+	check_same("design", doc, ra, rb, &pa, &pb, &a, &b, sizeof a, t);
 }
 
 typedef void (*compare_fn)(const cJSON *doc, tally *t);
@@ -92,37 +88,18 @@ static void compare_assembly(const cJSON *doc, tally *t)
 	memset(&b, 0, sizeof b);
 	int ra = prsm_legacy_assembly_options_from_json(&a, doc, "/assembly", &assembly_design, &pa);
 	int rb = prsm_io_assembly_options_from_json(&b, doc, "/assembly", &assembly_design, &pb);
-	t->documents++;
-	if (ra == 0)
-		t->valid++;
-	else
-		t->invalid++;
-	int same = ra == rb && pa.count == pb.count && memcmp(&a, &b, sizeof a) == 0;
-	for (int i = 0; same && i < pa.count; i++)
-		same = !strcmp(pa.items[i].pointer, pb.items[i].pointer) && !strcmp(pa.items[i].code, pb.items[i].code) &&
-		       !strcmp(pa.items[i].message, pb.items[i].message);
-	if (!same) {
-		char *text = cJSON_PrintUnformatted(doc);
-		print_error("assembly %s: legacy rc %d (%d problems), table rc %d (%d problems)\n", text, ra, pa.count,
-		            rb, pb.count);
-		for (int i = 0; i < pa.count; i++)
-			print_error("  legacy: %s %s\n", pa.items[i].pointer, pa.items[i].message);
-		for (int i = 0; i < pb.count; i++)
-			print_error("  table:  %s %s\n", pb.items[i].pointer, pb.items[i].message);
-		cJSON_free(text);
-		fail();
-	}
+	check_same("assembly", doc, ra, rb, &pa, &pb, &a, &b, sizeof a, t);
 }
 
-/* A study's "monte_carlo" section, read into copies of one loaded study by both readers. */
+/* A study's "monte_carlo" and "sensitivity" sections, read into copies of one loaded study by
+ * both readers: the readers write only their section and read the outputs, so two copies of the
+ * study are made once and the section reset for each document. */
 static prsm_io_study *mc_study, *mc_copies[2];
 
 static void compare_mc(const cJSON *mc, tally *t)
 {
 	cJSON *doc = cJSON_CreateObject();
 	cJSON_AddItemToObject(doc, "monte_carlo", cJSON_Duplicate(mc, 1));
-	/* the readers write only study.mc and read the outputs: two copies of the study made once,
-	 * their mc reset for each document */
 	prsm_io_study *a = mc_copies[0], *b = mc_copies[1];
 	a->study.mc = mc_study->study.mc;
 	b->study.mc = mc_study->study.mc;
@@ -131,29 +108,11 @@ static void compare_mc(const cJSON *mc, tally *t)
 	prsm_problems_init(&pb);
 	prsm_legacy_study_mc_from_json(a, doc, &pa);
 	prsm_io_study_mc_from_json(b, doc, &pb);
-	t->documents++;
-	if (pa.count == 0)
-		t->valid++;
-	else
-		t->invalid++;
-	int same = pa.count == pb.count && memcmp(&a->study.mc, &b->study.mc, sizeof a->study.mc) == 0;
-	for (int i = 0; same && i < pa.count; i++)
-		same = !strcmp(pa.items[i].pointer, pb.items[i].pointer) && !strcmp(pa.items[i].code, pb.items[i].code) &&
-		       !strcmp(pa.items[i].message, pb.items[i].message);
-	if (!same) {
-		char *text = cJSON_PrintUnformatted(doc);
-		print_error("monte_carlo %s: legacy %d problems, table %d\n", text, pa.count, pb.count);
-		for (int i = 0; i < pa.count; i++)
-			print_error("  legacy: %s %s\n", pa.items[i].pointer, pa.items[i].message);
-		for (int i = 0; i < pb.count; i++)
-			print_error("  table:  %s %s\n", pb.items[i].pointer, pb.items[i].message);
-		cJSON_free(text);
-		fail();
-	}
+	check_same("monte_carlo", doc, pa.count != 0, pb.count != 0, &pa, &pb, &a->study.mc, &b->study.mc,
+	           sizeof a->study.mc, t);
 	cJSON_Delete(doc);
 }
 
-/* A study's "sensitivity" section, the same way. */
 static void compare_sens(const cJSON *sec, tally *t)
 {
 	cJSON *doc = cJSON_CreateObject();
@@ -166,21 +125,8 @@ static void compare_sens(const cJSON *sec, tally *t)
 	prsm_problems_init(&pb);
 	prsm_legacy_study_sensitivity_from_json(a, doc, &pa);
 	prsm_io_study_sensitivity_from_json(b, doc, &pb);
-	t->documents++;
-	if (pa.count == 0)
-		t->valid++;
-	else
-		t->invalid++;
-	int same = pa.count == pb.count && memcmp(&a->study.sens, &b->study.sens, sizeof a->study.sens) == 0;
-	for (int i = 0; same && i < pa.count; i++)
-		same = !strcmp(pa.items[i].pointer, pb.items[i].pointer) && !strcmp(pa.items[i].code, pb.items[i].code) &&
-		       !strcmp(pa.items[i].message, pb.items[i].message);
-	if (!same) {
-		char *text = cJSON_PrintUnformatted(doc);
-		print_error("sensitivity %s: legacy %d problems, table %d\n", text, pa.count, pb.count);
-		cJSON_free(text);
-		fail();
-	}
+	check_same("sensitivity", doc, pa.count != 0, pb.count != 0, &pa, &pb, &a->study.sens, &b->study.sens,
+	           sizeof a->study.sens, t);
 	cJSON_Delete(doc);
 }
 

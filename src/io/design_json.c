@@ -12,7 +12,6 @@
 #include <assert.h>
 #include <math.h>
 #include <stdlib.h>
-#include <string.h>
 
 #include "io/doc.h"
 #include "io/json_util.h"
@@ -51,14 +50,7 @@ static int has_member(const cJSON *obj, const char *key)
 /* obj[key] is there and no problem was reported at its pointer (it was read). */
 static int member_read(const cJSON *obj, const char *obj_pointer, const char *key, const prsm_problems *problems)
 {
-	if (!has_member(obj, key))
-		return 0;
-	char ptr[PRSM_JSON_POINTER_MAX];
-	prsm_json_pointer_append(ptr, sizeof ptr, obj_pointer, key);
-	for (int i = 0; i < problems->count; i++)
-		if (strcmp(problems->items[i].pointer, ptr) == 0)
-			return 0;
-	return 1;
+	return has_member(obj, key) && !prsm_io_problem_at(problems, 0, obj_pointer, key);
 }
 
 /* engaged_threads, or nut_length_mm converted to whole threads; exactly one of them. */

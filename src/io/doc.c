@@ -112,6 +112,16 @@ int prsm_io_read(void *base, const prsm_io_table *t, const cJSON *obj, const cha
 	return prsm_problems_total(problems) > before ? PRSM_EINVAL : 0;
 }
 
+int prsm_io_problem_at(const prsm_problems *problems, int from, const char *obj_pointer, const char *key)
+{
+	char ptr[PRSM_JSON_POINTER_MAX];
+	prsm_json_pointer_append(ptr, sizeof ptr, obj_pointer, key);
+	for (int i = from; i < problems->count; i++)
+		if (strcmp(problems->items[i].pointer, ptr) == 0)
+			return 1;
+	return 0;
+}
+
 int prsm_io_read_member(void *base, const prsm_io_table *t, const char *key, const cJSON *obj,
                         const char *obj_pointer, prsm_problems *problems)
 {

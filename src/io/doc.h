@@ -72,6 +72,10 @@ typedef struct prsm_io_table {
 int prsm_io_read(void *base, const prsm_io_table *t, const cJSON *obj, const char *obj_pointer,
                  prsm_problems *problems);
 
+/* 1 when a problem was added, since the first `from` problems, at obj_pointer/key: the member
+ * was there and invalid (for hooks whose rules need their fields valid). */
+int prsm_io_problem_at(const prsm_problems *problems, int from, const char *obj_pointer, const char *key);
+
 /* Read only member key of table t from obj (e.g. one section of a document read elsewhere). */
 int prsm_io_read_member(void *base, const prsm_io_table *t, const char *key, const cJSON *obj,
                         const char *obj_pointer, prsm_problems *problems);

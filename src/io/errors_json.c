@@ -290,17 +290,6 @@ int prsm_io_errors_from_json(prsm_errors *out, const cJSON *obj, const char *poi
 
 /* ---- reading assembly options ------------------------------------------------------------ */
 
-/* A problem was added, since the first `from` problems, at obj_pointer/key. */
-static int problem_at(const prsm_problems *problems, int from, const char *obj_pointer, const char *key)
-{
-	char ptr[PRSM_JSON_POINTER_MAX];
-	prsm_json_pointer_append(ptr, sizeof ptr, obj_pointer, key);
-	for (int i = from; i < problems->count; i++)
-		if (strcmp(problems->items[i].pointer, ptr) == 0)
-			return 1;
-	return 0;
-}
-
 int prsm_io_assembly_options_from_json(prsm_assembly_options *out, const cJSON *obj,
                                        const char *pointer, const prsm_design *d,
                                        prsm_problems *problems)
@@ -319,10 +308,9 @@ int prsm_io_assembly_options_from_json(prsm_assembly_options *out, const cJSON *
 	/* transmission error is sampled angles_per_revolution times per screw revolution over the
 	 * longer of the spectrum record and the stroke (stroke / lead revolutions); the rule needs
 	 * the three valid (or absent: their defaults) */
-	const int from = before;
-	const int angles_ok = !problem_at(problems, from, base, "angles_per_revolution");
-	const int stroke_ok = !problem_at(problems, from, base, "stroke_mm");
-	const int spectrum_ok = !problem_at(problems, from, base, "spectrum_revolutions");
+	const int angles_ok = !prsm_io_problem_at(problems, before, base, "angles_per_revolution");
+	const int stroke_ok = !prsm_io_problem_at(problems, before, base, "stroke_mm");
+	const int spectrum_ok = !prsm_io_problem_at(problems, before, base, "spectrum_revolutions");
 	const double lead_mm = d->starts * d->pitch_mm;
 	if (angles_ok && stroke_ok && spectrum_ok && lead_mm > 0.0) {
 		const double stroke_revs = out->stroke_mm / lead_mm;

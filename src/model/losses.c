@@ -270,6 +270,23 @@ static double sign_of(double x)
 	return (double)((x > 0.0) - (x < 0.0));
 }
 
+/* Every input check of a losses request: the design and options, then each side's loads. */
+static int check_request(const prsm_design *d, const prsm_losses_options *o, const double *screw_loads_N,
+                         const double *nut_loads_N, prsm_error *err)
+{
+	int rc = check_inputs(d, o, err);
+	if (!rc)
+		rc = check_loads(screw_loads_N, d->engaged_threads, "screw-side", err);
+	if (!rc)
+		rc = check_loads(nut_loads_N, d->engaged_threads, "nut-side", err);
+	return rc;
+}
+
+static int compute_checked(prsm_losses_result *out, const prsm_losses_nominal *nm, const prsm_design *d,
+                           const prsm_kinematics *k, const prsm_contact *screw, const prsm_contact *nut,
+                           const double *screw_loads_N, const double *nut_loads_N,
+                           const prsm_losses_options *o, prsm_error *err);
+
 int prsm_losses_compute(prsm_losses_result *out, const prsm_design *d, const prsm_kinematics *k,
                         const prsm_contact *screw, const prsm_contact *nut,
                         const double *screw_loads_N, const double *nut_loads_N,
@@ -277,18 +294,14 @@ int prsm_losses_compute(prsm_losses_result *out, const prsm_design *d, const prs
 {
 	const prsm_losses_options defaults = PRSM_LOSSES_OPTIONS_INIT;
 	const prsm_losses_options *o = opts ? opts : &defaults;
-	int rc;
-	/* the inputs first, as prsm_losses_compute_prepared checks them: the gear rule is only
-	 * evaluated for valid options */
+	/* the inputs first: the gear rule is only evaluated for valid options */
 	memset(out, 0, sizeof *out);
-	if ((rc = check_inputs(d, o, err)) ||
-	    (rc = check_loads(screw_loads_N, d->engaged_threads, "screw-side", err)) ||
-	    (rc = check_loads(nut_loads_N, d->engaged_threads, "nut-side", err)))
+	int rc = check_request(d, o, screw_loads_N, nut_loads_N, err);
+	if (rc)
 		return rc;
 	prsm_losses_nominal nominal;
 	prsm_losses_prepare(&nominal, d, screw, nut, o);
-	return prsm_losses_compute_prepared(out, &nominal, d, k, screw, nut, screw_loads_N, nut_loads_N,
-	                                    o, err);
+	return compute_checked(out, &nominal, d, k, screw, nut, screw_loads_N, nut_loads_N, o, err);
 }
 
 int prsm_losses_compute_prepared(prsm_losses_result *out, const prsm_losses_nominal *nm,
@@ -299,12 +312,20 @@ int prsm_losses_compute_prepared(prsm_losses_result *out, const prsm_losses_nomi
 {
 	const prsm_losses_options defaults = PRSM_LOSSES_OPTIONS_INIT;
 	const prsm_losses_options *o = opts ? opts : &defaults;
-	int rc;
 	memset(out, 0, sizeof *out);
-	if ((rc = check_inputs(d, o, err)) ||
-	    (rc = check_loads(screw_loads_N, d->engaged_threads, "screw-side", err)) ||
-	    (rc = check_loads(nut_loads_N, d->engaged_threads, "nut-side", err)))
+	int rc = check_request(d, o, screw_loads_N, nut_loads_N, err);
+	if (rc)
 		return rc;
+	return compute_checked(out, nm, d, k, screw, nut, screw_loads_N, nut_loads_N, o, err);
+}
+
+/* prsm_losses_compute_prepared once the request passed check_request; out is zeroed. */
+static int compute_checked(prsm_losses_result *out, const prsm_losses_nominal *nm, const prsm_design *d,
+                           const prsm_kinematics *k, const prsm_contact *screw, const prsm_contact *nut,
+                           const double *screw_loads_N, const double *nut_loads_N,
+                           const prsm_losses_options *o, prsm_error *err)
+{
+	int rc;
 	if (o->spin && !nm->spin)
 		return prsm_error_set(err, PRSM_EINVAL, NULL,
 		                      "losses: the nominal part was prepared with spin off");
