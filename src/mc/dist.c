@@ -192,6 +192,13 @@ static const char *const param_names[PRSM_DIST_KIND_COUNT][4] = {
 	{"mu", "sigma", NULL, NULL},        {"sigma", NULL, NULL, NULL},
 };
 
+const char *prsm_dist_param_name(prsm_dist_kind k, int q)
+{
+	if ((int)k < 0 || (int)k >= PRSM_DIST_KIND_COUNT || q < 0 || q >= 4)
+		return NULL;
+	return param_names[k][q];
+}
+
 int prsm_dist_check(const prsm_dist *d, char *msg, size_t msg_size)
 {
 	assert(d != NULL);

@@ -44,6 +44,10 @@ typedef struct {
  * "rayleigh"); "unknown" for a value outside the enum. Never NULL. */
 const char *prsm_dist_name(prsm_dist_kind k);
 
+/* The document name of parameter p[q] of kind k ("mean", "sd", "lower", "upper", "mode", "mu",
+ * "sigma"), or NULL past the kind's last parameter (or for an invalid k or q). */
+const char *prsm_dist_param_name(prsm_dist_kind k, int q);
+
 /* The kind named name (exact, case-sensitive). Returns 0, or PRSM_ENOTFOUND (out untouched). */
 int prsm_dist_kind_parse(const char *name, prsm_dist_kind *out);
 
