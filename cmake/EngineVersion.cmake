@@ -4,7 +4,7 @@
 # at every build. It hashes, in a fixed order, the path and content of every source that can
 # change a number in a result: the physics (src/model), the engine (src/mc), the optimisers
 # (src/opt), the dynamics (src/dyn), the document readers and writers with their defaults
-# (src/io), the utilities (src/util: RNG streams, formatting), the schemas and the generators
+# (src/io), the application layer that runs documents (src/app), the utilities (src/util: RNG streams, formatting), the schemas and the generators
 # of built-in tables (scripts/gen-*.py), plus the compiler's identity. The first 16 hex digits
 # of the SHA-256 are PRSM_ENGINE_BUILD, which goes into every result and every cache key, so a
 # cache written by another engine is never served (issue: a stale cache served old physics).
@@ -19,7 +19,7 @@ get_filename_component(SOURCE_DIR "${SOURCE_DIR}" ABSOLUTE)
 
 set(patterns
     src/model/*.c src/model/*.h src/mc/*.c src/mc/*.h src/opt/*.c src/opt/*.h
-    src/dyn/*.c src/dyn/*.h src/io/*.c src/io/*.h src/util/*.c src/util/*.h
+    src/dyn/*.c src/dyn/*.h src/io/*.c src/io/*.h src/app/*.c src/app/*.h src/util/*.c src/util/*.h
     schemas/*.json scripts/gen-*.py)
 set(files "")
 foreach(p ${patterns})

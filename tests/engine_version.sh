@@ -2,7 +2,7 @@
 # engine_version.sh: the engine build identity (cmake/EngineVersion.cmake) follows the sources
 # that determine results, so a cache written by an older engine is never served.
 #   - the binary's build (prsm --version) is the hash of the source tree it was built from;
-#   - a change to a model, engine, optimiser, dynamics, reader/writer, utility or schema
+#   - a change to a model, engine, optimiser, dynamics, reader/writer, application, utility or schema
 #     source, or a new source file there, changes it; a change to a front end does not.
 # Usage: engine_version.sh PRSM SOURCE_DIR "COMPILER_ID VERSION"
 set -euo pipefail
@@ -40,7 +40,7 @@ changed() { # changed FILE: append a comment, hash, restore
 	echo "$h"
 }
 for f in src/model/hertz.c src/model/assembly.h src/mc/engine.c src/opt/optimize.c src/io/study_json.c \
-	src/util/rng.c; do
+	src/app/optimize.c src/util/rng.c; do
 	h=$(changed "$f")
 	check "a change to $f changes the build" test "$h" != "$base"
 done

@@ -3,7 +3,7 @@
  * search (issue 7). studies/optimize-case-a.json (maximise the axial stiffness over starts
  * 3-6, pitch 1-3 mm, roller radius 2.5-5 mm and every roller count up to Z_max inside a 50 mm
  * nut, static safety >= 2.5, L10 >= 2000 h, standard rules) is solved by
- * prsm_io_optimization_execute; then every point of a grid over the same box is loaded as a
+ * prsm_app_optimize; then every point of a grid over the same box is loaded as a
  * design document, analysed from scratch (prsm_analysis_nominal, prsm_performance_compute) and
  * checked against the same constraints without the optimiser's code. No feasible grid point
  * may be stiffer than the optimiser's best, and the best must itself pass the same checks.
@@ -14,6 +14,7 @@
 
 #include "io/design_json.h"
 #include "io/global.h"
+#include "app/optimize.h"
 #include "io/optimization_json.h"
 #include "model/analysis.h"
 #include "model/compliance.h"
@@ -69,7 +70,7 @@ static void test_no_grid_point_beats_the_optimum(void **state)
 	prsm_problems problems;
 	prsm_problems_init(&problems);
 	prsm_error err = PRSM_ERROR_INIT;
-	assert_int_equal(prsm_io_optimization_execute(&res, doc, NULL, NULL, NULL, 0.0, &problems, &err), 0);
+	assert_int_equal(prsm_app_optimize(&res, doc, NULL, NULL, NULL, 0.0, &problems, &err), 0);
 	assert_true(cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(res, "feasible")));
 	const cJSON *best = cJSON_GetObjectItemCaseSensitive(res, "best");
 	const cJSON *v = cJSON_GetObjectItemCaseSensitive(best, "variables");

@@ -13,6 +13,7 @@
 
 #include <gsl/gsl_errno.h>
 
+#include "app/optimize.h"
 #include "io/optimization_json.h"
 #include "io/global.h"
 
@@ -97,7 +98,7 @@ static void test_execute(void **state)
 	prsm_problems_init(&p);
 	prsm_error err = PRSM_ERROR_INIT;
 	cJSON *res = NULL;
-	assert_int_equal(prsm_io_optimization_execute(&res, doc, NULL, NULL, NULL, 0.0, &p, &err), 0);
+	assert_int_equal(prsm_app_optimize(&res, doc, NULL, NULL, NULL, 0.0, &p, &err), 0);
 	assert_non_null(res);
 	assert_true(cJSON_IsTrue(cJSON_GetObjectItem(res, "feasible")));
 	assert_true(cJSON_IsFalse(cJSON_GetObjectItem(res, "cancelled")));
@@ -121,7 +122,7 @@ static cJSON *execute_ok(const cJSON *doc)
 	prsm_problems_init(&p);
 	prsm_error err = PRSM_ERROR_INIT;
 	cJSON *res = NULL;
-	assert_int_equal(prsm_io_optimization_execute(&res, doc, NULL, NULL, NULL, 0.0, &p, &err), 0);
+	assert_int_equal(prsm_app_optimize(&res, doc, NULL, NULL, NULL, 0.0, &p, &err), 0);
 	assert_non_null(res);
 	return res;
 }
@@ -248,7 +249,7 @@ static void test_cancel(void **state)
 	cJSON *res = NULL;
 	prsm_cancel_flag flag = 0;
 	watch w = {&flag, 0, 0, NAN};
-	assert_int_equal(prsm_io_optimization_execute(&res, doc, &flag, on_progress, &w, 0.0, &p, &err),
+	assert_int_equal(prsm_app_optimize(&res, doc, &flag, on_progress, &w, 0.0, &p, &err),
 	                 PRSM_ECANCELLED);
 	assert_non_null(res);
 	assert_true(cJSON_IsTrue(cJSON_GetObjectItem(res, "cancelled")));

@@ -15,6 +15,7 @@
 #include <gsl/gsl_cdf.h>
 #include <gsl/gsl_errno.h>
 
+#include "app/optimize.h"
 #include "io/optimization_json.h"
 #include "io/global.h"
 #include "io/study_json.h"
@@ -63,7 +64,7 @@ static cJSON *run(const cJSON *doc)
 	prsm_problems_init(&p);
 	prsm_error err = PRSM_ERROR_INIT;
 	cJSON *res = NULL;
-	int rc = prsm_io_optimization_execute(&res, doc, NULL, NULL, NULL, 0.0, &p, &err);
+	int rc = prsm_app_optimize(&res, doc, NULL, NULL, NULL, 0.0, &p, &err);
 	if (rc)
 		print_error("execute: %d %s %s %s\n", rc, err.message, p.count ? p.items[0].pointer : "",
 		            p.count ? p.items[0].message : "");
@@ -254,7 +255,7 @@ static void test_cancel(void **state)
 		prsm_problems_init(&p);
 		prsm_error err = PRSM_ERROR_INIT;
 		cJSON *res = NULL;
-		int rc = prsm_io_optimization_execute(&res, doc, &flag, cancel_progress, &c, 0.0, &p, &err);
+		int rc = prsm_app_optimize(&res, doc, &flag, cancel_progress, &c, 0.0, &p, &err);
 		assert_int_equal(rc, PRSM_ECANCELLED);
 		assert_non_null(res);
 		assert_true(cJSON_IsTrue(cJSON_GetObjectItem(res, "cancelled")));

@@ -12,7 +12,7 @@
 #include <unistd.h>
 
 #include "cli/commands.h"
-#include "io/optimization_json.h"
+#include "app/optimize.h"
 
 static void progress(void *ctx, const prsm_progress *p)
 {
@@ -41,7 +41,7 @@ int prsm_cli_optimize(int argc, char **argv)
 	int bar = !o.quiet && isatty(STDERR_FILENO);
 	cJSON *res = NULL;
 	prsm_error err = PRSM_ERROR_INIT;
-	int orc = prsm_io_optimization_execute(&res, doc, NULL, bar ? progress : NULL, NULL, 0.0,
+	int orc = prsm_app_optimize(&res, doc, NULL, bar ? progress : NULL, NULL, 0.0,
 	                                       &problems, &err);
 	cJSON_Delete(doc);
 	if (bar)

@@ -24,10 +24,15 @@
 
 #include <cJSON.h>
 
-#include "util/cancel.h"
+#include "mc/study.h"
+#include "model/analysis.h"
+#include "model/performance.h"
+#include "opt/design_problem.h"
+#include "opt/optimize.h"
+#include "opt/pareto.h"
+#include "opt/robust.h"
 #include "util/error.h"
 #include "util/problems.h"
-#include "util/progress.h"
 
 /* Limits of the document (schemas/optimization.schema.json states the same numbers). */
 #define PRSM_IO_OPT_MAX_EVALUATIONS 1000000  /* solver.max_evaluations, the document's cap */
@@ -43,15 +48,96 @@
 int prsm_io_optimization_check(const cJSON *doc, size_t max_evaluations, prsm_problems *warnings,
                                prsm_problems *problems);
 
-/* Load, run and write the result in one call. The caller owns *result (cJSON_Delete).
- * cancel (may be NULL) is polled in every evaluation; progress (may be NULL) is called from
- * this thread with done = evaluations, planned = the evaluation budget, best = the best
- * feasible objective so far in its unit. max_time_s 0: no cap beyond the document's.
- * Returns 0 (the result may still say "feasible": false, with the violated constraints named),
- * PRSM_EINVAL (problems filled, *result NULL), PRSM_ECANCELLED (*result still set to the best
- * result so far, flagged "cancelled": true), PRSM_ENOMEM, or another PRSM_E* code with err. */
-int prsm_io_optimization_execute(cJSON **result, const cJSON *doc, prsm_cancel_flag *cancel,
-                                 prsm_progress_fn progress, void *progress_ctx, double max_time_s,
-                                 prsm_problems *problems, prsm_error *err);
+/* The methods of multi_objective.method, and their names (NULL-terminated). */
+enum { PRSM_IO_OPT_SINGLE = 0, PRSM_IO_OPT_WEIGHTED = 1, PRSM_IO_OPT_PARETO = 2 };
+extern const char *const prsm_io_opt_method_names[];
+
+/* A loaded document. The run (src/app/optimize.c) points the problem's context at spec and the
+ * robust studies' builder at its own code, so the struct must not move once read. */
+typedef struct {
+	char name[404]; /* up to 100 characters of UTF-8 */
+	prsm_dp_spec spec;
+	prsm_opt_problem problem;
+	prsm_opt_options options;
+	int method;
+	int points;                       /* Pareto levels */
+	double weight[PRSM_OPT_MAX_OBJECTIVES];
+	int rollers_auto_max;             /* rollers' max defaulted to the Z_max bound */
+	/* robust constraints (the "robust" section) */
+	int has_robust;
+	prsm_robust robust;
+	cJSON *study;                     /* the study document of a candidate: the base design (its
+	                                     geometry replaced per candidate), the section's tolerances,
+	                                     correlations, assembly and monte_carlo, the constrained
+	                                     outputs and specs, no sensitivities; owned */
+	int robust_output_of[PRSM_MC_MAX_OUTPUTS]; /* constraint index of each study output */
+	char sampler[16];                 /* the robust studies' sampler, as run */
+	size_t block_size;
+	int threads;
+} prsm_io_optimization;
+
+/* Read and check doc (see prsm_io_optimization_check) into od (od->problem ready when 0 is
+ * returned; the robust builder, od->robust.build, is left for the caller to set). Release od
+ * with prsm_io_optimization_release whatever is returned. */
+int prsm_io_optimization_read(prsm_io_optimization *od, const cJSON *doc, size_t max_evaluations,
+                              prsm_problems *warnings, prsm_problems *problems);
+
+/* Free what od owns (not od). */
+void prsm_io_optimization_release(prsm_io_optimization *od);
+
+/* ---- the result (optimization_result.c), from what the run computed ---- */
+
+/* A point of the result, evaluated afresh: its design, figures and violations (each constraint
+ * against its raw limit), the full analysis when `analysed`, the robust constraints' fresh run. */
+typedef struct {
+	prsm_design design;                     /* resolved by the standard rules */
+	prsm_dp_figures fig;
+	double g[PRSM_OPT_MAX_CONSTRAINTS];     /* prsm_dp_violation, no tolerance */
+	int analysed;                           /* analysis and perf are valid */
+	const prsm_analysis *analysis;
+	const prsm_performance *perf;
+	int robust_rc;                          /* prsm_dp_robust's return code */
+	prsm_robust_eval robust;
+	prsm_error robust_err;
+} prsm_io_opt_point;
+
+/* The run's counts as the result reports them. */
+typedef struct {
+	size_t evaluations, combinations, pruned, runs, runs_feasible, runs_truncated;
+	int stop;                               /* prsm_opt_stop */
+	int cancelled;
+	double elapsed_s;                       /* s */
+} prsm_io_opt_run;
+
+/* The head of the result: name, versions, method, warnings. NULL when out of memory. */
+cJSON *prsm_io_optimization_result_head(const prsm_io_optimization *od, const prsm_problems *warnings);
+
+/* cancelled, stop_reason, evaluations, solver and search into doc. */
+void prsm_io_optimization_run_json(cJSON *doc, const prsm_io_optimization *od, const prsm_io_opt_run *run);
+
+/* The point's variables, objectives, constraints, robust constraints, figures and design (and
+ * with full its analysis) into o; the names of violated constraints appended to violated (may
+ * be NULL). Returns 0 or PRSM_ENOMEM. */
+int prsm_io_optimization_point_json(cJSON *o, const prsm_io_optimization *od, const prsm_io_opt_point *p,
+                                    int full, cJSON *violated);
+
+/* status, feasible, violated and best (p NULL when the run found nothing). Returns 0 or
+ * PRSM_ENOMEM. */
+int prsm_io_optimization_best_json(cJSON *doc, const prsm_io_optimization *od, int status,
+                                   const prsm_io_opt_point *p);
+
+/* The "pareto" section (its points array returned, for the caller to fill with
+ * prsm_io_optimization_front_point_json); NULL when out of memory. */
+cJSON *prsm_io_optimization_pareto_json(cJSON *doc, const prsm_io_optimization *od,
+                                        const prsm_opt_front *front);
+int prsm_io_optimization_front_point_json(cJSON *points, const prsm_io_optimization *od,
+                                          double epsilon_limit, const prsm_io_opt_point *p);
+
+/* The weighted sum's normalisation (ideal and range per objective). */
+void prsm_io_optimization_normalisation_json(cJSON *doc, const prsm_io_optimization *od,
+                                             const double *ideal, const double *range);
+
+/* The robust studies' settings and cost (nothing without robust constraints). */
+void prsm_io_optimization_robust_json(cJSON *doc, const prsm_io_optimization *od);
 
 #endif

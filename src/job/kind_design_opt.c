@@ -1,7 +1,7 @@
 /*
  * kind_design_opt.c: the "optimization" (/v1/optimizations) and "allocation" (/v1/allocations)
  * job kinds (issue 7; DESIGN.md "Optimisation", "Service"). Both run a document of src/io in
- * one call (prsm_io_optimization_execute, prsm_io_allocation_execute) with the job's cancel
+ * one call (prsm_app_optimize, prsm_app_allocate) with the job's cancel
  * flag, progress (objective evaluations, or Monte Carlo samples of an allocation, and the best
  * objective so far) and the service's limits: the per-job evaluation or sample cap (the
  * service's max_samples) checked when the job is submitted, the time cap, and for allocations
@@ -18,6 +18,7 @@
 
 #include "io/allocation_json.h"
 #include "io/optimization_json.h"
+#include "app/optimize.h"
 
 /* Versions of the results: the model and engine versions of the study kind (both documents
  * run the same model and, for robust terms and allocations, the same engine) and the
@@ -132,7 +133,7 @@ static int run_document(prsm_job_output *out, const char *request, const prsm_jo
 	const unsigned long mark = prsm_json_alloc_failures();
 	int rc = allocation ? prsm_io_allocation_execute(&res, doc, ctx->cancel, relay_progress, &r,
 	                                                 ctx->limits.max_time_s, ctx->limits.threads, &problems, err)
-	                    : prsm_io_optimization_execute(&res, doc, ctx->cancel, relay_progress, &r,
+	                    : prsm_app_optimize(&res, doc, ctx->cancel, relay_progress, &r,
 	                                                   ctx->limits.max_time_s, &problems, err);
 	if (rc == PRSM_EINVAL && problems.count)
 		prsm_error_set(err, rc, problems.items[0].pointer, "%s", problems.items[0].message);

@@ -444,10 +444,9 @@ int prsm_dp_problem(prsm_opt_problem *p, prsm_dp_spec *s, prsm_error *err)
 		         prsm_dp_constraint_names[s->constraint_kind[i]]);
 	if (s->robust) {
 		const prsm_robust *r = s->robust;
-		if (r->n < 1 || r->n > PRSM_ROBUST_MAX || !r->build || !r->release ||
-		    s->n_constraints + r->n > PRSM_OPT_MAX_CONSTRAINTS)
-			return prsm_error_set(err, PRSM_EINVAL, "/robust", "robust constraints: 1..%d with a "
-			                      "study builder", PRSM_ROBUST_MAX);
+		if (r->n < 1 || r->n > PRSM_ROBUST_MAX || s->n_constraints + r->n > PRSM_OPT_MAX_CONSTRAINTS)
+			return prsm_error_set(err, PRSM_EINVAL, "/robust", "robust constraints: 1..%d",
+			                      PRSM_ROBUST_MAX);
 		for (int k = 0; k < r->n; k++) {
 			if (!(r->c[k].yield_min > 0.0 && r->c[k].yield_min < 1.0) ||
 			    !(r->c[k].spec.has_lower || r->c[k].spec.has_upper))

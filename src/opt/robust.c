@@ -103,6 +103,8 @@ static int run_study(prsm_robust_eval *out, prsm_robust *r, const prsm_design *d
 	void *handle = NULL;
 	prsm_study_result *res = NULL;
 	prsm_error e2 = PRSM_ERROR_INIT;
+	if (!r->build || !r->release)
+		return prsm_error_set(err, PRSM_EINVAL, NULL, "robust constraints without a study builder");
 	int rc = r->build(r->build_ctx, &study, &handle, d, &e2);
 	if (rc) {
 		if (rc == PRSM_ENOMEM) {

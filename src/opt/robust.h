@@ -28,7 +28,8 @@
  * last evaluations (keyed by the candidate's starts, pitch, roller radius, rollers, engaged
  * threads and flank angle: every field the optimiser varies) saves re-running a candidate NLopt
  * or the final re-check asks for again. A prsm_robust is not shared between threads (its cache
- * changes on every evaluation). No JSON here: the io layer supplies the builder.
+ * changes on every evaluation). No JSON here: the application layer (src/app/optimize.c)
+ * supplies the builder.
  */
 #ifndef PRSM_OPT_ROBUST_H
 #define PRSM_OPT_ROBUST_H

@@ -1,0 +1,33 @@
+/*
+ * optimize.h: running a design-optimisation document (schemas/optimization.schema.json): the
+ * application layer between the callers (cli/, job/) and the reader and writer of io/ and the
+ * optimiser of opt/. Issue 7; docs/optimisation.md.
+ *
+ * The document is read (io/optimization_json.h), the search run (one objective, the normalised
+ * weighted sum or the epsilon-constraint Pareto sweep of opt/pareto.h), every reported point
+ * analysed afresh (each constraint judged against its raw limit: the document's
+ * constraint_tolerance only steers the solver; robust constraints re-run with the search's
+ * common random numbers) and the result written (io/optimization_result.c).
+ */
+#ifndef PRSM_APP_OPTIMIZE_H
+#define PRSM_APP_OPTIMIZE_H
+
+#include <cJSON.h>
+
+#include "util/cancel.h"
+#include "util/error.h"
+#include "util/problems.h"
+#include "util/progress.h"
+
+/* Load, run and write the result in one call. The caller owns *result (cJSON_Delete).
+ * cancel (may be NULL) is polled in every evaluation; progress (may be NULL) is called from
+ * this thread with done = evaluations, planned = the evaluation budget, best = the best
+ * feasible objective so far in its unit. max_time_s 0: no cap beyond the document's.
+ * Returns 0 (the result may still say "feasible": false, with the violated constraints named),
+ * PRSM_EINVAL (problems filled, *result NULL), PRSM_ECANCELLED (*result still set to the best
+ * result so far, flagged "cancelled": true), PRSM_ENOMEM, or another PRSM_E* code with err. */
+int prsm_app_optimize(cJSON **result, const cJSON *doc, prsm_cancel_flag *cancel,
+                      prsm_progress_fn progress, void *progress_ctx, double max_time_s,
+                      prsm_problems *problems, prsm_error *err);
+
+#endif
