@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "app/allocate.h"
 #include "io/allocation_json.h"
 #include "io/global.h"
 #include "util/file.h"
@@ -30,7 +31,7 @@ static cJSON *run_ok(const cJSON *doc, int threads)
 	prsm_problems_init(&pr);
 	prsm_error err = PRSM_ERROR_INIT;
 	cJSON *res = NULL;
-	int rc = prsm_io_allocation_execute(&res, doc, NULL, NULL, NULL, 0.0, threads, &pr, &err);
+	int rc = prsm_app_allocate(&res, doc, NULL, NULL, NULL, 0.0, threads, &pr, &err);
 	if (rc) {
 		for (int i = 0; i < pr.count; i++)
 			print_error("%s: %s\n", pr.items[i].pointer, pr.items[i].message);
@@ -235,13 +236,13 @@ static void test_cancel(void **state)
 	cJSON *res = NULL;
 	prsm_cancel_flag cancel = 1;
 	prsm_problems_init(&pr);
-	assert_int_equal(prsm_io_allocation_execute(&res, doc, &cancel, NULL, NULL, 0.0, 1, &pr, &err),
+	assert_int_equal(prsm_app_allocate(&res, doc, &cancel, NULL, NULL, 0.0, 1, &pr, &err),
 	                 PRSM_ECANCELLED);
 	assert_null(res);
 	/* cancelled after the first run met the target at some scale: best so far comes back */
 	cancel = 0;
 	cancel_ctx cc = {&cancel, 2048, 0};
-	assert_int_equal(prsm_io_allocation_execute(&res, doc, &cancel, cancel_progress, &cc, 0.0, 1, &pr, &err),
+	assert_int_equal(prsm_app_allocate(&res, doc, &cancel, cancel_progress, &cc, 0.0, 1, &pr, &err),
 	                 PRSM_ECANCELLED);
 	assert_true(cc.calls > 0);
 	assert_non_null(res);
@@ -292,7 +293,7 @@ static void test_time_cap(void **state)
 	prsm_error err = PRSM_ERROR_INIT;
 	cJSON *res = NULL;
 	prsm_problems_init(&pr);
-	assert_int_equal(prsm_io_allocation_execute(&res, doc, NULL, NULL, NULL, 1e-9, 1, &pr, &err), 0);
+	assert_int_equal(prsm_app_allocate(&res, doc, NULL, NULL, NULL, 1e-9, 1, &pr, &err), 0);
 	assert_non_null(res);
 	const cJSON *cor = item(res, "correction");
 	assert_string_equal(item(cor, "stop_reason")->valuestring, "time_cap");
@@ -316,7 +317,7 @@ static void test_spec_message(void **state)
 	cJSON_ReplaceItemInObject(c0, "spec", parse("{\"lower\": 0.15, \"upper\": 0.2}"));
 	prsm_problems pr;
 	prsm_problems_init(&pr);
-	assert_int_equal(prsm_io_allocation_check(doc, 0, NULL, &pr), PRSM_EINVAL);
+	assert_int_equal(prsm_app_allocation_check(doc, 0, NULL, &pr), PRSM_EINVAL);
 	assert_int_equal(pr.count, 1);
 	assert_string_equal(pr.items[0].pointer, "/constraints/0/spec");
 	assert_string_equal(pr.items[0].message,
@@ -388,7 +389,7 @@ static void expect_problem(const char *base, const char *path_key, const char *v
 	}
 	prsm_problems pr;
 	prsm_problems_init(&pr);
-	int rc = prsm_io_allocation_check(doc, max_samples, NULL, &pr);
+	int rc = prsm_app_allocation_check(doc, max_samples, NULL, &pr);
 	int found = 0;
 	for (int i = 0; i < pr.count; i++)
 		found |= strcmp(pr.items[i].pointer, pointer) == 0;

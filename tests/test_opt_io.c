@@ -43,10 +43,10 @@ static void test_check(void **state)
 	prsm_problems w, p;
 	prsm_problems_init(&w);
 	prsm_problems_init(&p);
-	assert_int_equal(prsm_io_optimization_check(doc, 0, &w, &p), 0);
+	assert_int_equal(prsm_app_optimization_check(doc, 0, &w, &p), 0);
 	assert_int_equal(p.count, 0);
 	/* the service's cap: 1500 evaluations are too many under a cap of 1000 */
-	assert_int_equal(prsm_io_optimization_check(doc, 1000, &w, &p), PRSM_EINVAL);
+	assert_int_equal(prsm_app_optimization_check(doc, 1000, &w, &p), PRSM_EINVAL);
 	assert_true(has_pointer(&p, "/solver/max_evaluations"));
 	cJSON_Delete(doc);
 }
@@ -69,7 +69,7 @@ static void test_every_problem(void **state)
 	prsm_problems w, p;
 	prsm_problems_init(&w);
 	prsm_problems_init(&p);
-	assert_int_equal(prsm_io_optimization_check(doc, 0, &w, &p), PRSM_EINVAL);
+	assert_int_equal(prsm_app_optimization_check(doc, 0, &w, &p), PRSM_EINVAL);
 	const char *want[] = {"/extra", "/design/geometry/pitch_mm", "/variables/pitch_mm/max",
 	                      "/variables/lead_mm", "/variables/roller_radius_mm/min",
 	                      "/variables/rollers/values/1", "/objectives/1/name",
@@ -86,7 +86,7 @@ static void test_every_problem(void **state)
 	/* not an object; no variable varied */
 	doc = cJSON_Parse("[1]");
 	prsm_problems_init(&p);
-	assert_int_equal(prsm_io_optimization_check(doc, 0, &w, &p), PRSM_EINVAL);
+	assert_int_equal(prsm_app_optimization_check(doc, 0, &w, &p), PRSM_EINVAL);
 	cJSON_Delete(doc);
 }
 

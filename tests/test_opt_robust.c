@@ -309,7 +309,7 @@ static void test_invalid(void **state)
 	prsm_problems w, p;
 	prsm_problems_init(&w);
 	prsm_problems_init(&p);
-	assert_int_equal(prsm_io_optimization_check(doc, 0, &w, &p), PRSM_EINVAL);
+	assert_int_equal(prsm_app_optimization_check(doc, 0, &w, &p), PRSM_EINVAL);
 	const char *want[] = {"/robust/extra", "/robust/surrogate", "/robust/monte_carlo/samples",
 	                      "/robust/monte_carlo/targets", "/robust/constraints/0/output",
 	                      "/robust/constraints/1/spec/upper",
@@ -329,7 +329,7 @@ static void test_invalid(void **state)
 		" \"monte_carlo\": {\"sampler\": \"dice\"},"
 		" \"constraints\": [{\"output\": \"backlash_um\", \"spec\": {\"lower\": 5}, \"yield_min_percent\": 99}]}"));
 	prsm_problems_init(&p);
-	assert_int_equal(prsm_io_optimization_check(doc, 0, &w, &p), PRSM_EINVAL);
+	assert_int_equal(prsm_app_optimization_check(doc, 0, &w, &p), PRSM_EINVAL);
 	const char *want2[] = {"/robust/tolerances/0/parameter", "/robust/tolerances/1/tol_um",
 	                       "/robust/tolerances/2", "/robust/assembly/mode",
 	                       "/robust/monte_carlo/sampler", "/robust/correlations/0/between/1", NULL};
@@ -342,7 +342,7 @@ static void test_invalid(void **state)
 	cJSON_ReplaceItemInObject(doc, "robust", cJSON_Parse(
 		"{\"constraints\": [{\"output\": \"backlash_um\", \"spec\": {\"lower\": 5}, \"yield_min_percent\": 99}]}"));
 	prsm_problems_init(&p);
-	assert_int_equal(prsm_io_optimization_check(doc, 0, &w, &p), PRSM_EINVAL);
+	assert_int_equal(prsm_app_optimization_check(doc, 0, &w, &p), PRSM_EINVAL);
 	assert_true(has_pointer(&p, "/robust/tolerances"));
 	cJSON_Delete(doc);
 }

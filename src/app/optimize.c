@@ -10,6 +10,100 @@
 
 #include "io/optimization_json.h"
 #include "io/study_json.h"
+#include "io/design_json.h"
+
+/* ---- the design problem ---- */
+
+/* The design problem of a read document: the rollers' range when its max was left out, the
+ * problem itself, the combination count, and at least one combination that the cheap bounds
+ * leave alive. Problems at their pointers. */
+static int prepare(prsm_io_optimization *od, prsm_problems *pr)
+{
+	const int before = prsm_problems_total(pr);
+	prsm_dp_spec *s = &od->spec;
+	/* the rollers' max left out: up to the largest Z_max any start count reaches */
+	if (od->rollers_auto_max >= 1) {
+		int zb = 0;
+		if (s->starts.count)
+			for (int i = 0; i < s->starts.count; i++) {
+				int z = prsm_dp_z_max_bound(s, s->starts.values[i]);
+				zb = z > zb ? z : zb;
+			}
+		else
+			zb = prsm_dp_z_max_bound(s, s->base.starts);
+		if (zb > PRSM_DESIGN_ROLLERS_MAX)
+			zb = PRSM_DESIGN_ROLLERS_MAX;
+		for (int z = od->rollers_auto_max; z <= zb && s->rollers.count < PRSM_OPT_MAX_LEVELS; z++)
+			s->rollers.values[s->rollers.count++] = z;
+		if (s->rollers.count == 0) {
+			prsm_problems_add(pr, "/variables/rollers/min", "z_max",
+			                  "no roller count from %d up fits the geometry (Z_max at most %d)",
+			                  od->rollers_auto_max, zb);
+			return PRSM_EINVAL;
+		}
+	}
+	if (!s->starts.count && s->base.starts < 3)
+		prsm_problems_add(pr, "/design/geometry/starts", "starts_min",
+		                  "the optimiser's standard rule r_s = (n-2) r_r needs at least 3 starts");
+	if (s->radius_is_screw && !s->starts.count && s->radius.vary && s->base.starts < 3)
+		return PRSM_EINVAL;
+	prsm_error err = PRSM_ERROR_INIT;
+	if (prsm_problems_total(pr) > before)
+		return PRSM_EINVAL;
+	if (prsm_dp_problem(&od->problem, s, &err)) {
+		prsm_problems_add(pr, err.pointer[0] ? err.pointer : "/variables", "invalid", "%s", err.message);
+		return PRSM_EINVAL;
+	}
+	double combos = 1.0;
+	for (int d = 0; d < od->problem.n_discrete; d++)
+		combos *= od->problem.n_levels[d];
+	if (combos > PRSM_OPT_MAX_COMBINATIONS) {
+		prsm_problems_add(pr, "/variables", "too_many", "%.0f combinations of starts, rollers and "
+		                  "engaged threads exceed %d", combos, PRSM_OPT_MAX_COMBINATIONS);
+		return PRSM_EINVAL;
+	}
+	/* at least one combination must survive the cheap bounds */
+	size_t alive = 0, n = (size_t)combos;
+	for (size_t c = 0; c < n && !alive; c++) {
+		double lv[PRSM_OPT_MAX_DISCRETE];
+		size_t r = c;
+		for (int d = od->problem.n_discrete - 1; d >= 0; d--) {
+			lv[d] = od->problem.levels[d][r % (size_t)od->problem.n_levels[d]];
+			r /= (size_t)od->problem.n_levels[d];
+		}
+		alive += !od->problem.prune(od->problem.ctx, lv, od->problem.lower, od->problem.upper);
+	}
+	if (!alive) {
+		prsm_problems_add(pr, "/variables", "infeasible", "no combination of the variables can fit "
+		                  "its rollers and the diameter limits, even at the most favourable corner "
+		                  "of the ranges");
+		return PRSM_EINVAL;
+	}
+	for (int k = 0; k < s->n_objectives; k++)
+		od->options.weight[k] = od->weight[k];
+	return 0;
+}
+
+
+/* Read and prepare; od released by the caller. */
+static int load(prsm_io_optimization *od, const cJSON *doc, size_t max_evaluations,
+                prsm_problems *warnings, prsm_problems *pr)
+{
+	int rc = prsm_io_optimization_read(od, doc, max_evaluations, warnings, pr);
+	return rc ? rc : prepare(od, pr);
+}
+
+int prsm_app_optimization_check(const cJSON *doc, size_t max_evaluations, prsm_problems *warnings,
+                                prsm_problems *problems)
+{
+	prsm_io_optimization *od = calloc(1, sizeof *od);
+	if (!od)
+		return PRSM_ENOMEM;
+	int rc = load(od, doc, max_evaluations, warnings, problems);
+	prsm_io_optimization_release(od);
+	free(od);
+	return rc;
+}
 
 /* ---- the robust constraints' studies: a candidate's study document through the study reader */
 
@@ -163,7 +257,7 @@ int prsm_app_optimize(cJSON **result, const cJSON *doc, prsm_cancel_flag *cancel
 		rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
 		goto cleanup;
 	}
-	rc = prsm_io_optimization_read(od, doc, 0, &warnings, problems);
+	rc = load(od, doc, 0, &warnings, problems);
 	if (rc) {
 		prsm_error_set(err, rc, NULL, "the optimisation document is invalid");
 		goto cleanup;

@@ -12,12 +12,22 @@
 #ifndef PRSM_APP_OPTIMIZE_H
 #define PRSM_APP_OPTIMIZE_H
 
+#include <stddef.h>
+
 #include <cJSON.h>
 
 #include "util/cancel.h"
 #include "util/error.h"
 #include "util/problems.h"
 #include "util/progress.h"
+
+/* Validate doc with these limits: max_evaluations caps solver.max_evaluations (0: the
+ * document's own cap, PRSM_IO_OPT_MAX_EVALUATIONS). Loads the base design and checks that at
+ * least one combination of the integer variables can be feasible. Every problem goes to
+ * problems with its pointer; non-fatal remarks (e.g. base-design radii the optimiser replaces)
+ * to warnings (may be NULL). Returns 0 or PRSM_EINVAL (PRSM_ENOMEM when out of memory). */
+int prsm_app_optimization_check(const cJSON *doc, size_t max_evaluations, prsm_problems *warnings,
+                                prsm_problems *problems);
 
 /* Load, run and write the result in one call. The caller owns *result (cJSON_Delete).
  * cancel (may be NULL) is polled in every evaluation; progress (may be NULL) is called from

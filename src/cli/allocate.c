@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "cli/commands.h"
+#include "app/allocate.h"
 #include "io/allocation_json.h"
 #include "io/analysis_json.h"
 
@@ -38,7 +39,7 @@ int prsm_cli_allocate(int argc, char **argv)
 	}
 	int show = !o.quiet && isatty(STDERR_FILENO);
 	prsm_error err = PRSM_ERROR_INIT;
-	int arc = prsm_io_allocation_execute(&res, doc, NULL, show ? progress : NULL, NULL, 0.0, o.threads,
+	int arc = prsm_app_allocate(&res, doc, NULL, show ? progress : NULL, NULL, 0.0, o.threads,
 	                                     &problems, &err);
 	cJSON_Delete(doc);
 	if (show)

@@ -9,10 +9,12 @@
 #include "cli/commands.h"
 #include "cli/summary.h"
 #include "io/global.h"
+#include "app/allocate.h"
 #include "io/allocation_json.h"
 #include "io/analysis_json.h"
 #include "io/analyze_request.h"
 #include "io/json_util.h"
+#include "app/optimize.h"
 #include "io/optimization_json.h"
 #include "util/file.h"
 #include "util/version.h"
@@ -121,10 +123,10 @@ int prsm_cli_validate(int argc, char **argv)
 	/* the document's kind by its members: an allocation (allocate), an optimisation
 	 * (variables, objectives), a study (tolerances), else a design or analyze request */
 	if (rc == 0 && cJSON_IsObject(doc) && cJSON_GetObjectItemCaseSensitive(doc, "allocate"))
-		rc = prsm_error_exit_code(prsm_io_allocation_check(doc, 0, &warnings, &problems));
+		rc = prsm_error_exit_code(prsm_app_allocation_check(doc, 0, &warnings, &problems));
 	else if (rc == 0 && cJSON_IsObject(doc) && cJSON_GetObjectItemCaseSensitive(doc, "variables") &&
 	         cJSON_GetObjectItemCaseSensitive(doc, "objectives"))
-		rc = prsm_error_exit_code(prsm_io_optimization_check(doc, 0, &warnings, &problems));
+		rc = prsm_error_exit_code(prsm_app_optimization_check(doc, 0, &warnings, &problems));
 	else if (rc == 0 && cJSON_IsObject(doc) && cJSON_GetObjectItemCaseSensitive(doc, "tolerances"))
 		rc = prsm_cli_study_check(doc, &warnings, &problems);
 	else if (rc == 0)

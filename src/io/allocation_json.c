@@ -1,7 +1,7 @@
 /*
  * allocation_json.c: the tolerance-allocation document (schemas/allocation.schema.json) read
- * and checked with every problem at once, the allocation run through src/opt/alloc_mc.h, and
- * the result written (schemas/allocation-result.schema.json). See allocation_json.h.
+ * and checked with every problem at once (see allocation_json.h). The run: src/app/allocate.c;
+ * the result (schemas/allocation-result.schema.json): allocation_result.c.
  *
  * Two kinds of document. `study`: an embedded tolerance study (its own reader, problems
  * re-pointed under /study); each allocated tolerance names one of the study's tolerances; the
@@ -11,7 +11,6 @@
  */
 #include "io/allocation_json.h"
 
-#include <assert.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -19,11 +18,8 @@
 #include "io/json_util.h"
 #include "io/study_json.h"
 #include "opt/alloc_mc.h"
-#include "util/clock.h"
 #include "util/utf8.h"
-#include "util/version.h"
 
-#define PRSM_ALLOC_ENGINE "prsm-alloc 2 (KKT: Brent roots on ln of the multipliers, projected Newton on the dual; NLopt 2.7 SLSQP/COBYLA; Monte Carlo correction of the yield targets with common random numbers)"
 #define DEFAULT_MAX_CORRECTIONS 8
 #define DEFAULT_SCALE_RTOL 0.01
 
@@ -53,29 +49,9 @@ static const prsm_json_range NONNEG = {0.0, HUGE_VAL, 0, 0};
 static const prsm_json_range COST_COEFFICIENT = {0.0, COST_MAX, 1, 0};
 static const prsm_json_range COST_FIXED = {0.0, COST_MAX, 0, 0};
 
-/* Everything a loaded document holds. Large: on the heap. */
-typedef struct {
-	char name[404]; /* up to 100 characters of UTF-8 */
-	int is_study;
-	prsm_io_study *study;                         /* study kind */
-	char tol_name[PRSM_ALLOC_MAX_TOLERANCES][PRSM_STUDY_NAME_MAX];
-	char out_name[PRSM_ALLOC_MAX_CONSTRAINTS][48];
-	char unit[PRSM_ALLOC_MAX_TOLERANCES][16];     /* the tolerance's unit ("um", "mrad", "") */
-	double ref_given[PRSM_ALLOC_MAX_TOLERANCES];  /* analytic: reference half-width or NAN */
-	size_t n_aout;                                /* analytic outputs */
-	char aout_name[PRSM_ALLOC_MAX_CONSTRAINTS][48];
-	double aout_nominal[PRSM_ALLOC_MAX_CONSTRAINTS];
-	double sens[PRSM_ALLOC_MAX_TOLERANCES][PRSM_ALLOC_MAX_CONSTRAINTS]; /* analytic, by analytic output */
-	int has_spec[PRSM_ALLOC_MAX_CONSTRAINTS];
-	double target_yield[PRSM_ALLOC_MAX_CONSTRAINTS]; /* fraction, NAN when the tolerance is given */
-	prsm_alloc_model model;
-	prsm_alloc_mc_options opt;
-	int threads;                                  /* monte_carlo.threads, 0: the study's */
-	uint64_t seed;
-	size_t samples;
-} doc_state;
 
-static void state_free(doc_state *d)
+
+void prsm_io_allocation_free(prsm_io_allocation *d)
 {
 	if (d) {
 		free(d->study);
@@ -151,7 +127,7 @@ static int find_name(char names[][48], size_t n, const char *name)
 	return -1;
 }
 
-static void read_analytic(doc_state *d, const cJSON *a, prsm_problems *pr)
+static void read_analytic(prsm_io_allocation *d, const cJSON *a, prsm_problems *pr)
 {
 	if (prsm_json_object_value(a, "/analytic", pr))
 		return;
@@ -184,7 +160,7 @@ static void read_analytic(doc_state *d, const cJSON *a, prsm_problems *pr)
 	d->n_aout = (size_t)n;
 }
 
-static void read_tolerances(doc_state *d, const cJSON *doc, int kind_ok, prsm_problems *pr)
+static void read_tolerances(prsm_io_allocation *d, const cJSON *doc, int kind_ok, prsm_problems *pr)
 {
 	const cJSON *tols = cJSON_GetObjectItemCaseSensitive(doc, "allocate");
 	int n = cJSON_GetArraySize(tols);
@@ -267,7 +243,7 @@ static void read_tolerances(doc_state *d, const cJSON *doc, int kind_ok, prsm_pr
 	md->n = (size_t)n;
 }
 
-static void read_constraints(doc_state *d, const cJSON *doc, int kind_ok, prsm_problems *pr)
+static void read_constraints(prsm_io_allocation *d, const cJSON *doc, int kind_ok, prsm_problems *pr)
 {
 	const cJSON *cons = cJSON_GetObjectItemCaseSensitive(doc, "constraints");
 	int n = cJSON_GetArraySize(cons);
@@ -361,7 +337,7 @@ static void read_constraints(doc_state *d, const cJSON *doc, int kind_ok, prsm_p
 	md->m = (size_t)n;
 }
 
-static void read_mc(doc_state *d, const cJSON *doc, size_t max_samples, prsm_problems *pr)
+static void read_mc(prsm_io_allocation *d, const cJSON *doc, size_t max_samples, prsm_problems *pr)
 {
 	const cJSON *mc = NULL;
 	char mp[PRSM_JSON_POINTER_MAX];
@@ -404,13 +380,11 @@ static void read_mc(doc_state *d, const cJSON *doc, size_t max_samples, prsm_pro
 	}
 }
 
-/* Read and check everything; for a study also load it and linearise; for both, the linear
- * allocation at f = 1 must be possible. *out owned by the caller (state_free). */
-static int load(doc_state **out, const cJSON *doc, size_t max_samples, prsm_problems *warnings,
-                prsm_problems *pr)
+int prsm_io_allocation_read(prsm_io_allocation **out, const cJSON *doc, size_t max_samples,
+                            prsm_problems *warnings, prsm_problems *pr)
 {
 	*out = NULL;
-	doc_state *d = calloc(1, sizeof *d);
+	prsm_io_allocation *d = calloc(1, sizeof *d);
 	if (!d)
 		return PRSM_ENOMEM;
 	const int start = prsm_problems_total(pr);
@@ -461,23 +435,8 @@ static int load(doc_state **out, const cJSON *doc, size_t max_samples, prsm_prob
 		rc = lrc && lrc != PRSM_EINVAL ? lrc : PRSM_EINVAL;
 		goto done;
 	}
-
-	/* the linear model */
-	prsm_alloc_model *md = &d->model;
-	prsm_error err = PRSM_ERROR_INIT;
-	if (d->is_study) {
-		prsm_study *st = &d->study->study;
-		st->mc.samples = d->samples;
-		st->mc.seed = d->seed;
-		if (d->threads)
-			st->mc.threads = d->threads;
-		rc = prsm_alloc_mc_linearise(md, st, &d->opt, &err);
-		if (rc) {
-			prsm_problems_add(pr, "/study", "model", "%s", err.message);
-			rc = rc == PRSM_ENOMEM ? rc : PRSM_EINVAL;
-			goto done;
-		}
-	} else {
+	if (!d->is_study) { /* the analytic linear model is the document's */
+		prsm_alloc_model *md = &d->model;
 		for (size_t o = 0; o < md->m; o++) {
 			int ao = find_name(d->aout_name, d->n_aout, d->out_name[o]);
 			md->nominal[o] = d->aout_nominal[ao];
@@ -487,273 +446,10 @@ static int load(doc_state **out, const cJSON *doc, size_t max_samples, prsm_prob
 		for (size_t i = 0; i < md->n; i++)
 			md->t_ref[i] = d->ref_given[i];
 	}
-	prsm_alloc_step *st0 = malloc(sizeof *st0);
-	if (!st0) {
-		rc = PRSM_ENOMEM;
-		goto done;
-	}
-	rc = prsm_alloc_model_allocate(st0, md, 1.0, NULL, 0.0, &err);
-	free(st0);
-	if (rc) {
-		prsm_problems_add(pr, err.pointer[0] ? err.pointer : "/constraints", "infeasible", "%s", err.message);
-		rc = rc == PRSM_ENOMEM ? rc : PRSM_EINVAL;
-	}
 done:
 	if (rc)
-		state_free(d);
+		prsm_io_allocation_free(d);
 	else
 		*out = d;
-	return rc;
-}
-
-int prsm_io_allocation_check(const cJSON *doc, size_t max_samples, prsm_problems *warnings,
-                             prsm_problems *problems)
-{
-	doc_state *d;
-	int rc = load(&d, doc, max_samples, warnings, problems);
-	state_free(d);
-	return rc;
-}
-
-/* ---- result ------------------------------------------------------------------------------ */
-
-static cJSON *pair(double a, double b)
-{
-	cJSON *arr = cJSON_CreateArray();
-	cJSON *x = isfinite(a) ? cJSON_CreateNumber(a) : cJSON_CreateNull();
-	cJSON *y = isfinite(b) ? cJSON_CreateNumber(b) : cJSON_CreateNull();
-	cJSON_AddItemToArray(arr, x);
-	cJSON_AddItemToArray(arr, y);
-	return arr;
-}
-
-static cJSON *cost_json(const prsm_alloc_cost *c)
-{
-	cJSON *j = cJSON_CreateObject();
-	cJSON_AddStringToObject(j, "model", prsm_alloc_cost_name(c->kind));
-	cJSON_AddNumberToObject(j, "fixed", c->fixed);
-	cJSON_AddNumberToObject(j, "coefficient", c->coefficient);
-	if (c->kind == PRSM_ALLOC_COST_EXPONENTIAL)
-		cJSON_AddNumberToObject(j, "rate", c->rate);
-	else if (c->kind == PRSM_ALLOC_COST_RECIPROCAL_POWER)
-		cJSON_AddNumberToObject(j, "power", c->power);
-	return j;
-}
-
-static cJSON *spec_json(const prsm_spec *s)
-{
-	cJSON *j = cJSON_CreateObject();
-	if (s->has_lower)
-		prsm_json_add_number(j, "lower", s->lower);
-	if (s->has_upper)
-		prsm_json_add_number(j, "upper", s->upper);
-	return j;
-}
-
-static cJSON *half_widths_json(const doc_state *d, const prsm_alloc_step *st)
-{
-	cJSON *a = cJSON_CreateArray();
-	for (size_t i = 0; i < d->model.n; i++)
-		cJSON_AddItemToArray(a, cJSON_CreateNumber(st->sol.t[i]));
-	return a;
-}
-
-static cJSON *mc_yield_json(const doc_state *d, const prsm_alloc_step *st, size_t o)
-{
-	if (!st->has_mc || !d->has_spec[o])
-		return cJSON_CreateNull();
-	cJSON *j = cJSON_CreateObject();
-	prsm_json_add_number(j, "fraction", st->mc_yield[o]);
-	cJSON_AddItemToObject(j, "interval95", pair(st->mc_low95[o], st->mc_high95[o]));
-	cJSON_AddStringToObject(j, "interval_method", "Wilson score, 95 %");
-	cJSON_AddNumberToObject(j, "samples", (double)st->samples);
-	prsm_json_add_number(j, "mean", st->mc_mean[o]);
-	prsm_json_add_number(j, "sd", st->mc_sd[o]);
-	return j;
-}
-
-static cJSON *result_json(const doc_state *d, const prsm_alloc_mc_result *r, int cancelled)
-{
-	const prsm_alloc_model *md = &d->model;
-	assert(r->best >= 0 && r->best < r->n_steps);
-	const prsm_alloc_step *best = &r->steps[r->best];
-	cJSON *doc = cJSON_CreateObject();
-	if (!doc)
-		return NULL;
-	if (d->name[0])
-		cJSON_AddStringToObject(doc, "name", d->name);
-	cJSON_AddStringToObject(doc, "kind", d->is_study ? "study" : "analytic");
-	cJSON *ver = cJSON_AddObjectToObject(doc, "versions");
-	cJSON_AddStringToObject(ver, "prsm", PRSM_VERSION);
-	cJSON_AddStringToObject(ver, "engine", PRSM_ALLOC_ENGINE);
-	cJSON_AddStringToObject(ver, "build", prsm_engine_build());
-	cJSON_AddStringToObject(doc, "stack", prsm_alloc_stack_name(md->stack));
-	cJSON_AddStringToObject(doc, "solver", prsm_alloc_solver_name(best->sol.solver));
-	cJSON_AddStringToObject(doc, "convention",
-	                        "a tolerance +-T is +-k sd of its distribution (k = 3 for a normal and the "
-	                        "{tol, cpk 1} shorthand, sqrt 3 for a uniform; sd_ratio in an analytic document); "
-	                        "RSS: sum (3 c T / k)^2 <= T_asm^2, T_asm = 3 sigma_max, sigma_max the largest sd "
-	                        "of a normal output centred on the nominal whose yield is the target; worst case: "
-	                        "sum |c| T <= T_asm = min(U - nominal, nominal - L)");
-	cJSON_AddStringToObject(doc, "sensitivity_source",
-	                        d->is_study ? "central differences of the study's model over each variable's reference "
-	                                      "half-width (a radial magnitude at its worst of 8 directions), the "
-	                                      "tolerance's variables combined in quadrature (RSS) or summed (worst case)"
-	                                    : "given in the document");
-	cJSON *tols = cJSON_AddArrayToObject(doc, "tolerances");
-	for (size_t i = 0; i < md->n; i++) {
-		cJSON *t = cJSON_CreateObject();
-		cJSON_AddStringToObject(t, "parameter", d->tol_name[i]);
-		cJSON_AddStringToObject(t, "unit", d->unit[i]);
-		prsm_json_add_number(t, "half_width", best->sol.t[i]);
-		prsm_json_add_number(t, "reference_half_width", md->t_ref[i]);
-		prsm_json_add_number(t, "sd_ratio", md->k[i]);
-		prsm_json_add_number(t, "cost", best->sol.cost[i]);
-		cJSON_AddItemToObject(t, "cost_model", cost_json(&md->cost[i]));
-		cJSON *b = cJSON_AddObjectToObject(t, "bounds");
-		prsm_json_add_number(b, "lower", md->t_min[i]);
-		prsm_json_add_number(b, "upper", md->t_max[i]);
-		if (best->sol.at_bound[i])
-			cJSON_AddStringToObject(t, "at_bound", best->sol.at_bound[i] < 0 ? "lower" : "upper");
-		else
-			cJSON_AddNullToObject(t, "at_bound");
-		cJSON *sens = cJSON_AddObjectToObject(t, "sensitivities");
-		for (size_t o = 0; o < md->m; o++)
-			prsm_json_add_number(sens, d->out_name[o], md->c[o][i]);
-		cJSON_AddItemToArray(tols, t);
-	}
-	prsm_json_add_number(doc, "total_cost", best->sol.total_cost);
-	cJSON *cons = cJSON_AddArrayToObject(doc, "constraints");
-	for (size_t o = 0; o < md->m; o++) {
-		cJSON *c = cJSON_CreateObject();
-		cJSON_AddStringToObject(c, "output", d->out_name[o]);
-		if (d->has_spec[o])
-			cJSON_AddItemToObject(c, "spec", spec_json(&md->spec[o]));
-		else
-			cJSON_AddNullToObject(c, "spec");
-		prsm_json_add_number(c, "nominal", md->nominal[o]);
-		prsm_json_add_number(c, "target_yield", d->target_yield[o]);
-		prsm_json_add_number(c, "assembly_tolerance", best->assembly_tol[o]);
-		prsm_json_add_number(c, "assembly_tolerance_linear", r->steps[0].assembly_tol[o]);
-		prsm_json_add_number(c, "sigma_max", best->sigma_max[o]);
-		prsm_json_add_number(c, "multiplier", best->sol.multiplier[o]);
-		prsm_json_add_number(c, "stack", best->sol.stack[o]);
-		prsm_json_add_number(c, "kept_tolerances_sd", sqrt(md->fixed_var[o]));
-		prsm_json_add_number(c, "kept_tolerances_worst_case", md->fixed_wc[o]);
-		prsm_json_add_number(c, "predicted_sd", best->predicted_sd[o]);
-		prsm_json_add_number(c, "predicted_yield", d->has_spec[o] ? best->predicted_yield[o] : NAN);
-		cJSON_AddItemToObject(c, "monte_carlo", mc_yield_json(d, best, o));
-		if (md->has_target[o])
-			cJSON_AddBoolToObject(c, "meets_target", best->has_mc ? best->mc_yield[o] >= d->target_yield[o]
-			                                                      : best->predicted_yield[o] >= d->target_yield[o] - 1e-12);
-		else /* a given assembly tolerance: the linear stack within it */
-			cJSON_AddBoolToObject(c, "meets_target", best->sol.stack[o] <= best->limit[o] * (1.0 + 1e-9));
-		cJSON_AddItemToArray(cons, c);
-	}
-	cJSON *lin = cJSON_AddObjectToObject(doc, "linear");
-	prsm_json_add_number(lin, "total_cost", r->steps[0].sol.total_cost);
-	cJSON_AddItemToObject(lin, "half_widths", half_widths_json(d, &r->steps[0]));
-	cJSON *py = cJSON_AddArrayToObject(lin, "predicted_yields");
-	for (size_t o = 0; o < md->m; o++)
-		cJSON_AddItemToArray(py, d->has_spec[o] ? cJSON_CreateNumber(r->steps[0].predicted_yield[o]) : cJSON_CreateNull());
-	cJSON *cor = cJSON_AddObjectToObject(doc, "correction");
-	prsm_json_add_number(cor, "scale", best->scale);
-	cJSON_AddStringToObject(cor, "stop_reason", prsm_alloc_stop_name(r->stop));
-	cJSON_AddBoolToObject(cor, "converged", r->converged);
-	cJSON_AddNumberToObject(cor, "max_corrections", d->is_study && d->opt.verify ? d->opt.max_corrections : 0);
-	cJSON_AddNumberToObject(cor, "scale_tolerance", d->opt.scale_rtol);
-	cJSON *steps = cJSON_AddArrayToObject(cor, "steps");
-	for (int k = 0; k < r->n_steps; k++) {
-		const prsm_alloc_step *st = &r->steps[k];
-		cJSON *s = cJSON_CreateObject();
-		prsm_json_add_number(s, "scale", st->scale);
-		prsm_json_add_number(s, "total_cost", st->sol.total_cost);
-		cJSON_AddItemToObject(s, "half_widths", half_widths_json(d, st));
-		cJSON *ys = cJSON_AddArrayToObject(s, "yields");
-		for (size_t o = 0; o < md->m; o++)
-			cJSON_AddItemToArray(ys, mc_yield_json(d, st, o));
-		cJSON_AddBoolToObject(s, "meets_target", st->meets);
-		cJSON_AddBoolToObject(s, "reported", k == r->best);
-		cJSON_AddItemToArray(steps, s);
-	}
-	if (d->is_study) {
-		cJSON *mc = cJSON_AddObjectToObject(doc, "monte_carlo");
-		cJSON_AddBoolToObject(mc, "verify", d->opt.verify);
-		cJSON_AddNumberToObject(mc, "samples", (double)d->samples);
-		cJSON_AddNumberToObject(mc, "seed", (double)d->seed);
-		cJSON_AddStringToObject(mc, "sampler", prsm_sampler_name(d->study->study.mc.sampler));
-		cJSON_AddNumberToObject(mc, "samples_total", (double)r->samples_total);
-		cJSON_AddNumberToObject(mc, "threads", d->study->study.mc.threads);
-		cJSON_AddStringToObject(mc, "common_random_numbers",
-		                        "every run uses the same seed and sample count, so the yield is a "
-		                        "deterministic function of the widths");
-	} else {
-		cJSON_AddNullToObject(doc, "monte_carlo");
-	}
-	size_t evals = 0;
-	for (int k = 0; k < r->n_steps; k++)
-		evals += r->steps[k].sol.evaluations;
-	cJSON_AddNumberToObject(doc, "evaluations", (double)evals);
-	cJSON_AddBoolToObject(doc, "cancelled", cancelled);
-	prsm_json_add_number(doc, "elapsed_s", r->elapsed_s);
-	return doc;
-}
-
-int prsm_io_allocation_execute(cJSON **result, const cJSON *doc, prsm_cancel_flag *cancel,
-                               prsm_progress_fn progress, void *progress_ctx, double max_time_s,
-                               int threads, prsm_problems *problems, prsm_error *err)
-{
-	*result = NULL;
-	doc_state *d;
-	int rc = load(&d, doc, 0, NULL, problems);
-	if (rc)
-		return prsm_error_set(err, rc, problems->count ? problems->items[0].pointer : NULL, "%s",
-		                      rc == PRSM_EINVAL ? "the allocation document is invalid" : "could not load the allocation");
-	prsm_alloc_mc_result *r = calloc(1, sizeof *r);
-	if (!r) {
-		rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
-		goto cleanup;
-	}
-	d->opt.cancel = cancel;
-	d->opt.progress = progress;
-	d->opt.progress_ctx = progress_ctx;
-	d->opt.max_time_s = max_time_s;
-	if (d->is_study) {
-		if (threads > 0)
-			d->study->study.mc.threads = threads;
-		rc = prsm_alloc_mc_run(r, &d->study->study, &d->model, &d->opt, err);
-		if (rc && !(rc == PRSM_ECANCELLED && r->best >= 0))
-			goto cleanup;
-		if (r->best < 0) { /* prsm_alloc_mc_run promises a step; never read steps[-1] */
-			rc = prsm_error_set(err, PRSM_ENOCONVERGE, NULL, "no allocation step finished");
-			goto cleanup;
-		}
-	} else {
-		double t0 = prsm_clock_seconds();
-		if (prsm_cancel_requested(cancel)) {
-			rc = prsm_error_set(err, PRSM_ECANCELLED, NULL, "the allocation was cancelled");
-			goto cleanup;
-		}
-		rc = prsm_alloc_model_allocate(&r->steps[0], &d->model, 1.0, cancel, max_time_s, err);
-		if (rc)
-			goto cleanup;
-		r->n_steps = 1;
-		r->best = 0;
-		r->stop = PRSM_ALLOC_STOP_LINEAR;
-		r->converged = r->steps[0].meets;
-		r->elapsed_s = prsm_clock_seconds() - t0;
-		if (progress) {
-			prsm_progress p = PRSM_PROGRESS_INIT;
-			p.done = p.planned = r->steps[0].sol.evaluations;
-			p.best = r->steps[0].sol.total_cost;
-			progress(progress_ctx, &p);
-		}
-	}
-	*result = result_json(d, r, rc == PRSM_ECANCELLED);
-	if (!*result)
-		rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
-cleanup:
-	free(r);
-	state_free(d);
 	return rc;
 }

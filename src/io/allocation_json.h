@@ -20,10 +20,9 @@
 
 #include <cJSON.h>
 
-#include "util/cancel.h"
-#include "util/error.h"
+#include "io/study_json.h"
+#include "opt/alloc_mc.h"
 #include "util/problems.h"
-#include "util/progress.h"
 
 /* Limits of the document (schemas/allocation.schema.json states the same numbers). */
 #define PRSM_IO_ALLOC_MAX_TOLERANCES 64      /* tolerances allocated */
@@ -31,28 +30,40 @@
 #define PRSM_IO_ALLOC_MAX_CORRECTIONS 30     /* monte_carlo.max_corrections */
 #define PRSM_IO_ALLOC_MAX_SAMPLES 4000000    /* samples of all Monte Carlo runs together */
 
-/* Validate doc with these limits: max_samples caps the Monte Carlo samples of the whole
- * allocation, monte_carlo.samples x (1 + max_corrections) (0: PRSM_IO_ALLOC_MAX_SAMPLES).
- * Loads the embedded study (design analysis included). Every problem goes to problems with its
- * pointer; the design's rule warnings to warnings (may be NULL). Returns 0 or PRSM_EINVAL
- * (PRSM_EGEOMETRY / PRSM_EEDGE when the study's design cannot be analysed, PRSM_ENOMEM). */
-int prsm_io_allocation_check(const cJSON *doc, size_t max_samples, prsm_problems *warnings,
-                             prsm_problems *problems);
+/* A loaded document. Large: on the heap. */
+typedef struct {
+	char name[404]; /* up to 100 characters of UTF-8 */
+	int is_study;
+	prsm_io_study *study;                         /* study kind */
+	char tol_name[PRSM_ALLOC_MAX_TOLERANCES][PRSM_STUDY_NAME_MAX];
+	char out_name[PRSM_ALLOC_MAX_CONSTRAINTS][48];
+	char unit[PRSM_ALLOC_MAX_TOLERANCES][16];     /* the tolerance's unit ("um", "mrad", "") */
+	double ref_given[PRSM_ALLOC_MAX_TOLERANCES];  /* analytic: reference half-width or NAN */
+	size_t n_aout;                                /* analytic outputs */
+	char aout_name[PRSM_ALLOC_MAX_CONSTRAINTS][48];
+	double aout_nominal[PRSM_ALLOC_MAX_CONSTRAINTS];
+	double sens[PRSM_ALLOC_MAX_TOLERANCES][PRSM_ALLOC_MAX_CONSTRAINTS]; /* analytic, by analytic output */
+	int has_spec[PRSM_ALLOC_MAX_CONSTRAINTS];
+	double target_yield[PRSM_ALLOC_MAX_CONSTRAINTS]; /* fraction, NAN when the tolerance is given */
+	prsm_alloc_model model;
+	prsm_alloc_mc_options opt;
+	int threads;                                  /* monte_carlo.threads, 0: the study's */
+	uint64_t seed;
+	size_t samples;
+} prsm_io_allocation;
 
-/* Load, run and write the result in one call. The caller owns *result (cJSON_Delete).
- * cancel (may be NULL) is polled between and inside the Monte Carlo runs and the solves; progress (may be
- * NULL) is called from this thread with done / planned = Monte Carlo samples (evaluations of
- * the linear solver for an analytic document) and best = the total cost of the best allocation
- * that met every target so far. max_time_s 0: no cap (it also caps each allocation's solve;
- * when it ends before the first Monte Carlo run the result is the linear allocation,
- * unverified, stop_reason time_cap); threads 0: the study's own (results do not depend on it).
- * Returns 0 (the result may say "converged": false when the correction could not
- * meet the target), PRSM_EINVAL (problems filled, *result NULL; also a spec that no allocation
- * within the bounds can meet), PRSM_ENOCONVERGE (the time cap ended before the linear
- * allocation was solved), PRSM_ECANCELLED (*result set to the best-so-far document when
- * there is one, flagged "cancelled": true), PRSM_ENOMEM, or another PRSM_E* code with err. */
-int prsm_io_allocation_execute(cJSON **result, const cJSON *doc, prsm_cancel_flag *cancel,
-                               prsm_progress_fn progress, void *progress_ctx, double max_time_s,
-                               int threads, prsm_problems *problems, prsm_error *err);
+/* Read and check doc into *out (owned by the caller: prsm_io_allocation_free): a study is
+ * loaded, an analytic stack's linear model filled in; a study's linear model and the
+ * feasibility of the allocation are the run's (src/app/allocate.h). max_samples caps the Monte
+ * Carlo samples of the whole allocation (0: PRSM_IO_ALLOC_MAX_SAMPLES). Every problem goes to
+ * problems with its pointer, remarks to warnings (may be NULL). Returns 0, PRSM_EINVAL or
+ * PRSM_ENOMEM (*out NULL). */
+int prsm_io_allocation_read(prsm_io_allocation **out, const cJSON *doc, size_t max_samples,
+                            prsm_problems *warnings, prsm_problems *problems);
+void prsm_io_allocation_free(prsm_io_allocation *d);
+
+/* The result document of a run (r->best a valid step); NULL when out of memory. */
+cJSON *prsm_io_allocation_result_json(const prsm_io_allocation *d, const prsm_alloc_mc_result *r,
+                                      int cancelled);
 
 #endif

@@ -40,14 +40,6 @@
 #define PRSM_IO_OPT_MAX_MULTISTART 64        /* solver.multistart */
 #define PRSM_IO_OPT_MAX_PARETO_POINTS 50     /* multi_objective.points */
 
-/* Validate doc with these limits: max_evaluations caps solver.max_evaluations (0: the
- * document's own cap, PRSM_IO_OPT_MAX_EVALUATIONS). Loads the base design and checks that at
- * least one combination of the integer variables can be feasible. Every problem goes to
- * problems with its pointer; non-fatal remarks (e.g. base-design radii the optimiser replaces)
- * to warnings (may be NULL). Returns 0 or PRSM_EINVAL (PRSM_ENOMEM when out of memory). */
-int prsm_io_optimization_check(const cJSON *doc, size_t max_evaluations, prsm_problems *warnings,
-                               prsm_problems *problems);
-
 /* The methods of multi_objective.method, and their names (NULL-terminated). */
 enum { PRSM_IO_OPT_SINGLE = 0, PRSM_IO_OPT_WEIGHTED = 1, PRSM_IO_OPT_PARETO = 2 };
 extern const char *const prsm_io_opt_method_names[];
@@ -76,9 +68,11 @@ typedef struct {
 	int threads;
 } prsm_io_optimization;
 
-/* Read and check doc (see prsm_io_optimization_check) into od (od->problem ready when 0 is
- * returned; the robust builder, od->robust.build, is left for the caller to set). Release od
- * with prsm_io_optimization_release whatever is returned. */
+/* Read and check doc into od: every problem to problems with its pointer, remarks (e.g.
+ * base-design radii the optimiser replaces) to warnings (may be NULL); max_evaluations caps
+ * solver.max_evaluations (0: PRSM_IO_OPT_MAX_EVALUATIONS). The design problem (od->problem)
+ * and the robust builder are the run's (src/app/optimize.h). Release od with
+ * prsm_io_optimization_release whatever is returned. Returns 0, PRSM_EINVAL or PRSM_ENOMEM. */
 int prsm_io_optimization_read(prsm_io_optimization *od, const cJSON *doc, size_t max_evaluations,
                               prsm_problems *warnings, prsm_problems *problems);
 

@@ -16,6 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "app/allocate.h"
 #include "io/allocation_json.h"
 #include "io/optimization_json.h"
 #include "app/optimize.h"
@@ -77,7 +78,7 @@ static const char *const *const alloc_volatile[] = {alloc_threads, alloc_study_t
 static int optimization_normalise(cJSON **out, const cJSON *doc, const prsm_job_limits *lim, prsm_problems *problems)
 {
 	*out = NULL;
-	int rc = prsm_io_optimization_check(doc, lim->max_samples, NULL, problems);
+	int rc = prsm_app_optimization_check(doc, lim->max_samples, NULL, problems);
 	/* robust constraints run a study per candidate: its samples are capped like a study's */
 	const cJSON *mc = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(doc, "robust"), "monte_carlo");
 	const cJSON *samples = cJSON_GetObjectItemCaseSensitive(mc, "samples");
@@ -96,7 +97,7 @@ static int optimization_normalise(cJSON **out, const cJSON *doc, const prsm_job_
 static int allocation_normalise(cJSON **out, const cJSON *doc, const prsm_job_limits *lim, prsm_problems *problems)
 {
 	*out = NULL;
-	int rc = prsm_io_allocation_check(doc, lim->max_samples, NULL, problems);
+	int rc = prsm_app_allocation_check(doc, lim->max_samples, NULL, problems);
 	if (rc)
 		return rc;
 	*out = without(doc, alloc_volatile);
@@ -131,7 +132,7 @@ static int run_document(prsm_job_output *out, const char *request, const prsm_jo
 	relay r = {ctx, PRSM_PROGRESS_INIT};
 	cJSON *res = NULL;
 	const unsigned long mark = prsm_json_alloc_failures();
-	int rc = allocation ? prsm_io_allocation_execute(&res, doc, ctx->cancel, relay_progress, &r,
+	int rc = allocation ? prsm_app_allocate(&res, doc, ctx->cancel, relay_progress, &r,
 	                                                 ctx->limits.max_time_s, ctx->limits.threads, &problems, err)
 	                    : prsm_app_optimize(&res, doc, ctx->cancel, relay_progress, &r,
 	                                                   ctx->limits.max_time_s, &problems, err);

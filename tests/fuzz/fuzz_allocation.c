@@ -10,11 +10,12 @@
 #include <stdint.h>
 
 #include "fuzz_document.h"
+#include "app/allocate.h"
 #include "io/allocation_json.h"
 
 static int allocation_check(const cJSON *doc, prsm_problems *warnings, prsm_problems *problems)
 {
-	return prsm_io_allocation_check(doc, 0, warnings, problems);
+	return prsm_app_allocation_check(doc, 0, warnings, problems);
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);

@@ -10,11 +10,12 @@
 #include <stdint.h>
 
 #include "fuzz_document.h"
+#include "app/optimize.h"
 #include "io/optimization_json.h"
 
 static int optimization_check(const cJSON *doc, prsm_problems *warnings, prsm_problems *problems)
 {
-	return prsm_io_optimization_check(doc, 0, warnings, problems);
+	return prsm_app_optimization_check(doc, 0, warnings, problems);
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
