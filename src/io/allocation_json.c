@@ -17,6 +17,7 @@
 
 #include "io/json_util.h"
 #include "io/study_json.h"
+#include "mc/stats.h"
 #include "opt/alloc_mc.h"
 #include "util/utf8.h"
 
@@ -377,6 +378,25 @@ static void read_mc(prsm_io_allocation *d, const cJSON *doc, size_t max_samples,
 			prsm_problems_add(pr, got == PRSM_JSON_PRESENT ? "/monte_carlo/samples" : "/study/monte_carlo/samples",
 			                  "too_large", "%zu samples x (1 + %d corrections) = %.0f Monte Carlo samples: at most "
 			                  "%zu", d->samples, d->opt.max_corrections, total, cap);
+		/* a target counts as met when the yield's Wilson lower end reaches it; with no sample
+		 * out of spec that end is n / (n + z^2), so fewer samples can never show the target */
+		for (size_t o = 0; o < d->model.m; o++) {
+			const double p0 = d->target_yield[o];
+			if (!(p0 > 0.0 && p0 < 1.0))
+				continue;
+			const double z2 = PRSM_STATS_Z95 * PRSM_STATS_Z95;
+			const double n_min = ceil(z2 * p0 / (1.0 - p0));
+			if ((double)d->samples < n_min) {
+				char cp[PRSM_JSON_POINTER_MAX];
+				prsm_json_pointer_append_index(cp, sizeof cp, "/constraints", (int)o);
+				prsm_problems_add(pr, got == PRSM_JSON_PRESENT ? "/monte_carlo/samples" : "/study/monte_carlo/samples",
+				                  "too_few", "%zu samples cannot show the target yield of %s (%.10g %%): even "
+				                  "with no sample out of spec the lower end of the 95 %% Wilson interval stays "
+				                  "below it unless there are at least %.0f samples (several times that to "
+				                  "leave room for the ones that fail)", d->samples, cp, 100.0 * p0, n_min);
+				break;
+			}
+		}
 	}
 }
 

@@ -58,6 +58,7 @@ static void mc_yield_json(prsm_jw *w, cJSON *parent, const char *key, const prsm
 	prsm_jw_number(w, j, "samples", (double)st->samples);
 	prsm_jw_number(w, j, "mean", st->mc_mean[o]);
 	prsm_jw_number(w, j, "sd", st->mc_sd[o]);
+	prsm_jw_number(w, j, "confidence_meets_target", st->mc_confidence[o]);
 }
 
 cJSON *prsm_io_allocation_result_json(const prsm_io_allocation *d, const prsm_alloc_mc_result *r,
@@ -131,8 +132,8 @@ cJSON *prsm_io_allocation_result_json(const prsm_io_allocation *d, const prsm_al
 		prsm_jw_number(w, c, "predicted_yield", d->has_spec[o] ? best->predicted_yield[o] : NAN);
 		mc_yield_json(w, c, "monte_carlo", d, best, o);
 		if (md->has_target[o])
-			prsm_jw_bool(w, c, "meets_target", best->has_mc ? best->mc_yield[o] >= d->target_yield[o]
-			                                                      : best->predicted_yield[o] >= d->target_yield[o] - 1e-12);
+			prsm_jw_bool(w, c, "meets_target", best->has_mc ? best->mc_meets[o]
+			                                              : best->predicted_yield[o] >= d->target_yield[o] - 1e-12);
 		else /* a given assembly tolerance: the linear stack within it */
 			prsm_jw_bool(w, c, "meets_target", best->sol.stack[o] <= best->limit[o] * (1.0 + 1e-9));
 	}

@@ -9,6 +9,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <gsl/gsl_cdf.h>
+
 #include "util/clock.h"
 
 /* Directions tried for a radial magnitude (as the study's stack figures). */
@@ -332,8 +334,18 @@ static int run_mc(prsm_alloc_step *st, prsm_study *s, const prsm_alloc_model *md
 			st->mc_yield[q] = sm->yield;
 			st->mc_low95[q] = sm->yield_low95;
 			st->mc_high95[q] = sm->yield_high95;
-			if (md->has_target[q] && sm->yield < 1.0 - md->out_fraction[q])
-				st->meets = 0;
+			st->mc_confidence[q] = NAN;
+			st->mc_meets[q] = 1;
+			if (md->has_target[q]) {
+				/* decided on the evidence: the Wilson interval's lower end (see alloc_mc.h) */
+				const double p0 = 1.0 - md->out_fraction[q];
+				st->mc_meets[q] = sm->yield_low95 >= p0;
+				st->mc_confidence[q] = sm->n > 0 ? gsl_cdf_ugaussian_P((sm->yield - p0) /
+				                                                        sqrt(p0 * (1.0 - p0) / (double)sm->n))
+				                                 : NAN;
+				if (!st->mc_meets[q])
+					st->meets = 0;
+			}
 		}
 		*kept = r->run.n;
 		if (r->run.stop == PRSM_STOP_TIME_CAP)
@@ -379,6 +391,7 @@ int prsm_alloc_mc_run(prsm_alloc_mc_result *out, prsm_study *s, const prsm_alloc
 		has_target |= md->has_target[q];
 	const int verify = o->verify && has_target;
 	double f = 1.0, f_ok = NAN, f_fail = NAN, g_ok = NAN, g_fail = NAN;
+	int last_side = 0; /* +1: the last step met every target, -1: it missed one */
 	out->stop = verify ? PRSM_ALLOC_STOP_MAX_CORRECTIONS : PRSM_ALLOC_STOP_LINEAR;
 	for (int k = 0; k < (verify ? o->max_corrections + 1 : 1) && k < PRSM_ALLOC_MAX_STEPS; k++) {
 		if (prsm_cancel_requested(o->cancel)) {
@@ -447,16 +460,18 @@ int prsm_alloc_mc_run(prsm_alloc_mc_result *out, prsm_study *s, const prsm_alloc
 			rc = mrc;
 			goto cleanup;
 		}
-		/* g: the smallest margin of yield over its target */
+		/* g: the smallest margin of the yield's Wilson lower end over its target (what decides) */
 		double g = INFINITY;
 		for (size_t q = 0; q < md->m; q++)
 			if (md->has_target[q])
-				g = fmin(g, st->mc_yield[q] - (1.0 - md->out_fraction[q]));
+				g = fmin(g, st->mc_low95[q] - (1.0 - md->out_fraction[q]));
 		if (st->meets) {
 			if (out->best < 0 || st->scale > out->steps[out->best].scale)
 				out->best = out->n_steps - 1;
 			pc.best = out->steps[out->best].sol.total_cost;
-			f_ok = f, g_ok = g;
+			if (last_side > 0 && !isnan(f_fail))
+				g_fail *= 0.5; /* Illinois: the failing end kept twice, so halve its margin */
+			f_ok = f, g_ok = g, last_side = 1;
 			/* a larger f changes nothing when every tolerance is at its upper bound or every
 			 * target's constraint is slack (the given assembly tolerances or the bounds decide) */
 			int all_upper = 1, targets_slack = 1;
@@ -470,7 +485,9 @@ int prsm_alloc_mc_run(prsm_alloc_mc_result *out, prsm_study *s, const prsm_alloc
 				break;
 			}
 		} else {
-			f_fail = f, g_fail = g;
+			if (last_side < 0 && !isnan(f_ok))
+				g_ok *= 0.5; /* Illinois: the accepted end kept twice */
+			f_fail = f, g_fail = g, last_side = -1;
 		}
 		if (isnan(f_fail)) {
 			f = f_ok * GROW;
@@ -482,7 +499,9 @@ int prsm_alloc_mc_run(prsm_alloc_mc_result *out, prsm_study *s, const prsm_alloc
 				out->stop = PRSM_ALLOC_STOP_CONVERGED;
 				break;
 			}
-			/* secant on ln f, kept in the inner 10..90 % of the bracket */
+			/* secant on ln f (Illinois regula falsi: the margin of an end kept twice in a row
+			 * is halved, so a step-like margin, the Monte Carlo yield of a finite sample, still
+			 * closes the bracket), kept in the inner 10..90 % of the bracket */
 			double u = g_ok != g_fail ? lo + (hi - lo) * g_ok / (g_ok - g_fail) : 0.5 * (lo + hi);
 			double a = fmin(lo, hi), b = fmax(lo, hi);
 			u = fmin(fmax(u, a + 0.1 * (b - a)), b - 0.1 * (b - a));

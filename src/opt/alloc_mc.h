@@ -32,6 +32,15 @@
  * (clamped to the inner 10..90 % of the bracket) until the bracket is within the relative width
  * asked for. Each f is re-allocated exactly. The result is the largest f that met every target:
  * the cheapest allocation the Monte Carlo accepts.
+ *
+ * "Met" is decided on the sample's evidence, not on its point estimate: a target is met when
+ * the lower end of the yield's 95 % Wilson score interval is at or above it, i.e. when the score
+ * test rejects "the true yield is below the target" at the one-sided 2.5 % level. A point
+ * estimate at or just above the target says nothing (the true yield is below it about half the
+ * time); this rule accepts an allocation whose true yield misses its target at most 2.5 % of
+ * the time, and reports that confidence (mc_confidence: Phi of the score statistic
+ * (y - p0) / sqrt(p0 (1 - p0) / n) at the target p0) with every run. The price of being sure
+ * is a margin: fewer samples make the accepted allocation tighter (dearer), never wrong.
  */
 #ifndef PRSM_OPT_ALLOC_MC_H
 #define PRSM_OPT_ALLOC_MC_H
@@ -78,9 +87,12 @@ typedef struct {
 	double mc_mean[PRSM_ALLOC_MAX_CONSTRAINTS], mc_sd[PRSM_ALLOC_MAX_CONSTRAINTS]; /* output unit */
 	double mc_yield[PRSM_ALLOC_MAX_CONSTRAINTS], mc_low95[PRSM_ALLOC_MAX_CONSTRAINTS],
 	       mc_high95[PRSM_ALLOC_MAX_CONSTRAINTS];      /* fraction in spec, 95 % Wilson interval */
+	double mc_confidence[PRSM_ALLOC_MAX_CONSTRAINTS];   /* one-sided confidence that the true yield
+	                                                       meets the target (NAN without one) */
+	int mc_meets[PRSM_ALLOC_MAX_CONSTRAINTS];           /* Wilson lower end >= target (no target: 1) */
 	int assembly_ok;                                    /* every given T_asm,o holds (linear stack) */
-	int meets;                                          /* every target met (MC when run, else linear)
-	                                                       and assembly_ok */
+	int meets;                                          /* every target met (MC when run: mc_meets,
+	                                                       else linear) and assembly_ok */
 } prsm_alloc_step;
 
 typedef enum {
