@@ -403,10 +403,11 @@ static void test_moments_and_yield(void **state)
 	const prsm_stats_summary *sm = &res.out[0].summary;
 	assert_close(sm->yield, 0.25, 5.0 * sqrt(0.25 * 0.75 / 40000.0));
 	assert_true(sm->yield_low95 < sm->yield && sm->yield < sm->yield_high95);
-	/* the stack of a linear model: nominal 1.5, worst case +-1.5, RSS sqrt(0.25 + 1) */
+	/* the stack of a linear model: nominal 1.5, worst case +-1.5; RSS three times the sd of
+	 * x1 + 2 x2 with uniform [0, 1] inputs, 3 sqrt(5 / 12) = sqrt(3 (0.25 + 1)) */
 	assert_close(res.out[0].nominal, 1.5, 1e-12);
 	assert_close(res.out[0].worst_high - res.out[0].nominal, 1.5, 1e-12);
-	assert_close(res.out[0].rss, sqrt(1.25), 1e-12);
+	assert_close(res.out[0].rss, sqrt(3.75), 1e-12);
 	prsm_study_result_free(&res);
 }
 

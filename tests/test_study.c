@@ -219,6 +219,44 @@ static void test_ls1(void **state)
 	free(s);
 }
 
+/* Issue 19, item 7: the RSS stack counts each tolerance with its own sd, as the allocation
+ * does. LS-1's stack with uniform tolerances: RSS = 3 sqrt(sum (c_i T_i / sqrt 3)^2) =
+ * sqrt(3 sum T_i^2), and the Monte Carlo puts at most about 0.3 % of the assemblies outside
+ * nominal +- RSS (a half-width taken as 3 sd put 8.3 % outside). */
+static void test_rss_uniform(void **state)
+{
+	(void)state;
+	const char *text =
+		"{\"model\": {\"benchmark\": \"linear\", \"coefficients\": [1, 1, -1, -1]},"
+		" \"tolerances\": ["
+		"  {\"parameter\": \"x1\", \"distribution\": \"uniform\", \"lower\": 29.95, \"upper\": 30.05},"
+		"  {\"parameter\": \"x2\", \"distribution\": \"uniform\", \"lower\": 19.96, \"upper\": 20.04},"
+		"  {\"parameter\": \"x3\", \"distribution\": \"uniform\", \"lower\": 24.87, \"upper\": 24.93},"
+		"  {\"parameter\": \"x4\", \"distribution\": \"uniform\", \"lower\": 24.98, \"upper\": 25.02}],"
+		" \"specs\": {\"y\": {\"lower\": 0.01, \"upper\": 0.19}},"
+		" \"monte_carlo\": {\"samples\": 20000, \"seed\": 20261125}}";
+	prsm_problems pr;
+	prsm_io_study *s = load(text, &pr);
+	assert_non_null(s);
+	/* the spec: nominal 0.1 +- the RSS half-width expected */
+	const double rss = sqrt(3.0 * (0.05 * 0.05 + 0.04 * 0.04 + 0.03 * 0.03 + 0.02 * 0.02));
+	s->study.outputs[0].spec.lower = 0.1 - rss;
+	s->study.outputs[0].spec.upper = 0.1 + rss;
+	prsm_study_result *r = calloc(1, sizeof *r);
+	prsm_error err = PRSM_ERROR_INIT;
+	assert_int_equal(prsm_study_run(r, &s->study, &err), 0);
+	const prsm_study_output_result *o = &r->out[0];
+	assert_close(o->nominal, 0.1, 1e-12);
+	assert_close(o->rss, rss, 1e-12);
+	assert_close(o->worst_high - o->nominal, 0.14, 1e-12);
+	/* a sum of four uniforms is lighter-tailed than a normal: outside +-3 sd well under 1 % */
+	print_message("outside nominal +- RSS: %.4f %%\n", 100.0 * (1.0 - o->summary.yield));
+	assert_true(o->summary.yield >= 0.99);
+	prsm_study_result_free(r);
+	free(r);
+	free(s);
+}
+
 /* nut_unit_stiffness_N_per_um: the sample's contacts in series with the nominal unit's other
  * compliance (docs/model/kinematics-efficiency-stiffness-life.md). An error-free sample is the nominal nut unit of prsm_performance
  * (prsm analyze's stiffness); with errors the extra compliance is the same for every sample, so
@@ -311,6 +349,7 @@ int main(void)
 		cmocka_unit_test(test_per_roller_and_shared),
 		cmocka_unit_test(test_copula),
 		cmocka_unit_test(test_ls1),
+		cmocka_unit_test(test_rss_uniform),
 		cmocka_unit_test(test_nut_unit_stiffness),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);

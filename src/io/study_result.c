@@ -106,7 +106,8 @@ static cJSON *output_json(const prsm_io_study *s, const prsm_study_result *r, si
 		                        "one tolerance at a time at its half-width (3 sd for normal, the range for "
 		                        "uniform, the 99.865 % quantile for radial magnitudes at their worst of 8 "
 		                        "directions), from the centre of every distribution; worst case sums the "
-		                        "changes, RSS adds them in quadrature");
+		                        "changes; RSS is 3 sd of the linear stack, each change scaled to its own "
+		                        "distribution's sd (change x sd / half-width) and added in quadrature");
 	}
 	cJSON *sens = cJSON_AddObjectToObject(j, "sensitivity");
 	prsm_json_add_number(sens, "src_r2", q->src_r2);

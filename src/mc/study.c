@@ -50,8 +50,21 @@ static void warn(prsm_study_result *r, const char *fmt, ...)
 	va_end(ap);
 }
 
-/* One-at-a-time stack: centre x0, each variable moved by its half-width (radial magnitudes
- * with their worst phase), Delta_i = change of each output. */
+double prsm_study_sd_effective(const prsm_study *s, size_t v)
+{
+	const prsm_dist *d = &s->vars[v].dist;
+	double sd = prsm_dist_sd(d);
+	if (s->info[v].phase < 0)
+		return sd;
+	double mean = prsm_dist_mean(d);
+	return sqrt(0.5 * (sd * sd + mean * mean));
+}
+
+/* One-at-a-time stack: centre x0, each variable moved by its half-width T_i (radial magnitudes
+ * with their worst phase), Delta_i = change of each output. Worst case: the sum of |Delta_i|;
+ * RSS: three times the linear stack's sd, sqrt(sum (Delta_i sd_i / T_i)^2), each variable with
+ * its own sd (a half-width is 3 sd only for the {tol, cpk 1} normal: sqrt 3 sd for a uniform),
+ * as the allocation's linear model counts them. */
 static int stack(prsm_study_result *r, const prsm_study *s, prsm_error *err)
 {
 	const prsm_mc_model *mdl = &s->model;
@@ -103,9 +116,10 @@ static int stack(prsm_study_result *r, const prsm_study *s, prsm_error *err)
 				delta[o] = 0.5 * fabs(yp[o] - ym[o]);
 		}
 		x[i] = c;
+		const double sd_per_t = t > 0.0 ? prsm_study_sd_effective(s, i) / t : 0.0;
 		for (size_t o = 0; o < m; o++) {
 			sum_abs[o] += delta[o];
-			sum_sq[o] += delta[o] * delta[o];
+			sum_sq[o] += (delta[o] * sd_per_t) * (delta[o] * sd_per_t);
 			r->out[o].by_group[s->vars[i].group].stack_um += delta[o];
 		}
 		continue;
@@ -119,7 +133,7 @@ static int stack(prsm_study_result *r, const prsm_study *s, prsm_error *err)
 		q->nominal = y0[o];
 		q->worst_low = y0[o] - sum_abs[o];
 		q->worst_high = y0[o] + sum_abs[o];
-		q->rss = sqrt(sum_sq[o]);
+		q->rss = 3.0 * sqrt(sum_sq[o]);
 	}
 cleanup:
 	if (ws && mdl->workspace_free)

@@ -76,7 +76,9 @@ typedef struct {
 	int has_stack;
 	double nominal;                  /* the model at the centre of every distribution */
 	double worst_low, worst_high;    /* nominal -/+ sum of |one-at-a-time changes| */
-	double rss;                      /* sqrt of the sum of their squares (half-width) */
+	double rss;                      /* RSS half-width: 3 sqrt(sum (change_i sd_i / T_i)^2), each
+	                                    tolerance's own sd (prsm_study_sd_effective), T_i its
+	                                    half-width: the 3-sigma range of the linear stack */
 	int has_sobol;
 	double sobol_variance;
 	prsm_study_contribution by_group[PRSM_MC_MAX_GROUPS];
@@ -105,5 +107,10 @@ int prsm_study_run(prsm_study_result *r, const prsm_study *s, prsm_error *err);
 int prsm_study_summarise(prsm_study_result *r, const prsm_study *s, prsm_error *err);
 
 void prsm_study_result_free(prsm_study_result *r);
+
+/* The sd variable v contributes to a linear output along one direction, in its unit: its
+ * distribution's sd; for a radial magnitude R with a uniform phase, which moves an output by
+ * (dy/dR) R cos(phase), sqrt(E[R^2] / 2). */
+double prsm_study_sd_effective(const prsm_study *s, size_t v);
 
 #endif

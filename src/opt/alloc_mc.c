@@ -162,18 +162,6 @@ int prsm_alloc_dist_scale(prsm_dist *out, const prsm_dist *d, double r)
 	return 0;
 }
 
-/* sd a variable contributes along one direction: a radial magnitude R with a uniform phase
- * moves an output by (dy/dR) R cos(phase), of variance (dy/dR)^2 E[R^2] / 2. */
-static double sd_effective(const prsm_study *s, size_t v)
-{
-	const prsm_dist *d = &s->vars[v].dist;
-	double sd = prsm_dist_sd(d);
-	if (s->info[v].phase < 0)
-		return sd;
-	double mean = prsm_dist_mean(d);
-	return sqrt(0.5 * (sd * sd + mean * mean));
-}
-
 int prsm_alloc_mc_linearise(prsm_alloc_model *md, const prsm_study *s, const prsm_alloc_mc_options *o,
                             prsm_error *err)
 {
@@ -205,7 +193,7 @@ int prsm_alloc_mc_linearise(prsm_alloc_model *md, const prsm_study *s, const prs
 			goto cleanup;
 		}
 		md->t_ref[i] = prsm_dist_halfwidth(ref);
-		double sde = sd_effective(s, gr->first_var);
+		double sde = prsm_study_sd_effective(s, gr->first_var);
 		if (!(md->t_ref[i] > 0.0) || !(sde > 0.0)) {
 			rc = prsm_error_set(err, PRSM_EINVAL, NULL, "%s: the distribution has no width", gr->name);
 			goto cleanup;
@@ -255,7 +243,7 @@ int prsm_alloc_mc_linearise(prsm_alloc_model *md, const prsm_study *s, const prs
 		}
 		x[v] = c;
 		const int a = alloc_of[s->vars[v].group];
-		const double sde = sd_effective(s, v);
+		const double sde = prsm_study_sd_effective(s, v);
 		for (size_t q = 0; q < md->m; q++) {
 			if (a >= 0) {
 				sum_sq[q][a] += (delta[q] / t) * (delta[q] / t);
