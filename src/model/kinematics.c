@@ -51,5 +51,30 @@ int prsm_kinematics_compute(prsm_kinematics *out, const prsm_design *d, const pr
 	relative_velocity(out->slip_nut, nut, a, out->carrier_ratio, out->roller_spin_ratio, v, 0.0, v);
 	out->slip_ratio_screw = norm3(out->slip_screw) / fabs(v);
 	out->slip_ratio_nut = norm3(out->slip_nut) / fabs(v);
+	/* docs/model §8.1: the carrier ratio friction settles at (open question O1) */
+	double A[3], B[3];
+	prsm_kinematics_slip_basis(A, B, d, screw->x_mm, screw->y_mm, rn / rr);
+	out->carrier_ratio_min_slip = prsm_kinematics_min_slip_ratio(A, B);
 	return 0;
+}
+
+void prsm_kinematics_slip_basis(double A_mm[3], double B_mm[3], const prsm_design *d, double x_mm,
+                                double y_mm, double ring_gear_ratio)
+{
+	/* docs/model §8.1: A = z x c + (1 - i_g) z x (p - c), B = -z x p - hand (L / 2 pi) z, with
+	 * z x (x, y, 0) = (-y, x, 0) */
+	const double a = prsm_design_orbit_radius_mm(d), spin = 1.0 - ring_gear_ratio;
+	A_mm[0] = -spin * y_mm;
+	A_mm[1] = a + spin * (x_mm - a);
+	A_mm[2] = 0.0;
+	B_mm[0] = y_mm;
+	B_mm[1] = -x_mm;
+	B_mm[2] = -prsm_design_screw_p(d); /* hand n P / 2 pi = hand L / 2 pi */
+}
+
+double prsm_kinematics_min_slip_ratio(const double A_mm[3], const double B_mm[3])
+{
+	const double AB = A_mm[0] * B_mm[0] + A_mm[1] * B_mm[1] + A_mm[2] * B_mm[2];
+	const double AA = A_mm[0] * A_mm[0] + A_mm[1] * A_mm[1] + A_mm[2] * A_mm[2];
+	return -AB / AA;
 }

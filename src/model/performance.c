@@ -286,3 +286,32 @@ double prsm_performance_input_torque(const prsm_design *d, const prsm_analysis *
 	}
 	return rc ? NAN : r.input_torque_Nm;
 }
+
+int prsm_performance_normal_loads(double *screw_N, double *nut_N, const prsm_design *d,
+                                  const prsm_analysis *a, prsm_error *err)
+{
+	const int nt = d->engaged_threads;
+	const double F = fabs(d->axial_load_N);
+	prsm_loaddist_params p;
+	prsm_design_compliance tc;
+	prsm_segment_compliance seg;
+	int rc = chain_params(&p, &tc, &seg, d, a, err);
+	if (rc)
+		return rc;
+	if (!(F > 0.0)) {
+		for (int i = 0; i < nt; i++)
+			screw_N[i] = nut_N[i] = 0.0;
+		return 0;
+	}
+	prsm_loaddist_workspace *ws = prsm_loaddist_alloc(nt);
+	if (ws == NULL)
+		return prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory for the load distribution");
+	prsm_loaddist_result dist;
+	rc = prsm_loaddist_solve(&dist, ws, &p, F, err);
+	if (rc == 0) {
+		memcpy(screw_N, dist.normal_screw_N, (size_t)nt * sizeof(double));
+		memcpy(nut_N, dist.normal_nut_N, (size_t)nt * sizeof(double));
+	}
+	prsm_loaddist_free(ws);
+	return rc;
+}

@@ -76,4 +76,12 @@ void prsm_performance_free(prsm_performance *p);
  * chain (docs/model/kinematics-efficiency-stiffness-life.md). */
 double prsm_performance_input_torque(const prsm_design *d, const prsm_analysis *a);
 
+/* The normal loads of one roller's n_t screw-side and n_t nut-side contacts at the design's
+ * axial load (d->axial_load_N), thread 1 first, N: the load distribution that
+ * prsm_performance_compute hands to the spin loss (all 0 at no load). screw_N and nut_N hold
+ * d->engaged_threads entries each. Allocates a load-distribution workspace and frees it.
+ * Returns 0, PRSM_EINVAL, PRSM_ENOCONVERGE or PRSM_ENOMEM (err says why). */
+int prsm_performance_normal_loads(double *screw_N, double *nut_N, const prsm_design *d,
+                                  const prsm_analysis *a, prsm_error *err);
+
 #endif
