@@ -485,6 +485,9 @@ static void test_errors(void **state)
 	expect_problem(LS1, "allocate/0/cost/fixed", "1e200", "/allocate/0/cost/fixed", 0);
 	expect_problem(LS1, "monte_carlo", "{\"samples\": 100}", "/monte_carlo", 0);
 	expect_problem(LS1, "stack", "\"sum\"", "/stack", 0);
+	/* issue 19, item 8: a huge but finite figure is refused at its field, not as "not finite" */
+	expect_problem(LS1, "allocate/0/sensitivities/y", "1e308", "/allocate/0/sensitivities/y", 0);
+	expect_problem(LS1, "analytic/outputs/0/nominal", "-1e200", "/analytic/outputs/0/nominal", 0);
 	expect_problem(LS1, "study", "{}", "/analytic", 0);
 	expect_problem(LS1, "extra", "1", "/extra", 0);
 	expect_problem(LS1, "allocate", "[]", "/allocate", 0);

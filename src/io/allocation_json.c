@@ -49,6 +49,9 @@ static const prsm_json_range NONNEG = {0.0, HUGE_VAL, 0, 0};
 #define COST_MAX 1e100
 static const prsm_json_range COST_COEFFICIENT = {0.0, COST_MAX, 1, 0};
 static const prsm_json_range COST_FIXED = {0.0, COST_MAX, 0, 0};
+/* an analytic stack's figures: bounded so that the stack and its squares stay finite */
+#define FIGURE_MAX 1e100
+static const prsm_json_range FIGURE = {-FIGURE_MAX, FIGURE_MAX, 0, 0};
 
 
 
@@ -156,7 +159,7 @@ static void read_analytic(prsm_io_allocation *d, const cJSON *a, prsm_problems *
 			}
 			snprintf(d->aout_name[i], sizeof d->aout_name[i], "%s", name);
 		}
-		prsm_json_get_number(&d->aout_nominal[i], it, p, "nominal", PRSM_JSON_REQUIRED, ANY, pr);
+		prsm_json_get_number(&d->aout_nominal[i], it, p, "nominal", PRSM_JSON_REQUIRED, FIGURE, pr);
 	}
 	d->n_aout = (size_t)n;
 }
@@ -227,7 +230,8 @@ static void read_tolerances(prsm_io_allocation *d, const cJSON *doc, int kind_ok
 					prsm_json_pointer_append(ep, sizeof ep, sp, s->string);
 					int o = find_name(d->aout_name, d->n_aout, s->string);
 					double v;
-					if (prsm_json_number_value(&v, s, ep, ANY, pr))
+					any = 1; /* given (a bad value has its own problem) */
+					if (prsm_json_number_value(&v, s, ep, FIGURE, pr))
 						continue;
 					if (o < 0)
 						prsm_problems_add(pr, ep, "unknown_output", "%s is not an output of /analytic/outputs",
