@@ -212,7 +212,16 @@ cJSON *prsm_io_study_result_to_json(const prsm_io_study *s, const prsm_study_res
 		cJSON_AddNumberToObject(so, "base_samples_used", (double)r->sobol_rows_ok);
 		cJSON_AddNumberToObject(so, "evaluations", (double)r->sobol_evaluations);
 		cJSON_AddStringToObject(so, "sampler", prsm_sampler_name(r->sobol_sampler));
-		cJSON_AddNumberToObject(so, "bootstrap", (double)st->sens.bootstrap);
+		cJSON_AddNumberToObject(so, "bootstrap", r->sobol_replicates ? 0.0 : (double)st->sens.bootstrap);
+		cJSON_AddNumberToObject(so, "replicates", (double)r->sobol_replicates);
+		cJSON_AddStringToObject(so, "interval_method",
+		                        r->sobol_replicates >= 2
+		                            ? "randomised QMC: the indices of the pooled rows, standard errors the sd of "
+		                              "the independently scrambled replicates' indices over sqrt(replicates), "
+		                              "95 % intervals +- t(0.975, replicates - 1) standard errors"
+		                        : r->sobol_replicates ? "none (too few complete randomised-QMC replicates)"
+		                                              : "bootstrap of the rows: sd and 2.5 / 97.5 % quantiles "
+		                                                "of the resampled indices");
 	}
 	cJSON *outs = cJSON_AddObjectToObject(doc, "outputs");
 	for (size_t o = 0; o < st->m; o++)

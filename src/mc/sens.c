@@ -8,6 +8,7 @@
 #include "util/clock.h"
 
 #include <assert.h>
+#include <gsl/gsl_cdf.h>
 #include <gsl/gsl_matrix.h>
 #include <gsl/gsl_multifit.h>
 #include <gsl/gsl_sort.h>
@@ -160,9 +161,10 @@ static inline size_t row_of(const size_t *rows, size_t j)
 	return rows != NULL ? rows[j] : j;
 }
 
-/* first[i], total[i] (i < d) and *V over the rows rows[0..n) (NULL: 0..n-1). */
+/* first[i], total[i] (i < d) and *V over the rows rows[0..n) (NULL: 0..n-1); stride is the
+ * length of each column of yAB (yAB[i * stride + row]). */
 static void sobol_estimate(double *first, double *total, double *V, const double *yA, const double *yB,
-                           const double *yAB, size_t n, size_t d, const size_t *rows)
+                           const double *yAB, size_t n, size_t stride, size_t d, const size_t *rows)
 {
 	const double nn = (double)n;
 	double sum = 0.0;
@@ -178,7 +180,7 @@ static void sobol_estimate(double *first, double *total, double *V, const double
 	}
 	*V = ss / (2.0 * nn - 1.0);
 	for (size_t i = 0; i < d; i++) {
-		const double *yi = yAB + i * n;
+		const double *yi = yAB + i * stride;
 		double s_first = 0.0, s_total = 0.0;
 		for (size_t j = 0; j < n; j++) {
 			const size_t r = row_of(rows, j);
@@ -254,7 +256,7 @@ int prsm_sens_sobol_until(prsm_sobol_index *out, double *variance_out, const dou
 		goto cleanup;
 	}
 	double V;
-	sobol_estimate(first, total, &V, yA, yB, yAB, n, d, NULL);
+	sobol_estimate(first, total, &V, yA, yB, yAB, n, n, d, NULL);
 	if (variance_out != NULL)
 		*variance_out = V;
 	for (size_t i = 0; i < d; i++) {
@@ -283,7 +285,7 @@ int prsm_sens_sobol_until(prsm_sobol_index *out, double *variance_out, const dou
 		for (size_t j = 0; j < n; j++)
 			rows[j] = (size_t)gsl_rng_uniform_int(rng, n);
 		double Vb;
-		sobol_estimate(first, total, &Vb, yA, yB, yAB, n, d, rows);
+		sobol_estimate(first, total, &Vb, yA, yB, yAB, n, n, d, rows);
 		for (size_t i = 0; i < d; i++) {
 			boot[(2 * i) * nboot + b] = first[i];
 			boot[(2 * i + 1) * nboot + b] = total[i];
@@ -302,5 +304,61 @@ cleanup:
 	free(boot);
 	free(total);
 	free(first);
+	return rc;
+}
+
+int prsm_sens_sobol_replicated(prsm_sobol_index *out, double *variance_out, const double *yA,
+                               const double *yB, const double *yAB, size_t n, size_t d,
+                               const size_t *rep_end, size_t R, prsm_error *err)
+{
+	if (R < 2 || rep_end == NULL || rep_end[R - 1] != n)
+		return prsm_error_set(err, PRSM_EINVAL, NULL, "replicated Sobol' indices need R >= 2 replicates "
+		                      "covering the n rows");
+	for (size_t r = 0; r < R; r++)
+		if (rep_end[r] < (r ? rep_end[r - 1] : 0) + 2)
+			return prsm_error_set(err, PRSM_EINVAL, NULL, "replicate %zu has fewer than 2 rows", r);
+	int rc = prsm_sens_sobol(out, variance_out, yA, yB, yAB, n, d, 0, NULL, err);
+	if (rc)
+		return rc;
+	double *first = malloc(d * sizeof *first), *total = malloc(d * sizeof *total);
+	double *rep = malloc(2 * d * R * sizeof *rep); /* rep[(2 i) R + r] first, [(2 i + 1) R + r] total */
+	size_t *rows = malloc(n * sizeof *rows);
+	if (!first || !total || !rep || !rows) {
+		rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory for %zu Sobol' replicates", R);
+		goto cleanup;
+	}
+	for (size_t j = 0; j < n; j++)
+		rows[j] = j;
+	for (size_t r = 0; r < R; r++) {
+		const size_t lo = r ? rep_end[r - 1] : 0;
+		double V;
+		sobol_estimate(first, total, &V, yA, yB, yAB, rep_end[r] - lo, n, d, rows + lo);
+		for (size_t i = 0; i < d; i++) {
+			rep[(2 * i) * R + r] = first[i];
+			rep[(2 * i + 1) * R + r] = total[i];
+		}
+	}
+	const double t = gsl_cdf_tdist_Pinv(0.975, (double)(R - 1));
+	for (size_t i = 0; i < d; i++) {
+		double se[2];
+		for (int k = 0; k < 2; k++) {
+			const double *v = rep + (2 * i + (size_t)k) * R;
+			int bad = 0;
+			for (size_t r = 0; r < R; r++)
+				bad |= isnan(v[r]);
+			se[k] = bad ? NAN : gsl_stats_sd(v, 1, R) / sqrt((double)R);
+		}
+		out[i].first_se = se[0];
+		out[i].total_se = se[1];
+		out[i].first_low = out[i].first - t * se[0];
+		out[i].first_high = out[i].first + t * se[0];
+		out[i].total_low = out[i].total - t * se[1];
+		out[i].total_high = out[i].total + t * se[1];
+	}
+cleanup:
+	free(first);
+	free(total);
+	free(rep);
+	free(rows);
 	return rc;
 }

@@ -69,4 +69,17 @@ int prsm_sens_sobol_until(prsm_sobol_index *out, double *variance_out, const dou
                           const prsm_cancel_flag *cancel, double deadline_s, size_t *boot_done,
                           prsm_error *err);
 
+/* Sobol' indices from R independent randomised-QMC replicates of a Saltelli design (each its own
+ * scrambled Sobol' sequence), stored one after the other: replicate r has rows
+ * [rep_end[r - 1], rep_end[r]) (rep_end[-1] = 0, rep_end[R - 1] = n). The indices are those of
+ * the pooled rows (as prsm_sens_sobol gives them); their standard errors the sd of the R
+ * replicates' own estimates over sqrt R, and the 95 % intervals index +- t(0.975, R - 1) se
+ * (Owen's replicated randomised QMC: valid intervals where a bootstrap of a low-discrepancy
+ * sample is far too wide, since resampling its rows destroys the very balance that makes it
+ * accurate). Needs R >= 2 and at least 2 rows in each replicate (else PRSM_EINVAL), finite
+ * values; PRSM_ENOMEM. Scratch is allocated and freed here. */
+int prsm_sens_sobol_replicated(prsm_sobol_index *out /* d entries */, double *variance_out,
+                               const double *yA, const double *yB, const double *yAB, size_t n,
+                               size_t d, const size_t *rep_end, size_t R, prsm_error *err);
+
 #endif

@@ -4,7 +4,8 @@
  * Order of work: the plain run (mc/engine); per output the summary over the samples kept
  * (mc/stats), SRC and SRRC over the same rows (mc/sens), the worst-case and RSS stack from
  * one-at-a-time changes at the distributions' centres; then, when asked, a Saltelli run on
- * streams of its own for the Sobol indices with bootstrap intervals.
+ * streams of its own for the Sobol indices with bootstrap intervals (random sampling) or
+ * randomised-QMC replicate intervals (Sobol' sampling).
  */
 #include "mc/study.h"
 
@@ -19,6 +20,10 @@
 
 /* The Saltelli run's streams start here, so its blocks never reuse the plain run's. */
 #define SALTELLI_STREAM_OFFSET (UINT64_C(1) << 40)
+/* Randomised-QMC replicates of a Saltelli run with the Sobol' sampler, and the fewest rows
+ * each must have (fewer replicates for a small N). */
+#define SOBOL_REPLICATES 16
+#define SOBOL_REPLICATE_MIN_ROWS 32
 /* Phases tried for a radial error's worst direction in the stack figures. */
 #define STACK_PHASES 8
 
@@ -230,66 +235,122 @@ cleanup:
 	return rc;
 }
 
+/* Seed of randomised-QMC replicate r (replicate 0 keeps the study's seed): splitmix64. */
+static uint64_t replicate_seed(uint64_t seed, size_t r)
+{
+	if (r == 0)
+		return seed;
+	uint64_t z = seed + UINT64_C(0x9e3779b97f4a7c15) * (uint64_t)r;
+	z = (z ^ (z >> 30)) * UINT64_C(0xbf58476d1ce4e5b9);
+	z = (z ^ (z >> 27)) * UINT64_C(0x94d049bb133111eb);
+	return z ^ (z >> 31);
+}
+
+/* The Sobol' indices: a Saltelli run on streams of its own. Random sampling: one run, bootstrap
+ * intervals. Sobol' sampling: R randomised-QMC replicates (each an independently scrambled
+ * sequence of N / R rows; SOBOL_REPLICATES, fewer for small N), the indices of the pooled rows
+ * with intervals from the replicates' spread (prsm_sens_sobol_replicated), since a bootstrap of
+ * a low-discrepancy sample gives intervals many times too wide. */
 static int sobol(prsm_study_result *r, const prsm_study *s, double deadline_s, prsm_error *err)
 {
-	prsm_mc_options mo = s->mc;
-	prsm_mc_result sr;
-	mo.samples = s->sens.sobol_samples;
-	mo.sampler = s->sens.sobol_sampler;
-	mo.n_targets = 0;
-	mo.first_block = mo.block_count = 0;
-	mo.stream_offset = SALTELLI_STREAM_OFFSET;
-	mo.failure = PRSM_FAILURE_SKIP;
-	mo.max_failed_fraction = 1.0;
-	int rc = prsm_mc_run_saltelli(&sr, &s->model, s->vars, s->d, s->n_groups, s->corr, s->n_corr,
-	                              &mo, err);
-	if (rc)
-		return rc;
-	const size_t n = sr.n, G = s->n_groups, K = G + 2, m = s->m;
-	size_t nk = 0;
-	for (size_t j = 0; j < n; j++)
-		nk += prsm_mc_sample_kept(&s->mc, sr.status[j]) ? 1 : 0;
+	const size_t N = s->sens.sobol_samples, G = s->n_groups, K = G + 2, m = s->m;
+	const int qmc = s->sens.sobol_sampler == PRSM_SAMPLER_SOBOL;
+	size_t R = qmc ? N / SOBOL_REPLICATE_MIN_ROWS : 1;
+	R = R < 1 ? 1 : R > SOBOL_REPLICATES ? SOBOL_REPLICATES : R;
+	prsm_mc_result *sr = calloc(R, sizeof *sr);
+	size_t *kept_end = calloc(R, sizeof *kept_end);
+	double *buf = NULL;
+	prsm_sobol_index *idx = malloc(G * sizeof *idx);
+	gsl_rng *rng = prsm_rng_alloc(s->mc.seed, SALTELLI_STREAM_OFFSET - 1);
+	int rc = 0;
+	size_t ran = 0, complete = 0, n = 0, nk = 0;
+	if (!sr || !kept_end || !idx || !rng) {
+		rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
+		goto cleanup;
+	}
+	for (size_t q = 0; q < R; q++) {
+		if (q > 0 && (prsm_cancel_requested(s->mc.cancel) ||
+		              (deadline_s > 0.0 && prsm_clock_seconds() >= deadline_s)))
+			break;
+		prsm_mc_options mo = s->mc;
+		mo.samples = N / R + (q < N % R ? 1 : 0);
+		mo.seed = replicate_seed(s->mc.seed, q);
+		mo.sampler = s->sens.sobol_sampler;
+		mo.n_targets = 0;
+		mo.first_block = mo.block_count = 0;
+		mo.stream_offset = SALTELLI_STREAM_OFFSET;
+		mo.failure = PRSM_FAILURE_SKIP;
+		mo.max_failed_fraction = 1.0;
+		if (deadline_s > 0.0)
+			mo.time_cap_s = fmax(deadline_s - prsm_clock_seconds(), 1e-9);
+		rc = prsm_mc_run_saltelli(&sr[q], &s->model, s->vars, s->d, s->n_groups, s->corr, s->n_corr,
+		                          &mo, err);
+		if (rc)
+			goto cleanup;
+		ran++;
+		size_t kq = 0;
+		for (size_t j = 0; j < sr[q].n; j++)
+			kq += prsm_mc_sample_kept(&s->mc, sr[q].status[j]) ? 1 : 0;
+		n += sr[q].n;
+		nk += kq;
+		kept_end[q] = nk;
+		if (sr[q].n == mo.samples && kq >= 2)
+			complete++;
+		if (sr[q].n < mo.samples)
+			break; /* the time cap or cancel stopped it */
+	}
 	r->has_sobol = 1;
 	r->sobol_rows = n;
 	r->sobol_rows_ok = nk;
 	r->sobol_evaluations = n * K;
-	r->sobol_sampler = sr.sampler;
-	if (sr.warning[0])
-		warn(r, "Sobol indices: %s", sr.warning);
+	r->sobol_sampler = sr[0].sampler;
+	r->sobol_replicates = qmc ? ran : 0;
+	if (sr[0].warning[0])
+		warn(r, "Sobol indices: %s", sr[0].warning);
 	if (s->n_corr)
 		warn(r, "Sobol indices assume independent inputs; the study's correlations are kept inside A "
 		        "and B but broken in the mixed rows");
-	double *buf = malloc(K * (nk ? nk : 1) * sizeof *buf);
-	prsm_sobol_index *idx = malloc(G * sizeof *idx);
-	gsl_rng *rng = prsm_rng_alloc(s->mc.seed, SALTELLI_STREAM_OFFSET - 1);
-	if (!buf || !idx || !rng) {
-		rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
-		goto cleanup;
-	}
 	if (nk < 2) {
 		warn(r, "no Sobol indices: %zu usable rows", nk);
 		goto cleanup;
 	}
+	const int replicated = qmc && complete == ran && ran >= 2;
+	if (qmc && !replicated)
+		warn(r, "Sobol indices: %s: no standard errors or intervals (they need at least 2 complete "
+		        "randomised-QMC replicates of %d rows or more)",
+		     ran < R ? "the time cap or cancel stopped the replicates" : "too few base samples",
+		     SOBOL_REPLICATE_MIN_ROWS);
+	buf = malloc(K * nk * sizeof *buf);
+	if (!buf) {
+		rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
+		goto cleanup;
+	}
 	for (size_t o = 0; o < m; o++) {
 		for (size_t k = 0; k < K; k++) {
-			size_t q = 0;
-			for (size_t j = 0; j < n; j++)
-				if (prsm_mc_sample_kept(&s->mc, sr.status[j]))
-					buf[k * nk + q++] = sr.ys[(o * K + k) * n + j];
+			size_t p = 0;
+			for (size_t q = 0; q < ran; q++)
+				for (size_t j = 0; j < sr[q].n; j++)
+					if (prsm_mc_sample_kept(&s->mc, sr[q].status[j]))
+						buf[k * nk + p++] = sr[q].ys[(o * K + k) * sr[q].n + j];
 		}
-		/* every output's bootstrap draws the same resamples */
-		prsm_rng_set_stream(rng, s->mc.seed, SALTELLI_STREAM_OFFSET - 1);
 		double V;
-		size_t done = 0;
-		rc = prsm_sens_sobol_until(idx, &V, buf, buf + nk, buf + 2 * nk, nk, G, s->sens.bootstrap, rng,
-		                           s->mc.cancel, deadline_s, &done, err);
+		if (replicated) {
+			rc = prsm_sens_sobol_replicated(idx, &V, buf, buf + nk, buf + 2 * nk, nk, G, kept_end, ran, err);
+		} else {
+			/* every output's bootstrap draws the same resamples */
+			prsm_rng_set_stream(rng, s->mc.seed, SALTELLI_STREAM_OFFSET - 1);
+			size_t done = 0;
+			const size_t nboot = qmc ? 0 : s->sens.bootstrap;
+			rc = prsm_sens_sobol_until(idx, &V, buf, buf + nk, buf + 2 * nk, nk, G, nboot, rng,
+			                           s->mc.cancel, deadline_s, &done, err);
+			if (rc == 0 && done < nboot)
+				warn(r, "Sobol indices of %s: the bootstrap stopped (%s) after %zu of %zu resamples: no "
+				        "standard errors or intervals",
+				     s->outputs[o].name, prsm_cancel_requested(s->mc.cancel) ? "cancelled" : "time cap", done,
+				     nboot);
+		}
 		if (rc)
 			goto cleanup;
-		if (done < s->sens.bootstrap)
-			warn(r, "Sobol indices of %s: the bootstrap stopped (%s) after %zu of %zu resamples: no "
-			        "standard errors or intervals",
-			     s->outputs[o].name, prsm_cancel_requested(s->mc.cancel) ? "cancelled" : "time cap", done,
-			     s->sens.bootstrap);
 		r->out[o].has_sobol = 1;
 		r->out[o].sobol_variance = V;
 		for (size_t g = 0; g < G; g++)
@@ -298,9 +359,12 @@ static int sobol(prsm_study_result *r, const prsm_study *s, double deadline_s, p
 cleanup:
 	free(buf);
 	free(idx);
+	free(kept_end);
 	if (rng)
 		gsl_rng_free(rng);
-	prsm_mc_result_free(&sr);
+	for (size_t q = 0; sr && q < R; q++)
+		prsm_mc_result_free(&sr[q]);
+	free(sr);
 	return rc;
 }
 
@@ -314,6 +378,11 @@ int prsm_study_run(prsm_study_result *r, const prsm_study *s, prsm_error *err)
 	r->elapsed_run_s = prsm_clock_seconds() - t0;
 	if (r->run.warning[0])
 		warn(r, "%s", r->run.warning);
+	if (s->mc.sampler == PRSM_SAMPLER_SOBOL)
+		warn(r, "Sobol' sampling: the standard errors, the yield intervals and the stop rule treat the "
+		        "points as independent, which overstates the error of a scrambled Sobol' sample (often "
+		        "several times): they are conservative, and a stop target is reached later than it "
+		        "needs to be");
 	if (r->run.stop == PRSM_STOP_FAILURES) {
 		rc = prsm_error_set(err, PRSM_ENOCONVERGE, NULL,
 		                    "%zu failed and %zu edge-contact samples in the first %zu: more than the "

@@ -92,6 +92,7 @@ typedef struct {
 	int has_sobol;
 	size_t sobol_rows, sobol_rows_ok, sobol_evaluations;
 	prsm_sampler_kind sobol_sampler;
+	size_t sobol_replicates;         /* randomised-QMC replicates run (Sobol' sampler), else 0 */
 	double elapsed_run_s, elapsed_sensitivity_s;
 	int n_warnings;
 	char warnings[PRSM_STUDY_WARNINGS][256];
