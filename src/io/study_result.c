@@ -90,8 +90,15 @@ static cJSON *output_json(const prsm_io_study *s, const prsm_study_result *r, si
 		cJSON *ppm = cJSON_AddObjectToObject(j, "ppm");
 		prsm_json_add_number(ppm, "low", m->ppm_low);
 		prsm_json_add_number(ppm, "high", m->ppm_high);
-		prsm_json_add_number(ppm, "low_normal_fit", m->ppm_low_normal);
-		prsm_json_add_number(ppm, "high_normal_fit", m->ppm_high_normal);
+		/* withheld when the sample is not normal: a normal's tail would mislead */
+		prsm_json_add_number(ppm, "low_normal_fit", m->normal_rejected ? NAN : m->ppm_low_normal);
+		prsm_json_add_number(ppm, "high_normal_fit", m->normal_rejected ? NAN : m->ppm_high_normal);
+		prsm_json_add_number(ppm, "low_tail_fit", m->ppm_low_tail);
+		prsm_json_add_number(ppm, "high_tail_fit", m->ppm_high_tail);
+		cJSON *nf = cJSON_AddObjectToObject(j, "normality");
+		prsm_json_add_number(nf, "anderson_darling", m->normal_ad);
+		prsm_json_add_number(nf, "p_value", m->normal_ad_p);
+		cJSON_AddBoolToObject(nf, "normal_fit_rejected", m->normal_rejected);
 		prsm_json_add_number(j, "cp", m->cp);
 		prsm_json_add_number(j, "cpk", m->cpk);
 		prsm_json_add_number(j, "cpk_standard_error", m->se_cpk);

@@ -11,7 +11,9 @@
 #include <gsl/gsl_cdf.h>
 #include <gsl/gsl_sort.h>
 #include <gsl/gsl_statistics_double.h>
+#include <float.h>
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 const double prsm_stats_quantile_p[PRSM_STATS_QUANTILES] = {0.00135, 0.01, 0.05, 0.5,
@@ -102,6 +104,89 @@ static double median_standard_error(const double *sorted, size_t n)
 	return (sorted[hi] - sorted[lo]) / (2.0 * z);
 }
 
+/* Anderson-Darling A*^2 of the normal fit (mean and sd estimated) and its p-value,
+ * D'Agostino & Stephens (1986), Table 4.9. */
+static void anderson_darling(prsm_stats_summary *out, const double *sorted, size_t n)
+{
+	out->normal_ad = out->normal_ad_p = NAN;
+	out->normal_rejected = 0;
+	if (n < 8 || !(out->sd > 0.0))
+		return;
+	const double nn = (double)n;
+	double s = 0.0;
+	for (size_t i = 0; i < n; i++) {
+		const double zi = (sorted[i] - out->mean) / out->sd, zj = (sorted[n - 1 - i] - out->mean) / out->sd;
+		/* ln Phi(z_i) + ln(1 - Phi(z_{n+1-i})), each from its own tail (no cancellation) */
+		const double a = gsl_cdf_ugaussian_P(zi), b = gsl_cdf_ugaussian_Q(zj);
+		s += (2.0 * (double)i + 1.0) * (log(fmax(a, DBL_MIN)) + log(fmax(b, DBL_MIN)));
+	}
+	const double A2 = -nn - s / nn;
+	const double A = A2 * (1.0 + 0.75 / nn + 2.25 / (nn * nn));
+	double p;
+	if (A >= 0.6)
+		p = exp(1.2937 - 5.709 * A + 0.0186 * A * A);
+	else if (A >= 0.34)
+		p = exp(0.9177 - 4.279 * A - 1.38 * A * A);
+	else if (A >= 0.2)
+		p = 1.0 - exp(-8.318 + 42.796 * A - 59.938 * A * A);
+	else
+		p = 1.0 - exp(-13.436 + 101.14 * A - 223.73 * A * A);
+	out->normal_ad = A;
+	out->normal_ad_p = fmin(fmax(p, 0.0), 1.0);
+	out->normal_rejected = out->normal_ad_p < PRSM_STATS_NORMAL_P_MIN;
+}
+
+/* Probability beyond a limit from a generalised Pareto fit to the k excesses e[0..k) (ascending)
+ * over the threshold, the limit x beyond it (x > 0), k of n samples in the tail. Hosking &
+ * Wallis (1987) probability-weighted moments: a0 = mean e, a1 = mean (1 - p_i) e_(i),
+ * p_i = (i + 0.65) / k; shape xi = 2 - a0 / (a0 - 2 a1), scale sigma = 2 a0 a1 / (a0 - 2 a1). */
+static double gpd_tail(const double *e, size_t k, size_t n, double x)
+{
+	double a0 = 0.0, a1 = 0.0;
+	for (size_t i = 0; i < k; i++) {
+		a0 += e[i];
+		a1 += (1.0 - ((double)i + 0.65) / (double)k) * e[i];
+	}
+	a0 /= (double)k;
+	a1 /= (double)k;
+	const double den = a0 - 2.0 * a1;
+	if (!(a0 > 0.0) || !(den > 0.0))
+		return NAN;
+	const double xi = 2.0 - a0 / den, sigma = 2.0 * a0 * a1 / den;
+	const double frac = (double)k / (double)n;
+	if (fabs(xi) < 1e-9)
+		return frac * exp(-x / sigma);
+	const double t = 1.0 + xi * x / sigma;
+	if (t <= 0.0)
+		return 0.0; /* beyond the fitted endpoint (xi < 0) */
+	return frac * pow(t, -1.0 / xi);
+}
+
+/* ppm beyond the limits from the tail fits (see prsm_stats_summary); sorted ascending. */
+static void tail_figures(prsm_stats_summary *out, const double *sorted, size_t n, const prsm_spec *spec)
+{
+	out->ppm_low_tail = out->ppm_high_tail = NAN;
+	const size_t k = n / 20;
+	if (k < PRSM_STATS_TAIL_MIN)
+		return;
+	double *e = malloc(k * sizeof *e);
+	if (!e)
+		return;
+	if (spec->has_upper) {
+		const double u = sorted[n - 1 - k];
+		for (size_t i = 0; i < k; i++)
+			e[i] = sorted[n - k + i] - u;
+		out->ppm_high_tail = spec->upper <= u ? out->ppm_high : 1e6 * gpd_tail(e, k, n, spec->upper - u);
+	}
+	if (spec->has_lower) {
+		const double u = sorted[k];
+		for (size_t i = 0; i < k; i++)
+			e[i] = u - sorted[k - 1 - i];
+		out->ppm_low_tail = spec->lower >= u ? out->ppm_low : 1e6 * gpd_tail(e, k, n, u - spec->lower);
+	}
+	free(e);
+}
+
 static void spec_figures(prsm_stats_summary *out, const double *sorted, size_t n, const prsm_spec *spec)
 {
 	size_t below = 0, above = 0;
@@ -132,6 +217,7 @@ static void spec_figures(prsm_stats_summary *out, const double *sorted, size_t n
 	if (spec->has_upper)
 		out->ppm_high_normal = sd > 0.0 ? 1e6 * gsl_cdf_ugaussian_Q((spec->upper - mean) / sd)
 		                                : (mean > spec->upper ? 1e6 : 0.0);
+	tail_figures(out, sorted, n, spec);
 
 	out->cp = NAN;
 	out->cpk = NAN;
@@ -209,12 +295,14 @@ int prsm_stats_summarise(prsm_stats_summary *out, const double *y, size_t n, con
 	out->se_sd = 0.5 * sd * sqrt(fmax(kurt / nn + 2.0 / (nn - 1.0), 0.0));
 	out->se_quantile_median = median_standard_error(scratch, n);
 
+	anderson_darling(out, scratch, n);
 	out->has_spec = has_spec;
 	if (has_spec) {
 		spec_figures(out, scratch, n, spec);
 	} else {
 		out->yield = out->yield_low95 = out->yield_high95 = out->se_yield = NAN;
 		out->ppm_low = out->ppm_high = out->ppm_low_normal = out->ppm_high_normal = NAN;
+		out->ppm_low_tail = out->ppm_high_tail = NAN;
 		out->cp = out->cpk = out->se_cpk = NAN;
 	}
 	return 0;

@@ -51,6 +51,11 @@ extern const double prsm_stats_quantile_p[PRSM_STATS_QUANTILES];
 
 #define PRSM_STATS_HIST_BINS 40
 
+/* Anderson-Darling p-value below which the normal fit is rejected (its ppm withheld). */
+#define PRSM_STATS_NORMAL_P_MIN 0.01
+/* Tail samples (5 % of n) a tail fit needs. */
+#define PRSM_STATS_TAIL_MIN 50
+
 /* z of the two-sided 95 % normal interval, Phi^-1(0.975). */
 #define PRSM_STATS_Z95 1.959963984540054
 
@@ -83,7 +88,20 @@ typedef struct {
 	double ppm_low, ppm_high;               /* samples below lower / above upper, per million
 	                                           (0 for a side without a limit) */
 	double ppm_low_normal, ppm_high_normal; /* 1e6 Phi((L - mean)/sd), 1e6 Q((U - mean)/sd) of the
-	                                           fitted normal (sd = 0: the point mass at mean) */
+	                                           fitted normal (sd = 0: the point mass at mean);
+	                                           not to be trusted when normal_rejected (the
+	                                           result document then withholds them) */
+	/* The normal fit tested: Anderson-Darling A*^2 = A^2 (1 + 0.75/n + 2.25/n^2) with the mean
+	 * and sd estimated, its p-value (D'Agostino & Stephens 1986, Table 4.9); rejected at
+	 * p < PRSM_STATS_NORMAL_P_MIN (NAN and 0 for n < 8 or sd = 0). */
+	double normal_ad, normal_ad_p;
+	int normal_rejected;
+	/* Tail fits that assume no shape: a generalised Pareto distribution fitted by probability-
+	 * weighted moments (Hosking & Wallis 1987) to the excesses over the 5 % / 95 % quantile,
+	 * P(beyond a limit) = (k/n) (1 + xi x / sigma)^(-1/xi); per million. A limit inside the
+	 * threshold takes the counted figure. NAN without a spec on that side or with fewer than
+	 * PRSM_STATS_TAIL_MIN tail samples. */
+	double ppm_low_tail, ppm_high_tail;
 	/* Cp = (U - L)/(6 sd) (NAN for a one-sided spec); Cpk = min over the given sides of
 	 * (U - mean)/(3 sd), (mean - L)/(3 sd); se_cpk = sqrt(1/(9 n) + Cpk^2 / (2 (n - 1)))
 	 * (Bissell 1990). All NAN when sd = 0. */

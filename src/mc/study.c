@@ -188,6 +188,11 @@ int prsm_study_summarise(prsm_study_result *r, const prsm_study *s, prsm_error *
 		                          scratch, err);
 		if (rc)
 			goto cleanup;
+		if (res->summary.has_spec && res->summary.normal_rejected)
+			warn(r, "%s: the sample is not normal (Anderson-Darling A* = %.3g, p = %.2g): its fitted-normal "
+			        "ppm are withheld; the counted ppm and the tail fit (a generalised Pareto over the "
+			        "outer 5 %%) do not assume a shape",
+			     s->outputs[o].name, res->summary.normal_ad, res->summary.normal_ad_p);
 		for (size_t g = 0; g < s->n_groups; g++) {
 			res->by_group[g].src = res->by_group[g].srrc = NAN;
 			res->by_group[g].src_percent = res->by_group[g].srrc_percent = NAN;

@@ -48,7 +48,8 @@ function outputTable(name, o, unit) {
       numRow('yield', y.fraction, 'yield', percent(y.fraction)),
       numRow('yield 95 % interval', null, 'yield_interval', `${percent(iv[0])} to ${percent(iv[1])}`),
       numRow('ppm below / above', null, 'ppm', o.ppm ? `${fmt(o.ppm.low, 6)} / ${fmt(o.ppm.high, 6)}` : '—'),
-      numRow('ppm (normal fit)', null, 'ppm_fit', o.ppm ? `${fmt(o.ppm.low_normal_fit, 4)} / ${fmt(o.ppm.high_normal_fit, 4)}` : '—'),
+      numRow(o.normality && o.normality.normal_fit_rejected ? 'ppm (normal fit: rejected, not normal)' : 'ppm (normal fit)', null, 'ppm_fit', o.ppm ? `${fmt(o.ppm.low_normal_fit, 4)} / ${fmt(o.ppm.high_normal_fit, 4)}` : '—'),
+      numRow('ppm (tail fit)', null, 'ppm_tail', o.ppm ? `${fmt(o.ppm.low_tail_fit, 4)} / ${fmt(o.ppm.high_tail_fit, 4)}` : '—'),
       numRow('Cp', o.cp, 'cp'),
       numRow('Cpk', o.cpk, 'cpk'),
     );
