@@ -4,12 +4,14 @@
 # build when a schema property names no C member or a member of the struct is left unread.
 set(PRSM_IO_TABLES_SCRIPT ${PROJECT_SOURCE_DIR}/scripts/gen-io-tables.py)
 file(GLOB PRSM_IO_SCHEMAS CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/schemas/*.schema.json)
+# the structs the tables fill (the headers the schemas name, and those they include)
+file(GLOB_RECURSE PRSM_IO_HEADERS CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/*.h)
 set(PRSM_IO_TABLES ${PROJECT_BINARY_DIR}/generated/prsm_io_tables.c ${PROJECT_BINARY_DIR}/generated/prsm_io_tables.h)
 add_custom_command(
   OUTPUT ${PRSM_IO_TABLES}
   COMMAND /usr/bin/python3 ${PRSM_IO_TABLES_SCRIPT} --out-dir ${PROJECT_BINARY_DIR}/generated
           --src ${PROJECT_SOURCE_DIR}/src ${PRSM_IO_SCHEMAS}
-  DEPENDS ${PRSM_IO_TABLES_SCRIPT} ${PRSM_IO_SCHEMAS} ${PROJECT_SOURCE_DIR}/src/model/design.h
+  DEPENDS ${PRSM_IO_TABLES_SCRIPT} ${PRSM_IO_SCHEMAS} ${PRSM_IO_HEADERS}
   COMMENT "Document field tables from schemas/ (x-prsm)"
   VERBATIM)
 target_sources(prsm_core PRIVATE ${PRSM_IO_TABLES})

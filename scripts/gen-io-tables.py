@@ -1,38 +1,65 @@
 #!/usr/bin/python3
 """Generate the C field tables of the document readers from the annotated JSON Schemas.
 
-Usage: gen-io-tables.py --out-dir DIR SCHEMA...   (Python standard library only)
+Usage: gen-io-tables.py --out-dir DIR --src SRC SCHEMA...   (Python standard library only)
 
 A schema whose root, or an object under its $defs, carries an "x-prsm" object with a "table"
 name is a document (or part of one) the C code reads: prsm_io_t_<table>. The annotation names
-the C struct it fills ("struct"), the header that declares it ("header", under src/) and the
-members the document does not set ("computed": filled by the model or by a hook). Every property then carries its own "x-prsm":
+the C struct it fills ("struct"), the header that declares it ("header", under src/; the
+project headers it includes are read too) and the members the document does not set
+("computed": filled by the model or by a hook). Every property then carries its own "x-prsm":
 
   "field": "pitch_mm"            the struct member (a path: "losses.spin", "screw_material")
   "scale": 1000 | "(M_PI / 180.0)"  stored = JSON value x scale (numbers; an expression is
                                  written into the C table as it is)
   "divide": 1000                 stored = JSON value / divide (for bit-identical unit changes)
   "limits": {"maximum": "PRSM_X_MAX"}   the C constant must equal the schema (static assert;
-                                 the root's "includes" names the headers that define them)
+                                 the root's "includes" names the headers that define them;
+                                 arrays: "maxItems")
   a table root's "init" names the function that sets the struct's defaults: the generated
   prsm_io_defaults_<table>() compares it with every "default" of the schema
   "values": ["PRSM_HAND_RIGHT", ...]   C constants of an enum, in the schema's enum order (into
                                  an int or an int-sized typedef'd enum)
-  integers fill an int, or a size_t (from 0 up)
+  integers fill an int, or a size_t (from 0 up); a string with a "field" fills a char array
+  (copied whole, cut on a character boundary when it does not fit)
+  a bound of +-1.7976931348623157e+308 (the largest double: "any finite number") is no bound
   "set": {"field": "thinning_rule", "value": "PRSM_THINNING_GIVEN"}   when present and valid
   "conflict": {"with": "thinning", "message": "..."}   both present: a problem at this property
-  "hook": {"name": "engagement", "writes": ["engaged_threads"]}   read by hand-written C
-  "covered": "engaged_threads"   read by that property's hook
+  "hook": {"name": "engagement", "writes": ["engaged_threads"]}   read by hand-written C,
+                                 prsm_io_hook_<name>(base, obj, pointer, problems)
+  "covered": "engaged_threads"   read by that property's hook (or a step); "writes": [...] the
+                                 members it sets there
+  "by": "distribution"           a field (its member, limits, enum) read only when the hand-written
+                                 step named asks for it (prsm_io_get); "required": true makes it
+                                 required then (what a oneOf branch requires)
   "skip": true                   checked (type, length) and not stored (names, descriptions)
   on objects: "field" + "struct" (a member of another struct type: its own table), "init"
-  ([{"field", "value"}] set when the section is present), "after" (a hook run on the section
-  once its properties are read), "order" (properties read first, in this order, and their
-  problems reported so; the rest follow in the schema's order).
+  ([{"field", "value"}] set when the section is present; or a string: the function that sets
+  the section's defaults, run at its turn whether it is present or not, and checked against
+  the schema's defaults by prsm_io_defaults_<table>_<key>()), "computed" (the section's members
+  no property fills), "after" (a hook run on the section once its properties are read), "order"
+  (properties read first, in this order, and their problems reported so; the rest follow in the
+  schema's order). An entry of "order" may be a step, {"step": "name", "writes": [...]}: the
+  hand-written prsm_io_step_<name>(at, problems) runs there (at: the object, its struct, the
+  document's root struct, which fields were read); nonzero stops reading the object. The keys
+  of an object are its properties and those its oneOf / anyOf branches add.
+  arrays: "message" (the problem, at the array, when it is not an array of minItems to maxItems
+  items or, required, missing; "{min}" and "{max}" are the schema's numbers), "code" (default
+  "bad_array"), "field" + "count" (a C array member, of exactly maxItems, and the member counting
+  the items; "compact": true stores the items a step kept without gaps), "each" (a step run on
+  each item once read: objects by the items' table, whose x-prsm names their "struct" when
+  there is no "field"; strings checked against maxLength), "after" (a step run once the array
+  is read, present or not). Numbers (with their limits) fill a double array. A step's
+  annotation may be {"name", "writes"}.
+  maps (an object with "additionalProperties" and no properties): "key" (prsm_io_key_<name>
+  picks the struct a member fills, or refuses its name) and "each"; the items' x-prsm names
+  their "struct".
 
-Limits come from the schema itself (minimum, maximum, exclusive*, maxLength, required), so the
-schema is the single source of truth and the C reader cannot disagree with it. The generator
-fails, and with it the build, when a property has no annotation, when an annotation names no
-member of the struct, or when a member of the struct is neither read nor listed as computed.
+Limits come from the schema itself (minimum, maximum, exclusive*, maxLength, maxItems, required),
+so the schema is the single source of truth and the C reader cannot disagree with it. The
+generator fails, and with it the build, when a property has no annotation, when an annotation
+names no member of the struct, or when a member of a struct a table fills (the document's, an
+array's or a map's items) is neither read nor listed as computed.
 
 Output: DIR/prsm_io_tables.h and DIR/prsm_io_tables.c.
 """
@@ -67,29 +94,35 @@ def c_double(v):
 STRUCT_RE = re.compile(r'typedef\s+struct\s*\w*\s*\{(.*?)\}\s*(\w+)\s*;', re.S)
 
 
-def parse_structs(text):
-    """{struct name: [(type, member, is_array)]} of the typedef'd structs in a C header."""
+def parse_structs(text, strict=True):
+    """{struct name: [(type, member, is_array)]} of the typedef'd structs in a C header (strict
+    False: a struct whose members cannot be read is left out)."""
     text = re.sub(r'/\*.*?\*/', ' ', text, flags=re.S)
     text = re.sub(r'//[^\n]*', ' ', text)
     out = {}
     for body, name in STRUCT_RE.findall(text):
         members = []
-        for decl in body.split(';'):
-            decl = ' '.join(decl.split())
-            if not decl:
-                continue
-            fp = re.search(r'\(\s*\*\s*(\w+)\s*\)\s*\(', decl)
-            if fp:  # a function pointer member
-                members.append(('function pointer', fp.group(1), False))
-                continue
-            m = re.match(r'^((?:const\s+)?(?:unsigned\s+|signed\s+)?\w+(?:\s*\*)*)\s+(.*)$', decl)
-            if not m:
-                raise GenError(f'cannot read the member declaration "{decl}" of {name}')
-            ctype, names = m.group(1).strip(), m.group(2)
-            for part in names.split(','):
-                part = part.strip().lstrip('*').strip()
-                member = re.match(r'^(\w+)', part).group(1)
-                members.append((ctype, member, '[' in part))
+        try:
+            for decl in body.split(';'):
+                decl = ' '.join(decl.split())
+                if not decl:
+                    continue
+                fp = re.search(r'\(\s*\*\s*(\w+)\s*\)\s*\(', decl)
+                if fp:  # a function pointer member
+                    members.append(('function pointer', fp.group(1), False))
+                    continue
+                m = re.match(r'^((?:const\s+)?(?:unsigned\s+|signed\s+)?\w+(?:\s*\*)*)\s+(.*)$', decl)
+                if not m:
+                    raise GenError(f'cannot read the member declaration "{decl}" of {name}')
+                ctype, names = m.group(1).strip(), m.group(2)
+                for part in names.split(','):
+                    part = part.strip().lstrip('*').strip()
+                    member = re.match(r'^(\w+)', part).group(1)
+                    members.append((ctype, member, '[' in part))
+        except GenError:
+            if strict:
+                raise
+            continue
         out[name] = members
     return out
 
@@ -106,6 +139,40 @@ def leaf_members(structs, sname, prefix=''):
     return paths
 
 
+DBL_MAX = 1.7976931348623157e+308
+
+
+def bounds(prop):
+    """(min, max, min exclusive, max exclusive) of a number or integer; for a number the largest
+    double bounds nothing but finiteness (JSON cannot say infinity)."""
+    lo, hi, lo_x, hi_x = float('-inf'), float('inf'), 0, 0
+    if 'minimum' in prop:
+        lo = prop['minimum']
+    if 'exclusiveMinimum' in prop:
+        lo, lo_x = prop['exclusiveMinimum'], 1
+    if 'maximum' in prop:
+        hi = prop['maximum']
+    if 'exclusiveMaximum' in prop:
+        hi, hi_x = prop['exclusiveMaximum'], 1
+    if prop.get('type') == 'number':
+        lo = float('-inf') if lo == -DBL_MAX and not lo_x else lo
+        hi = float('inf') if hi == DBL_MAX and not hi_x else hi
+    return lo, hi, lo_x, hi_x
+
+
+def c_bounds(lo, hi, lo_x, hi_x):
+    return {'min': c_double(lo), 'max': c_double(hi), 'min_exclusive': str(lo_x), 'max_exclusive': str(hi_x)}
+
+
+class Scope:
+    """A struct whose members a table (with its sections) must cover: the document's, or an
+    array's or a map's items."""
+
+    def __init__(self, sname, computed, what):
+        self.sname, self.computed, self.what = sname, set(computed), what
+        self.written = set()
+
+
 # ---- schema walk -----------------------------------------------------------------------------
 
 class Gen:
@@ -115,18 +182,34 @@ class Gen:
         self.node = schema if node is None else node
         self.root_note = self.node['x-prsm']
         self.doc = self.root_note['table']
-        header = os.path.join(src_root, self.root_note['header'])
-        with open(header, encoding='utf-8') as f:
-            text = f.read()
-        self.structs = parse_structs(text)
-        # typedef'd enums fill like an int (the generated file asserts they are int-sized)
-        self.enums = set(re.findall(r'typedef\s+enum\s*\w*\s*\{[^}]*\}\s*(\w+)\s*;', text))
+        self.structs, self.enums = {}, set()
+        self.read_header(src_root, self.root_note['header'], True, set())
         self.tables = []      # (c name, struct, [field initialisers], [keys])
-        self.hooks = set()
-        self.written = set()  # member paths of the root struct the document sets
+        self.hooks = set()    # prsm_io_hook_<name>
+        self.steps = set()    # prsm_io_step_<name>
+        self.keys = set()     # prsm_io_key_<name>
+        self.by = set()       # steps that fields name in "by"
         self.asserts = []
-        self.defaults = []    # (member path, C value, schema pointer, kind)
+        self.inits = []       # (scope name, struct, init function, [(member path, C value, pointer, kind)])
+        self.wrappers = []    # (wrapper name, struct, init function)
         self.section_init = {}  # member path -> the value its section's "init" sets
+
+    def read_header(self, src_root, rel, strict, seen):
+        """The structs and enums of header rel, and of the project headers it includes."""
+        if rel in seen:
+            return
+        seen.add(rel)
+        path = os.path.join(src_root, rel)
+        if not os.path.exists(path):
+            return
+        with open(path, encoding='utf-8') as f:
+            text = f.read()
+        for k, v in parse_structs(text, strict).items():
+            self.structs.setdefault(k, v)
+        # typedef'd enums fill like an int (the generated file asserts they are int-sized)
+        self.enums |= set(re.findall(r'typedef\s+enum\s*\w*\s*\{[^}]*\}\s*(\w+)\s*;', text))
+        for inc in re.findall(r'#include\s+"([^"]+)"', text):
+            self.read_header(src_root, inc, False, seen)
 
     def resolve(self, prop):
         if '$ref' in prop:
@@ -143,100 +226,170 @@ class Gen:
             return merged
         return prop
 
-    def member_type(self, sname, path):
-        """The C type of a member path of struct sname (checks that it exists)."""
-        ctype = sname
+    def member_info(self, sname, path):
+        """(C type, is an array) of a member path of struct sname (checks that it exists)."""
+        ctype, is_array = sname, False
         for part in path.split('.'):
             found = [m for m in self.structs.get(ctype, []) if m[1] == part]
             if not found:
                 raise GenError(f'{self.path}: struct {ctype} has no member "{part}" (of "{path}")')
-            ctype = found[0][0]
-        return ctype
+            ctype, is_array = found[0][0], found[0][2]
+        return ctype, is_array
 
-    def table(self, node, ptr, sname, prefix):
+    def member_type(self, sname, path):
+        return self.member_info(sname, path)[0]
+
+    def write(self, scope, sname, prefix, paths):
+        for w in paths:
+            self.member_type(sname, w)
+            scope.written.add(prefix + w)
+
+    def step(self, spec, scope, sname, prefix, kind='step'):
+        """A step's annotation, "name" or {"name", "writes"}: its C function."""
+        if isinstance(spec, str):
+            spec = {'name': spec}
+        self.write(scope, sname, prefix, spec.get('writes', []))
+        (self.keys if kind == 'key' else self.steps).add(spec['name'])
+        return f'prsm_io_{kind}_{spec["name"]}'
+
+    def item_scope(self, items, sname, where):
+        note = items.get('x-prsm', {})
+        scope = Scope(sname, note.get('computed', []), where)
+        for c in scope.computed:
+            self.member_type(sname, c)
+        return scope
+
+    def check_scope(self, scope):
+        def covered(m):
+            return any(m == w or m.startswith(w + '.') for w in scope.written | scope.computed)
+        missing = [m for m in leaf_members(self.structs, scope.sname) if not covered(m)]
+        if missing:
+            raise GenError(f'{self.path}: members of {scope.sname} that no property '
+                           f'fills and "computed" does not list: {", ".join(missing)}')
+
+    def table(self, node, ptr, sname, prefix, scope, init=None, iprefix=''):
         """Emit the table of object node (schema pointer ptr) read into struct sname; prefix is
-        the member path of sname inside the root struct (for the coverage check)."""
+        the member path of sname inside scope's struct (for the coverage check), init the
+        section whose defaults function sets it (iprefix: the path inside that section)."""
         cname = 'prsm_io_t_' + re.sub(r'[^a-z0-9]+', '_', (self.doc + ptr).lower()).strip('_')
         required = set(node.get('required', []))
-        fields, keys = [], []
+        fields = []
         props = node.get('properties', {})
         keys = list(props)  # the schema's order: the unknown-key message lists them so
+        # the members the object's oneOf / anyOf branches add (each occurrence annotated)
+        extra = []
+        for branch in node.get('oneOf', []) + node.get('anyOf', []):
+            for k, v in branch.get('properties', {}).items():
+                if k not in props:
+                    extra.append((k, v))
+                    if k not in keys:
+                        keys.append(k)
         order = node.get('x-prsm', {}).get('order')
+        seq = [(k, v) for k, v in props.items()]
         if order is not None:
-            if len(set(order)) != len(order) or not set(order) <= set(props):
+            names = [o for o in order if isinstance(o, str)]
+            if len(set(names)) != len(names) or not set(names) <= set(props):
                 raise GenError(f'{self.path}: {ptr or "/"} "order" must name properties, each once')
-            # the listed ones in that order, then the others in the schema's
-            props = {**{k: props[k] for k in order}, **{k: v for k, v in props.items() if k not in order}}
-        for key, raw in props.items():
+            # the listed ones (and steps) in that order, then the others in the schema's
+            seq = [(o, props[o]) if isinstance(o, str) else (None, o) for o in order]
+            seq += [(k, v) for k, v in props.items() if k not in names]
+        for key, raw in seq + extra:
+            if key is None:  # a step
+                fields.append({'name': 'NULL', 'required': '0', 'kind': 'PRSM_IO_STEP',
+                               'step': self.step({'name': raw['step'], 'writes': raw.get('writes', [])},
+                                                 scope, sname, prefix)})
+                continue
+            where = f'{self.path}: {ptr}/{key}'
+            note = raw.get('x-prsm')
+            init_ = {'name': c_string(key), 'required': '1' if key in required else '0'}
+            if note is not None and 'covered' in note and not note.keys() - {'covered', 'writes'}:
+                init_['kind'] = 'PRSM_IO_COVERED'  # (a reference need not be local then)
+                self.write(scope, sname, prefix, note.get('writes', []))
+                fields.append(init_)
+                continue
             prop = self.resolve(raw)
             note = prop.get('x-prsm')
-            where = f'{self.path}: {ptr}/{key}'
             if note is None and (prop.get('type') == 'object' or 'properties' in prop):
                 note = {}  # a section of the same struct
             if note is None:
                 raise GenError(f'{where} has no "x-prsm" annotation (which C member does it fill?)')
-            init = {'name': c_string(key), 'required': '1' if key in required else '0'}
             ptype = prop.get('type')
-            if 'covered' in note:
-                init['kind'] = 'PRSM_IO_COVERED'
-                fields.append(init)
-                continue
             if 'hook' in note:
                 h = note['hook']
-                init['kind'] = 'PRSM_IO_HOOK'
-                init['hook'] = 'prsm_io_hook_' + h['name']
+                init_['kind'] = 'PRSM_IO_HOOK'
+                init_['hook'] = 'prsm_io_hook_' + h['name']
                 self.hooks.add(h['name'])
-                for w in h.get('writes', []):
-                    self.member_type(sname, w)
-                    self.written.add(prefix + w)
-                fields.append(init)
+                self.write(scope, sname, prefix, h.get('writes', []))
+                fields.append(init_)
+                continue
+            if ptype == 'array':
+                fields.append(self.array(init_, prop, note, ptr, key, sname, prefix, scope, where))
+                continue
+            if ptype == 'object' and 'properties' not in prop and isinstance(prop.get('additionalProperties'), dict):
+                fields.append(self.map(init_, prop, note, ptr, key, sname, prefix, scope, where))
                 continue
             if ptype == 'object' or 'properties' in prop:
-                for f0 in note.get('init', []):
+                sec_init = note.get('init', [])
+                if isinstance(sec_init, str):
+                    sec_init = []
+                for f0 in sec_init:
                     # a member the section sets when present: its schema default is that value
-                    self.section_init[prefix + f0['field']] = str(f0['value'])
+                    self.section_init[iprefix + f0['field']] = str(f0['value'])
+                child_init, child_iprefix = init, iprefix
                 if 'field' in note:
                     child_struct = note['struct']
                     if self.member_type(sname, note['field']) != child_struct:
                         raise GenError(f'{where}: member {note["field"]} is not a {child_struct}')
-                    init['offset'] = f'offsetof({sname}, {note["field"]})'
-                    child = self.table(prop, f'{ptr}/{key}', child_struct, prefix + note['field'] + '.')
+                    init_['offset'] = f'offsetof({sname}, {note["field"]})'
+                    for c in note.get('computed', []):
+                        self.member_type(child_struct, c)
+                        scope.computed.add(prefix + note['field'] + '.' + c)
+                    child_iprefix = iprefix + note['field'] + '.'
+                    if isinstance(note.get('init'), str):
+                        # the section's defaults function: run at its turn, its defaults checked
+                        wrapper = f'prsm_io_init_{self.doc}_{key}'
+                        self.wrappers.append((wrapper, child_struct, note['init']))
+                        init_['init'] = wrapper
+                        child_init, child_iprefix = (f'{self.doc}_{key}', child_struct, note['init'], []), ''
+                        self.inits.append(child_init)
+                    child = self.table(prop, f'{ptr}/{key}', child_struct, prefix + note['field'] + '.', scope,
+                                       child_init, child_iprefix)
                 else:
-                    init['offset'] = '0'
-                    child = self.table(prop, f'{ptr}/{key}', sname, prefix)
-                init['kind'] = 'PRSM_IO_OBJECT'
-                init['child'] = '&' + child
-                inits = note.get('init', [])
-                if inits:
-                    if len(inits) != 1:
+                    init_['offset'] = '0'
+                    child = self.table(prop, f'{ptr}/{key}', sname, prefix, scope, init, iprefix)
+                init_['kind'] = 'PRSM_IO_OBJECT'
+                init_['child'] = '&' + child
+                if sec_init:
+                    if len(sec_init) != 1:
                         raise GenError(f'{where}: one "init" member at most')
-                    f0 = inits[0]
+                    f0 = sec_init[0]
                     self.member_type(sname, f0['field'])
-                    init['has_set'] = '1'
-                    init['set_offset'] = f'offsetof({sname}, {f0["field"]})'
-                    init['set_value'] = str(f0['value'])
+                    init_['has_set'] = '1'
+                    init_['set_offset'] = f'offsetof({sname}, {f0["field"]})'
+                    init_['set_value'] = str(f0['value'])
                 if 'after' in note:
-                    init['hook'] = 'prsm_io_hook_' + note['after']['name']
+                    init_['hook'] = 'prsm_io_hook_' + note['after']['name']
                     self.hooks.add(note['after']['name'])
-                    for w in note['after'].get('writes', []):
-                        self.member_type(sname, w)
-                        self.written.add(prefix + w)
-                fields.append(init)
+                    self.write(scope, sname, prefix, note['after'].get('writes', []))
+                fields.append(init_)
                 continue
             if note.get('skip'):
-                init['kind'] = 'PRSM_IO_STRING'
-                init['offset'] = '0'
-                init['skip'] = '1'
+                init_['kind'] = 'PRSM_IO_STRING'
+                init_['offset'] = '0'
                 if 'maxLength' in prop:
-                    init['max_chars'] = str(prop['maxLength'])
-                fields.append(init)
+                    init_['max_chars'] = str(prop['maxLength'])
+                fields.append(init_)
+                continue
+            if 'covered' in note:
+                init_['kind'] = 'PRSM_IO_COVERED'
+                fields.append(init_)
                 continue
             field = note.get('field')
             if field is None:
                 raise GenError(f'{where}: "x-prsm" names no "field", "hook", "covered" or "skip"')
-            ctype = self.member_type(sname, field)
-            self.written.add(prefix + field)
-            init['offset'] = f'offsetof({sname}, {field})'
+            ctype, is_array = self.member_info(sname, field)
+            scope.written.add(prefix + field)
+            init_['offset'] = f'offsetof({sname}, {field})'
             if 'enum' in prop:
                 values = note.get('values')
                 if values is None or len(values) != len(prop['enum']):
@@ -245,63 +398,145 @@ class Gen:
                     raise GenError(f'{where}: only string enums are tables (numbers need a hook)')
                 base = f'{cname}_{key}'
                 self.enum_arrays.append((base, prop['enum'], values))
-                init['kind'] = 'PRSM_IO_ENUM'
-                init['names'] = base + '_names'
-                init['values'] = base + '_values'
+                init_['kind'] = 'PRSM_IO_ENUM'
+                init_['names'] = base + '_names'
+                init_['values'] = base + '_values'
                 if ctype != 'int' and ctype not in self.enums:
                     raise GenError(f'{where}: an enum fills an int or an enum type, not {ctype}')
                 if ctype != 'int':
                     self.asserts.append((f'sizeof({ctype})', 'sizeof(int)', f'{ptr}/{key}: {ctype} is int-sized'))
+            elif ptype == 'string':
+                if ctype != 'char' or not is_array:
+                    raise GenError(f'{where}: a string fills a char array, but {sname}.{field} is {ctype}')
+                init_['kind'] = 'PRSM_IO_STRING'
+                init_['capacity'] = f'sizeof((({sname} *)0)->{field})'
+                if 'maxLength' in prop:
+                    init_['max_chars'] = str(prop['maxLength'])
             else:
                 if ptype not in KINDS:
                     raise GenError(f'{where}: type {ptype!r} needs a hook')
-                init['kind'] = KINDS[ptype]
+                init_['kind'] = KINDS[ptype]
                 want = {'number': 'double', 'integer': 'int', 'boolean': 'int'}.get(ptype)
                 if ptype == 'integer' and ctype == 'size_t':
-                    init['kind'], want = 'PRSM_IO_SIZE', 'size_t'
+                    init_['kind'], want = 'PRSM_IO_SIZE', 'size_t'
                 if want and ctype != want:
                     raise GenError(f'{where}: {ptype} fills a {want}, but {sname}.{field} is {ctype}')
-                lo, hi = float('-inf'), float('inf')
-                lo_x = hi_x = 0
-                if 'minimum' in prop:
-                    lo = prop['minimum']
-                if 'exclusiveMinimum' in prop:
-                    lo, lo_x = prop['exclusiveMinimum'], 1
-                if 'maximum' in prop:
-                    hi = prop['maximum']
-                if 'exclusiveMaximum' in prop:
-                    hi, hi_x = prop['exclusiveMaximum'], 1
+                lo, hi, lo_x, hi_x = bounds(prop)
                 if ptype == 'integer' and (lo_x or hi_x or lo == float('-inf') or hi == float('inf')):
                     raise GenError(f'{where}: an integer needs inclusive minimum and maximum')
-                if init['kind'] == 'PRSM_IO_SIZE' and lo < 0:
+                if init_['kind'] == 'PRSM_IO_SIZE' and lo < 0:
                     raise GenError(f'{where}: a size_t member needs a minimum of 0 or more')
-                init['min'], init['max'] = c_double(lo), c_double(hi)
-                init['min_exclusive'], init['max_exclusive'] = str(lo_x), str(hi_x)
+                init_.update(c_bounds(lo, hi, lo_x, hi_x))
                 if 'scale' in note:
-                    init['scale'] = str(note['scale'])
+                    init_['scale'] = str(note['scale'])
                 if 'divide' in note:
-                    init['divide'] = c_double(note['divide'])
-                for bound, cname_c in note.get('limits', {}).items():
-                    v = prop.get(bound)
-                    if v is None:
-                        raise GenError(f'{where}: "limits" names {bound}, which the schema lacks')
-                    self.asserts.append((cname_c, c_double(v), f'{ptr}/{key} {bound}'))
+                    init_['divide'] = c_double(note['divide'])
+                self.limits(note, prop, ptr, key, where)
             if 'set' in note:
-                self.member_type(sname, note['set']['field'])
-                self.written.add(prefix + note['set']['field'])
-                init['has_set'] = '1'
-                init['set_offset'] = f'offsetof({sname}, {note["set"]["field"]})'
-                init['set_value'] = str(note['set']['value'])
+                self.write(scope, sname, prefix, [note['set']['field']])
+                init_['has_set'] = '1'
+                init_['set_offset'] = f'offsetof({sname}, {note["set"]["field"]})'
+                init_['set_value'] = str(note['set']['value'])
             if 'conflict' in note:
-                init['conflict_with'] = c_string(note['conflict']['with'])
-                init['conflict_message'] = c_string(note['conflict']['message'])
-            if 'default' in prop:
-                self.default_check(prop, note, init['kind'], prefix + field, f'{ptr}/{key}', where)
-            fields.append(init)
+                init_['conflict_with'] = c_string(note['conflict']['with'])
+                init_['conflict_message'] = c_string(note['conflict']['message'])
+            self.deferred(init_, note, where)
+            if 'default' in prop and init is not None:
+                self.default_check(prop, note, init_['kind'], iprefix + field, f'{ptr}/{key}', where, init)
+            fields.append(init_)
+        if len(fields) > 64:  # prsm_io_at.read has a bit per field
+            raise GenError(f'{self.path}: {ptr or "/"} has more than 64 fields and steps: split it into sections')
         self.tables.append((cname, sname, fields, keys))
         return cname
 
-    def default_check(self, prop, note, kind, path, pointer, where):
+    def deferred(self, init_, note, where):
+        """"by": read when that step asks; "required" then (what a oneOf branch requires)."""
+        if 'by' in note:
+            init_['deferred'] = '1'
+            self.by.add((note['by'], where))
+            if note.get('required'):
+                init_['required'] = '1'
+
+    def limits(self, note, prop, ptr, key, where):
+        for bound, cname_c in note.get('limits', {}).items():
+            v = prop.get(bound)
+            if v is None:
+                raise GenError(f'{where}: "limits" names {bound}, which the schema lacks')
+            self.asserts.append((cname_c, c_double(v), f'{ptr}/{key} {bound}'))
+
+    def array(self, init_, prop, note, ptr, key, sname, prefix, scope, where):
+        """An array: its items one by one, objects by their table, strings checked."""
+        items = self.resolve(prop.get('items', {}))
+        lo, hi = prop.get('minItems', 0), prop.get('maxItems')
+        if 'message' not in note:
+            raise GenError(f'{where}: an array needs "message" (the problem when it is not one)')
+        msg = note['message'].replace('{min}', str(lo)).replace('{max}', str(hi))
+        init_.update({'kind': 'PRSM_IO_ARRAY', 'min_items': str(lo), 'max_items': 'INT_MAX' if hi is None else str(hi),
+                      'code': c_string(note.get('code', 'bad_array')), 'message': c_string(msg)})
+        self.limits(note, prop, ptr, key, where)
+        item_struct = None
+        if 'field' in note:
+            field, count = note['field'], note.get('count')
+            item_struct, is_array = self.member_info(sname, field)
+            if not is_array or count is None or hi is None:
+                raise GenError(f'{where}: "field" names a C array, with "count" and the schema\'s maxItems')
+            ctype = self.member_type(sname, count)
+            if ctype not in ('int', 'size_t'):
+                raise GenError(f'{where}: the count {count} is an int or a size_t, not {ctype}')
+            self.write(scope, sname, prefix, [field, count])
+            init_.update({'offset': f'offsetof({sname}, {field})', 'stored': '1', 'item_size': f'sizeof({item_struct})',
+                          'count_offset': f'offsetof({sname}, {count})', 'count_size': f'sizeof({ctype})'})
+            if note.get('compact'):
+                init_['compact'] = '1'
+            self.asserts.append((f'sizeof((({sname} *)0)->{field}) / sizeof({item_struct})', str(hi),
+                                 f'{ptr}/{key}: the C array holds maxItems'))
+        if items.get('type') == 'object' or 'properties' in items:
+            scratch = item_struct is None
+            if scratch:  # read into a scratch struct, one item at a time
+                item_struct = items.get('x-prsm', {}).get('struct')
+                if item_struct is None or item_struct not in self.structs:
+                    raise GenError(f'{where}: the items\' x-prsm names no "struct" (or the array no "field")')
+                init_['item_size'] = f'sizeof({item_struct})'
+                self.asserts.append((f'(sizeof({item_struct}) <= PRSM_IO_SCRATCH_MAX)', '1',
+                                     f'{ptr}/{key}: a scratch item fits'))
+            iscope = self.item_scope(items, item_struct, where)
+            init_['child'] = '&' + self.table(items, f'{ptr}/{key}', item_struct, '', iscope)
+            if 'each' in note:  # what it writes: in the item, or (scratch items) in the holder
+                init_['step'] = (self.step(note['each'], scope, sname, prefix) if scratch
+                                 else self.step(note['each'], iscope, item_struct, ''))
+            self.check_scope(iscope)
+        elif items.get('type') == 'string' and item_struct is None:
+            init_['items'] = 'PRSM_IO_STRING'
+            if 'maxLength' in items:
+                init_['max_chars'] = str(items['maxLength'])
+            if 'each' in note:
+                init_['step'] = self.step(note['each'], scope, sname, prefix)
+        elif items.get('type') == 'number' and item_struct == 'double' and 'each' not in note:
+            init_['items'] = 'PRSM_IO_NUMBER'
+            init_.update(c_bounds(*bounds(items)))
+        else:
+            raise GenError(f'{where}: arrays of objects, of strings a step takes, or of numbers into a double array')
+        self.deferred(init_, note, where)
+        if 'after' in note:
+            init_['after'] = self.step(note['after'], scope, sname, prefix)
+        return init_
+
+    def map(self, init_, prop, note, ptr, key, sname, prefix, scope, where):
+        """An object of named items: the key step picks each one's struct, its table reads it."""
+        items = self.resolve(prop['additionalProperties'])
+        item_struct = items.get('x-prsm', {}).get('struct')
+        if 'key' not in note or item_struct not in self.structs:
+            raise GenError(f'{where}: a map needs "key" and its items\' x-prsm a "struct"')
+        init_['kind'] = 'PRSM_IO_MAP'
+        init_['key'] = self.step(note['key'], scope, sname, prefix, 'key')
+        iscope = self.item_scope(items, item_struct, where)
+        init_['child'] = '&' + self.table(items, f'{ptr}/{key}', item_struct, '', iscope)
+        if 'each' in note:
+            init_['step'] = self.step(note['each'], iscope, item_struct, '')
+        self.check_scope(iscope)
+        return init_
+
+    def default_check(self, prop, note, kind, path, pointer, where, init):
         """The schema's default of a member, as the C value the reader would store: checked
         against what the struct's init function sets (prsm_io_defaults_<table>)."""
         d = prop['default']
@@ -325,22 +560,20 @@ class Gen:
                 value = v
         else:
             return
-        self.defaults.append((path, value, pointer, kind))
+        init[3].append((path, value, pointer, kind))
 
     def run(self):
         self.enum_arrays = []
-        root = self.table(self.node, '', self.root_note['struct'], '')
-        members = leaf_members(self.structs, self.root_note['struct'])
-        computed = set(self.root_note.get('computed', []))
-        for c in computed:
-            self.member_type(self.root_note['struct'], c)
-
-        def covered(m):
-            return any(m == w or m.startswith(w + '.') for w in self.written | computed)
-        missing = [m for m in members if not covered(m)]
-        if missing:
-            raise GenError(f'{self.path}: members of {self.root_note["struct"]} that no property '
-                           f'fills and "computed" does not list: {", ".join(missing)}')
+        st = self.root_note['struct']
+        scope = Scope(st, self.root_note.get('computed', []), st)
+        for c in scope.computed:
+            self.member_type(st, c)
+        init = None
+        if 'init' in self.root_note:
+            init = (self.doc, st, self.root_note['init'], [])
+            self.inits.append(init)
+        root = self.table(self.node, '', st, '', scope, init)
+        self.check_scope(scope)
         return root
 
 
@@ -348,21 +581,28 @@ def emit(gens, out_dir):
     h = ['/* Generated by scripts/gen-io-tables.py from schemas/: do not edit. */',
          '#ifndef PRSM_IO_TABLES_H', '#define PRSM_IO_TABLES_H', '', '#include "io/doc.h"', '']
     c = ['/* Generated by scripts/gen-io-tables.py from schemas/: do not edit. */',
-         '#include "prsm_io_tables.h"', '', '#include <math.h>', '#include <stddef.h>', '#include <stdlib.h>', '']
+         '#include "prsm_io_tables.h"', '', '#include <limits.h>', '#include <math.h>', '#include <stddef.h>',
+         '#include <stdlib.h>', '']
     includes = sorted({g.root_note['header'] for g in gens})
     h[5:5] = [f'#include "{i}"' for i in includes]
     extra = sorted({i for g in gens for i in g.root_note.get('includes', [])})
-    c[5:5] = [f'#include "{i}"' for i in extra]
+    c[6:6] = [f'#include "{i}"' for i in extra]
     for g in gens:
         for name in sorted(g.hooks):
             h.append(f'void prsm_io_hook_{name}(void *base, const cJSON *obj, const char *obj_pointer, '
                      f'prsm_problems *problems);')
+        for name in sorted(g.steps):
+            h.append(f'int prsm_io_step_{name}(prsm_io_at *at, prsm_problems *problems);')
+        for name in sorted(g.keys):
+            h.append(f'void *prsm_io_key_{name}(const prsm_io_at *at, const char *key, prsm_problems *problems);')
         for cname_c, value, what in g.asserts:
             c.append(f'_Static_assert({cname_c} == {value}, "{cname_c} differs from the schema ({what})");')
         for base, names, values in g.enum_arrays:
             c.append(f'static const char *const {base}_names[] = {{' +
                      ', '.join(c_string(n) for n in names) + ', NULL};')
             c.append(f'static const int {base}_values[] = {{' + ', '.join(values) + '};')
+        for wrapper, st, fn in g.wrappers:
+            c.append(f'static void {wrapper}(void *p)\n{{\n\t{fn}(p);\n}}')
         for cname, sname, fields, keys in g.tables:
             c.append(f'static const char *const {cname}_keys[] = {{' +
                      ', '.join(c_string(k) for k in keys) + ', NULL};')
@@ -376,18 +616,17 @@ def emit(gens, out_dir):
             c.append('')
             if export:
                 h.append(f'extern const prsm_io_table {cname};')
-        if 'init' in g.root_note:
-            st, fn = g.root_note['struct'], g.root_note['init']
+        for name, st, fn, defaults in g.inits:
             h.append(f'/* The schema\'s defaults against what {fn}() sets: one problem each that differs; returns')
             h.append(' * their count, or -1 when out of memory. */')
-            h.append(f'int prsm_io_defaults_{g.doc}(prsm_problems *problems);')
-            c.append(f'int prsm_io_defaults_{g.doc}(prsm_problems *problems)')
+            h.append(f'int prsm_io_defaults_{name}(prsm_problems *problems);')
+            c.append(f'int prsm_io_defaults_{name}(prsm_problems *problems)')
             c.append('{')
             c.append(f'\t{st} *s = calloc(1, sizeof *s);')
             c.append('\tif (s == NULL)\n\t\treturn -1;')
             c.append(f'\t{fn}(s);')
             c.append('\tint bad = 0;')
-            for path, value, pointer, kind in g.defaults:
+            for path, value, pointer, kind in defaults:
                 cast = '(double)' if kind != 'PRSM_IO_NUMBER' else ''
                 c.append(f'\tif (!(s->{path} == {value})) {{')
                 c.append(f'\t\tprsm_problems_add(problems, {c_string(pointer)}, "default", "the schema\'s default is '
@@ -436,6 +675,11 @@ def main(argv):
                 g = Gen(schema, os.path.basename(path), a.src, node)
                 g.run()
                 gens.append(g)
+        steps = {s for g in gens for s in g.steps | g.hooks}
+        for g in gens:
+            for name, where in g.by:
+                if name not in steps:
+                    raise GenError(f'{where}: "by" names {name}, which is no step or hook')
         emit(gens, a.out_dir)
     except GenError as e:
         print(f'gen-io-tables: {e}', file=sys.stderr)

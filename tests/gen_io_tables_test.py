@@ -18,9 +18,9 @@ with open(os.path.join(src, 'schemas', 'design.schema.json'), encoding='utf-8') 
 failed = 0
 
 
-def run(schema, header_edit=None):
+def run(schema, header_edit=None, name='design.schema.json'):
     with tempfile.TemporaryDirectory() as tmp:
-        path = os.path.join(tmp, 'design.schema.json')
+        path = os.path.join(tmp, name)
         with open(path, 'w', encoding='utf-8') as f:
             json.dump(schema, f)
         src_dir = os.path.join(src, 'src')
@@ -44,9 +44,9 @@ def run(schema, header_edit=None):
         return r.returncode, r.stderr + text
 
 
-def check(name, schema, want_rc, want_text='', header_edit=None):
+def check(name, schema, want_rc, want_text='', header_edit=None, file='design.schema.json'):
     global failed
-    rc, err = run(schema, header_edit)
+    rc, err = run(schema, header_edit, file)
     ok = rc == want_rc and want_text in err
     print(('ok   ' if ok else 'FAIL ') + name + ('' if ok else f': rc {rc}, stderr {err.strip()!r}'))
     failed += not ok
@@ -91,4 +91,77 @@ check('the worked example: property + member generate the field', s, 0,
       'preload_spring_N_per_mm), .kind = PRSM_IO_NUMBER, .min = 0.0, .max = 1000000.0', member)
 check('the worked example: the member alone fails', design, 1, 'life.preload_spring_N_per_mm', member)
 check('the worked example: the property alone fails', s, 1, 'has no member "preload_spring_N_per_mm"')
+
+# ---- the study document: steps, arrays, maps, strings into char arrays, "by" ----------------
+with open(os.path.join(src, 'schemas', 'study.schema.json'), encoding='utf-8') as f:
+    study = json.load(f)
+D = '$defs'
+
+
+def study_check(name, edit, want_rc, want_text=''):
+    s = copy.deepcopy(study)
+    if edit:
+        edit(s)
+    check(name, s, want_rc, want_text, file='study.schema.json')
+
+
+def note(s, *path):
+    """The x-prsm of the property at path (property names; '$defs/x' starts in $defs)."""
+    node = s
+    for k in path:
+        node = node[D][k[6:]] if k.startswith('$defs/') else node['properties'][k]
+    return node.setdefault('x-prsm', {})
+
+
+study_check('the study schema generates: a step where "order" puts it', None, 0,
+            '{.name = NULL, .required = 0, .kind = PRSM_IO_STEP, .step = prsm_io_step_design},')
+study_check('an array into a C array: its message, its count, its items\' table', None, 0,
+            '.kind = PRSM_IO_ARRAY, .min_items = 1, .max_items = 64, .code = "bad_array", .message = "tolerances: '
+            'an array of 1 to 64 tolerances", .offset = offsetof(prsm_io_study, tolerances), .stored = 1, '
+            '.item_size = sizeof(prsm_io_tolerance), .count_offset = offsetof(prsm_io_study, n_tolerances), '
+            '.count_size = sizeof(size_t), .child = &prsm_io_t_study_tolerances}')
+study_check('maxItems that differs from the C array fails the build (its static assert)',
+            lambda s: s['properties']['tolerances'].update(maxItems=65), 0,
+            '_Static_assert(sizeof(((prsm_io_study *)0)->tolerances) / sizeof(prsm_io_tolerance) == 65')
+study_check('an array without "message" is refused',
+            lambda s: note(s, 'tolerances').pop('message'), 1, 'an array needs "message"')
+study_check('an array "field" without "count" is refused',
+            lambda s: note(s, 'tolerances').pop('count'), 1, '"field" names a C array, with "count"')
+study_check('scratch items need their struct',
+            lambda s: s[D]['correlation']['x-prsm'].pop('struct'), 1, 'the items\' x-prsm names no "struct"')
+study_check('a member of an array\'s items that no property fills is refused',
+            lambda s: s[D]['tolerance']['properties']['cpk'].update({'x-prsm': {'covered': 'x'}}), 1,
+            'members of prsm_io_tolerance that no property fills and "computed" does not list: cpk')
+study_check('numbers fill a double array, with the schema\'s limits (the largest double: no bound)', None, 0,
+            '.message = "a: an array of 1 to 64 numbers is required", .offset = offsetof(prsm_bench_model, coef), '
+            '.stored = 1, .item_size = sizeof(double), .count_offset = offsetof(prsm_bench_model, inputs), '
+            '.count_size = sizeof(size_t), .items = PRSM_IO_NUMBER, .min = 0.0, .max = INFINITY')
+study_check('a string fills a char array', None, 0,
+            '.kind = PRSM_IO_STRING, .capacity = sizeof(((prsm_io_study *)0)->name), .max_chars = 100}')
+study_check('a string into a member that is not a char array is refused',
+            lambda s: note(s, 'name').update(field='n_tolerances'), 1, 'a string fills a char array')
+study_check('a map: its key step and its items\' table', None, 0,
+            '{.name = "specs", .required = 0, .kind = PRSM_IO_MAP, .key = prsm_io_key_spec, '
+            '.child = &prsm_io_t_study_specs, .step = prsm_io_step_spec}')
+study_check('a map without "key" is refused', lambda s: note(s, 'specs').pop('key'), 1, 'a map needs "key"')
+study_check('"by" naming no step is refused',
+            lambda s: s[D]['tolerance']['properties']['cpk']['x-prsm'].update(by='nosuch'), 1,
+            '"by" names nosuch, which is no step or hook')
+study_check('a field "by" a step is left to it (deferred), required when a branch requires it', None, 0,
+            '.offset = offsetof(prsm_io_tolerance, dist.kind), .kind = PRSM_IO_ENUM, .names = '
+            'prsm_io_t_study_tolerances_distribution_names, .values = prsm_io_t_study_tolerances_distribution_values, '
+            '.deferred = 1}')
+study_check('what a step writes must be members',
+            lambda s: s['x-prsm']['order'][1]['writes'].append('nosuch'), 1, 'has no member "nosuch"')
+study_check('a member only a step fills, and it does not say so, is refused',
+            lambda s: s['x-prsm']['order'][1]['writes'].remove('assembly_options'), 1,
+            'members of prsm_io_study that no property fills and "computed" does not list: assembly_options')
+study_check('a property of a oneOf branch without x-prsm is refused',
+            lambda s: s[D]['model']['oneOf'][2]['properties']['constant'].pop('x-prsm'), 1,
+            '/constant has no "x-prsm"')
+study_check('a section\'s defaults function runs at its turn; its defaults are checked', None, 0,
+            '.init = prsm_io_init_study_monte_carlo, .kind = PRSM_IO_OBJECT')
+study_check('... and a schema default it does not set is reported by prsm_io_defaults_study_monte_carlo()',
+            lambda s: s[D]['monte_carlo']['properties']['samples'].update(default=20000), 0,
+            'if (!(s->samples == 20000)) {')
 sys.exit(1 if failed else 0)

@@ -3,113 +3,217 @@
  */
 #include "io/doc.h"
 
+#include <stdarg.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "io/json_util.h"
 #include "util/error.h"
+#include "util/utf8.h"
 
-static void set_int(void *base, size_t offset, int v)
+#define PUT(base, offset, v) memcpy((char *)(base) + (offset), &(v), sizeof(v))
+
+void prsm_io_problem(prsm_problems *problems, const char *pointer, const char *key, const char *code,
+                     const char *fmt, ...)
 {
-	memcpy((char *)base + offset, &v, sizeof v);
+	char p[PRSM_JSON_POINTER_MAX], msg[4 * PRSM_PROBLEM_MESSAGE_MAX]; /* cut by prsm_problems_add */
+	if (key)
+		prsm_json_pointer_append(p, sizeof p, pointer, key);
+	va_list ap;
+	va_start(ap, fmt);
+	vsnprintf(msg, sizeof msg, fmt, ap);
+	va_end(ap);
+	prsm_problems_add(problems, key ? p : pointer, code, "%s", msg);
 }
 
-static void set_double(void *base, size_t offset, double v)
+static int read_object(const prsm_io_at *r, void *base, const prsm_io_table *t, const cJSON *obj, const char *ptr,
+                       int index, int start, prsm_io_at *at, prsm_problems *problems);
+
+static void put_count(void *base, const prsm_io_field *f, size_t n)
 {
-	memcpy((char *)base + offset, &v, sizeof v);
+	const int i = (int)n;
+	if (f->count_size == sizeof(int))
+		PUT(base, f->count_offset, i);
+	else
+		PUT(base, f->count_offset, n);
 }
 
-static void read_field(void *base, const prsm_io_field *f, const cJSON *obj, const char *ptr,
+/* The items of an array (its shape checked) or of a map: objects by the child table into their
+ * place (a map's: the key step's pick; else a scratch struct), numbers and strings checked; each
+ * given to the step, and counted unless a step refused it. */
+static void read_items(const prsm_io_at *r, void *base, const prsm_io_field *f, const cJSON *x, const char *xp,
                        prsm_problems *problems)
 {
+	union {
+		max_align_t align;
+		unsigned char bytes[PRSM_IO_SCRATCH_MAX];
+	} scratch;
+	size_t kept = 0;
+	int i = 0;
+	for (const cJSON *it = x->child; it; it = it->next, i++) {
+		char ip[PRSM_JSON_POINTER_MAX];
+		const char *s;
+		double d;
+		const int map = f->kind == PRSM_IO_MAP, start = prsm_problems_total(problems);
+		if (map)
+			prsm_json_pointer_append(ip, sizeof ip, xp, it->string);
+		else
+			prsm_json_pointer_append_index(ip, sizeof ip, xp, i);
+		prsm_io_at at = {r->root, r->ctx, base, NULL, it, ip, map ? -1 : i, start, 0};
+		char *slot = map ? f->key(&at, it->string, problems)
+		             : f->stored ? (char *)base + f->offset + (f->compact ? kept : (size_t)i) * f->item_size
+		                         : (char *)scratch.bytes;
+		if (f->child) {
+			if (slot == NULL || prsm_json_object_value(it, ip, problems))
+				continue;
+			if (!map)
+				memset(slot, 0, f->item_size);
+			if (read_object(r, slot, f->child, it, ip, at.index, start, &at, problems))
+				continue;
+		} else if (f->items == PRSM_IO_NUMBER) {
+			const prsm_json_range range = {f->min, f->max, f->min_exclusive, f->max_exclusive};
+			if (prsm_json_number_value(&d, it, ip, range, problems))
+				continue;
+			if (f->stored)
+				PUT(slot, 0, d);
+		} else if (prsm_json_string_value(&s, it, ip, f->max_chars ? f->max_chars : (size_t)-1, problems)) {
+			continue;
+		}
+		if ((f->step && f->step(&at, problems)) || !f->stored)
+			continue;
+		if (f->compact) /* the count as it grows */
+			put_count(base, f, ++kept);
+	}
+	if (f->stored && !f->compact)
+		put_count(base, f, (size_t)i);
+}
+
+/* One field of obj (pointer ptr) into base. Returns 1 when it was there and valid (scalars). */
+static int read_field(const prsm_io_at *r, void *base, const prsm_io_field *f, const cJSON *obj, const char *ptr,
+                      prsm_problems *problems)
+{
 	const int req = f->required ? PRSM_JSON_REQUIRED : PRSM_JSON_OPTIONAL;
-	int present = 0;
+	char p[PRSM_JSON_POINTER_MAX];
+	const cJSON *sub;
+	int present = 0, v;
+	double d;
 	switch (f->kind) {
 	case PRSM_IO_NUMBER: {
-		double v;
-		const prsm_json_range r = {f->min, f->max, f->min_exclusive, f->max_exclusive};
-		present = prsm_json_get_number(&v, obj, ptr, f->name, req, r, problems) == PRSM_JSON_PRESENT;
-		if (present)
-			set_double(base, f->offset, f->divide != 0.0 ? v / f->divide : f->scale != 0.0 ? v * f->scale : v);
-		break;
-	}
-	case PRSM_IO_INT: {
-		int v;
-		present = prsm_json_get_int(&v, obj, ptr, f->name, req, (int)f->min, (int)f->max, problems) ==
-		          PRSM_JSON_PRESENT;
-		if (present)
-			set_int(base, f->offset, v);
-		break;
-	}
-	case PRSM_IO_SIZE: {
-		int v;
-		present = prsm_json_get_int(&v, obj, ptr, f->name, req, (int)f->min, (int)f->max, problems) ==
-		          PRSM_JSON_PRESENT;
+		const prsm_json_range range = {f->min, f->max, f->min_exclusive, f->max_exclusive};
+		present = prsm_json_get_number(&d, obj, ptr, f->name, req, range, problems) == PRSM_JSON_PRESENT;
 		if (present) {
-			const size_t z = (size_t)v;
-			memcpy((char *)base + f->offset, &z, sizeof z);
+			d = f->divide != 0.0 ? d / f->divide : f->scale != 0.0 ? d * f->scale : d;
+			PUT(base, f->offset, d);
 		}
 		break;
 	}
-	case PRSM_IO_BOOL: {
-		int v;
+	case PRSM_IO_INT:
+	case PRSM_IO_SIZE:
+		present = prsm_json_get_int(&v, obj, ptr, f->name, req, (int)f->min, (int)f->max, problems) ==
+		          PRSM_JSON_PRESENT;
+		if (present && f->kind == PRSM_IO_INT)
+			PUT(base, f->offset, v);
+		else if (present)
+			PUT(base, f->offset, (size_t){(size_t)v});
+		break;
+	case PRSM_IO_BOOL:
 		present = prsm_json_get_bool(&v, obj, ptr, f->name, req, problems) == PRSM_JSON_PRESENT;
 		if (present)
-			set_int(base, f->offset, v);
+			PUT(base, f->offset, v);
 		break;
-	}
-	case PRSM_IO_ENUM: {
-		int i;
-		present = prsm_json_get_enum(&i, obj, ptr, f->name, req, f->names, problems) == PRSM_JSON_PRESENT;
+	case PRSM_IO_ENUM:
+		present = prsm_json_get_enum(&v, obj, ptr, f->name, req, f->names, problems) == PRSM_JSON_PRESENT;
 		if (present)
-			set_int(base, f->offset, f->values[i]);
+			PUT(base, f->offset, f->values[v]);
 		break;
-	}
 	case PRSM_IO_STRING: {
 		const char *s;
 		present = prsm_json_get_string(&s, obj, ptr, f->name, req, f->max_chars ? f->max_chars : (size_t)-1,
 		                               problems) == PRSM_JSON_PRESENT;
+		if (present && f->capacity)
+			prsm_utf8_copy((char *)base + f->offset, f->capacity, s);
 		break;
 	}
 	case PRSM_IO_OBJECT: {
-		char sp[PRSM_JSON_POINTER_MAX];
-		const cJSON *sec;
-		if (prsm_json_get_section(&sec, sp, sizeof sp, obj, ptr, f->name, req, f->child->keys, problems) !=
-		    PRSM_JSON_PRESENT)
-			return;
 		void *child = (char *)base + f->offset;
+		prsm_io_at at;
+		if (f->init)
+			f->init(child);
+		if (prsm_json_get_object(&sub, obj, ptr, f->name, req, problems) != PRSM_JSON_PRESENT)
+			return 0;
+		prsm_json_pointer_append(p, sizeof p, ptr, f->name);
 		if (f->has_set)
-			set_int(base, f->set_offset, f->set_value);
-		for (size_t i = 0; i < f->child->n_fields; i++)
-			read_field(child, &f->child->fields[i], sec, sp, problems);
-		if (f->hook)
-			f->hook(child, sec, sp, problems);
-		return;
+			PUT(base, f->set_offset, f->set_value);
+		if (read_object(r, child, f->child, sub, p, -1, prsm_problems_total(problems), &at, problems) == 0 && f->hook)
+			f->hook(child, sub, p, problems);
+		return 0;
 	}
+	case PRSM_IO_ARRAY: {
+		sub = cJSON_GetObjectItemCaseSensitive(obj, f->name);
+		const int start = prsm_problems_total(problems), n = cJSON_GetArraySize(sub);
+		prsm_json_pointer_append(p, sizeof p, ptr, f->name);
+		if (sub && cJSON_IsArray(sub) && n >= f->min_items && n <= f->max_items)
+			read_items(r, base, f, sub, p, problems);
+		else if (sub || f->required)
+			prsm_problems_add(problems, p, sub ? f->code : "required", "%s", f->message);
+		prsm_io_at at = {r->root, r->ctx, base, NULL, sub, p, -1, start, 0};
+		if (f->after)
+			f->after(&at, problems);
+		return 0;
+	}
+	case PRSM_IO_MAP:
+		if (prsm_json_get_object(&sub, obj, ptr, f->name, req, problems) != PRSM_JSON_PRESENT)
+			return 0;
+		prsm_json_pointer_append(p, sizeof p, ptr, f->name);
+		prsm_json_check_duplicates(sub, p, problems);
+		read_items(r, base, f, sub, p, problems);
+		return 0;
 	case PRSM_IO_HOOK:
 		f->hook(base, obj, ptr, problems);
-		return;
+		return 0;
 	case PRSM_IO_COVERED:
-		return;
+	case PRSM_IO_STEP:
+		return 0;
 	}
 	if (present && f->has_set)
-		set_int(base, f->set_offset, f->set_value);
+		PUT(base, f->set_offset, f->set_value);
 	if (f->conflict_with && cJSON_GetObjectItemCaseSensitive(obj, f->name) &&
-	    cJSON_GetObjectItemCaseSensitive(obj, f->conflict_with)) {
-		char p[PRSM_JSON_POINTER_MAX];
-		prsm_json_pointer_append(p, sizeof p, ptr, f->name);
-		prsm_problems_add(problems, p, "conflict", "%s", f->conflict_message);
+	    cJSON_GetObjectItemCaseSensitive(obj, f->conflict_with))
+		prsm_io_problem(problems, ptr, f->name, "conflict", "%s", f->conflict_message);
+	return present;
+}
+
+/* The keys of obj, then its fields and steps in order; at is filled for the steps (and the
+ * item's). Returns nonzero when a step stopped it. */
+static int read_object(const prsm_io_at *r, void *base, const prsm_io_table *t, const cJSON *obj, const char *ptr,
+                       int index, int start, prsm_io_at *at, prsm_problems *problems)
+{
+	*at = (prsm_io_at){r->root, r->ctx, base, t, obj, ptr, index, start, 0};
+	prsm_json_check_keys(obj, ptr, t->keys, problems);
+	for (size_t i = 0; i < t->n_fields; i++) {
+		const prsm_io_field *f = &t->fields[i];
+		if (f->kind == PRSM_IO_STEP && f->step(at, problems))
+			return 1;
+		if (f->kind != PRSM_IO_STEP && !f->deferred && read_field(r, base, f, obj, ptr, problems) && i < 64)
+			at->read |= 1ULL << i;
 	}
+	return 0;
+}
+
+int prsm_io_read_ctx(void *base, const prsm_io_table *t, const cJSON *obj, const char *obj_pointer, void *ctx,
+                     prsm_problems *problems)
+{
+	const int before = prsm_problems_total(problems);
+	const prsm_io_at r = {base, ctx, base, t, obj, obj_pointer ? obj_pointer : "", -1, before, 0};
+	prsm_io_at at;
+	read_object(&r, base, t, obj, r.pointer, -1, before, &at, problems);
+	return prsm_problems_total(problems) > before ? PRSM_EINVAL : 0;
 }
 
 int prsm_io_read(void *base, const prsm_io_table *t, const cJSON *obj, const char *obj_pointer,
                  prsm_problems *problems)
 {
-	const int before = prsm_problems_total(problems);
-	const char *ptr = obj_pointer ? obj_pointer : "";
-	prsm_json_check_keys(obj, ptr, t->keys, problems);
-	for (size_t i = 0; i < t->n_fields; i++)
-		read_field(base, &t->fields[i], obj, ptr, problems);
-	return prsm_problems_total(problems) > before ? PRSM_EINVAL : 0;
+	return prsm_io_read_ctx(base, t, obj, obj_pointer, NULL, problems);
 }
 
 int prsm_io_problem_at(const prsm_problems *problems, int from, const char *obj_pointer, const char *key)
@@ -122,12 +226,27 @@ int prsm_io_problem_at(const prsm_problems *problems, int from, const char *obj_
 	return 0;
 }
 
+int prsm_io_get(const prsm_io_at *at, const char *key, prsm_problems *problems)
+{
+	const int before = prsm_problems_total(problems);
+	int present = 0;
+	for (size_t i = 0; i < at->table->n_fields; i++)
+		if (at->table->fields[i].name && strcmp(at->table->fields[i].name, key) == 0)
+			present |= read_field(at, at->base, &at->table->fields[i], at->obj, at->pointer, problems);
+	return prsm_problems_total(problems) > before ? PRSM_EINVAL : present;
+}
+
 int prsm_io_read_member(void *base, const prsm_io_table *t, const char *key, const cJSON *obj,
                         const char *obj_pointer, prsm_problems *problems)
 {
-	const int before = prsm_problems_total(problems);
-	for (size_t i = 0; i < t->n_fields; i++)
-		if (strcmp(t->fields[i].name, key) == 0)
-			read_field(base, &t->fields[i], obj, obj_pointer ? obj_pointer : "", problems);
-	return prsm_problems_total(problems) > before ? PRSM_EINVAL : 0;
+	const prsm_io_at at = {base, NULL, base, t, obj, obj_pointer ? obj_pointer : "", -1, 0, 0};
+	return prsm_io_get(&at, key, problems) < 0 ? PRSM_EINVAL : 0;
+}
+
+int prsm_io_was_read(const prsm_io_at *at, const char *key)
+{
+	for (size_t i = 0; i < at->table->n_fields && i < 64; i++)
+		if (at->table->fields[i].name && strcmp(at->table->fields[i].name, key) == 0 && (at->read >> i & 1))
+			return 1;
+	return 0;
 }

@@ -5,10 +5,11 @@
  *
  * prsm_io_read checks an object against its table: unknown and repeated keys (with a
  * did-you-mean), every field's type and limits (the messages of json_util.h's value checkers),
- * required members, either/or conflicts; it stores each valid value, scaled, at its member and
- * calls the hand-written hooks for what a table cannot say (cross-field rules, conversions that
- * need other fields). Every problem is collected with its JSON pointer; a member whose value is
- * invalid keeps what it held.
+ * required members, either/or conflicts, arrays (item by item into a C array or a scratch
+ * struct) and maps (objects of named items); it stores each valid value, scaled, at its member
+ * and calls the hand-written hooks and steps for what a table cannot say (cross-field rules,
+ * conversions that need other fields), each at its place in the order. Every problem is
+ * collected with its JSON pointer; a member whose value is invalid keeps what it held.
  */
 #ifndef PRSM_IO_DOC_H
 #define PRSM_IO_DOC_H
@@ -25,10 +26,13 @@ typedef enum {
 	PRSM_IO_SIZE,       /* size_t within [min, max] (min >= 0) */
 	PRSM_IO_BOOL,       /* int 0 / 1 */
 	PRSM_IO_ENUM,       /* int: values[i] for names[i] */
-	PRSM_IO_STRING,     /* checked (max_chars) and, with skip, not stored */
+	PRSM_IO_STRING,     /* checked (max_chars); copied into a char array of capacity (0: not) */
 	PRSM_IO_OBJECT,     /* a section: child table at offset (0: the same struct) */
 	PRSM_IO_HOOK,       /* read by hook(base, obj, obj_pointer, problems) */
-	PRSM_IO_COVERED     /* read by another field's hook */
+	PRSM_IO_COVERED,    /* read by another field's hook, or a step */
+	PRSM_IO_ARRAY,      /* items one by one: objects by the child table, strings checked */
+	PRSM_IO_MAP,        /* an object of named items: key picks each one's struct, child reads it */
+	PRSM_IO_STEP        /* no member: step runs at its place in the table */
 } prsm_io_kind;
 
 /* A hook: base is the struct the table fills, obj the object holding the field (for a
@@ -37,8 +41,32 @@ typedef void (*prsm_io_hook)(void *base, const cJSON *obj, const char *obj_point
 
 struct prsm_io_table;
 
+/* Where a step stands. */
 typedef struct {
-	const char *name;              /* the JSON member */
+	void *root;                        /* the struct prsm_io_read fills: the document's */
+	void *ctx;                         /* the caller's (prsm_io_read_ctx) */
+	void *base;                        /* the struct obj fills (an array's string items: the array's) */
+	const struct prsm_io_table *table; /* obj's table (NULL for string items and an array's after) */
+	const cJSON *obj;                  /* the object read (an item; for an array's after: the array, or
+	                                      NULL when it is absent) */
+	const char *pointer;               /* its pointer */
+	int index;                         /* an array's item: its index, else -1 */
+	int start;                         /* prsm_problems_total when obj's reading began */
+	unsigned long long read;           /* bit i: field i of table was there and valid */
+} prsm_io_at;
+
+/* A step (hand-written, prsm_io_step_<name>): returns 0 to read on; nonzero stops reading the
+ * object (and an array's item is then not kept). */
+typedef int (*prsm_io_step)(prsm_io_at *at, prsm_problems *problems);
+/* A map's key (prsm_io_key_<name>): the struct the member named key fills (at: the map's
+ * holder, obj the member), or NULL after adding a problem. */
+typedef void *(*prsm_io_key)(const prsm_io_at *at, const char *key, prsm_problems *problems);
+
+/* Largest item an array reads into a scratch struct (its items not stored). */
+#define PRSM_IO_SCRATCH_MAX 256
+
+typedef struct {
+	const char *name;              /* the JSON member (steps: NULL) */
 	prsm_io_kind kind;
 	size_t offset;                 /* of the C member in the table's struct */
 	int required;
@@ -46,17 +74,32 @@ typedef struct {
 	double divide;                 /* numbers: stored = value / divide instead (0: not) */
 	double min, max;               /* numbers and integers */
 	int min_exclusive, max_exclusive;
-	size_t max_chars;              /* strings: Unicode characters, 0: no limit */
-	int skip;                      /* strings: checked, not stored */
+	size_t max_chars;              /* strings (and string items): Unicode characters, 0: no limit */
+	size_t capacity;               /* strings: the char array's size, 0: not stored */
 	const char *const *names;      /* enums: NULL-terminated */
 	const int *values;
-	const struct prsm_io_table *child; /* objects */
+	const struct prsm_io_table *child; /* objects; arrays and maps: the items' */
 	prsm_io_hook hook;             /* hooks; objects: run after the section's fields */
+	void (*init)(void *);          /* objects: sets the section's defaults at its turn, present or not */
 	int has_set;                   /* 1: the int member at set_offset is set to set_value when the */
 	size_t set_offset;             /*   field is present and valid; objects: before the section */
 	int set_value;                 /*   is read */
 	const char *conflict_with;     /* a member that must not be present with this one */
 	const char *conflict_message;
+	int deferred;                  /* read only when a step asks (prsm_io_get) */
+	prsm_io_step step;             /* steps; arrays and maps: run on each item once read */
+	/* arrays: missing (required) or not an array of min_items to max_items: one problem, code
+	 * ("required" when missing) and message; stored: item i at offset + i x item_size (compact:
+	 * the kept ones without gaps), their count at count_offset (an int or a size_t); else object
+	 * items are read into a scratch struct of item_size. items: PRSM_IO_STRING (max_chars) or
+	 * PRSM_IO_NUMBER (min, max) when they are not objects */
+	int min_items, max_items;
+	prsm_io_kind items;
+	const char *code, *message;
+	int stored, compact;
+	size_t item_size, count_offset, count_size;
+	prsm_io_step after;            /* arrays: run once the array is read, present or not */
+	prsm_io_key key;               /* maps */
 } prsm_io_field;
 
 typedef struct prsm_io_table {
@@ -72,6 +115,10 @@ typedef struct prsm_io_table {
 int prsm_io_read(void *base, const prsm_io_table *t, const cJSON *obj, const char *obj_pointer,
                  prsm_problems *problems);
 
+/* prsm_io_read with ctx for the steps (prsm_io_at.ctx). */
+int prsm_io_read_ctx(void *base, const prsm_io_table *t, const cJSON *obj, const char *obj_pointer, void *ctx,
+                     prsm_problems *problems);
+
 /* 1 when a problem was added, since the first `from` problems, at obj_pointer/key: the member
  * was there and invalid (for hooks whose rules need their fields valid). */
 int prsm_io_problem_at(const prsm_problems *problems, int from, const char *obj_pointer, const char *key);
@@ -79,5 +126,16 @@ int prsm_io_problem_at(const prsm_problems *problems, int from, const char *obj_
 /* Read only member key of table t from obj (e.g. one section of a document read elsewhere). */
 int prsm_io_read_member(void *base, const prsm_io_table *t, const char *key, const cJSON *obj,
                         const char *obj_pointer, prsm_problems *problems);
+
+/* For a step: field key of at's table ("by" the step, or any) read from at->obj into at->base.
+ * Returns PRSM_JSON_PRESENT (1, stored), PRSM_JSON_ABSENT (0) or PRSM_EINVAL (a problem added). */
+int prsm_io_get(const prsm_io_at *at, const char *key, prsm_problems *problems);
+
+/* For a step: 1 when field key of at's table was there and valid. */
+int prsm_io_was_read(const prsm_io_at *at, const char *key);
+
+/* A problem at pointer/key (key NULL: at pointer). */
+void prsm_io_problem(prsm_problems *problems, const char *pointer, const char *key, const char *code,
+                     const char *fmt, ...) __attribute__((format(printf, 5, 6)));
 
 #endif

@@ -1,15 +1,19 @@
 /*
  * study_json.c: reading a study document (see study_json.h; the result: study_result.c).
  *
- * Reading goes section by section and never stops at the first problem; the variables are built
- * only when every section is valid. A tolerance on a per-roller parameter ("roller.*") becomes
- * one variable per roller, drawn independently, unless "shared": true; a start-index tolerance
- * one per start; a radial magnitude (run-out, periodic lead, tilt) gets a second variable, its
- * direction, uniform on [0, 2 pi).
+ * The fields, their limits and C members are stated once, in schemas/study.schema.json
+ * ("x-prsm"); io/doc.c reads the document by the table generated from it. What a table cannot
+ * say is here, as the steps the schema names: the design (or the benchmark) with its nominal
+ * analysis, what each tolerance's parameter is and its distribution (a named one or the tol/cpk
+ * shorthand), the outputs, specs, targets and correlations that name each other, and the
+ * variables the engine samples. Reading never stops at the first problem; the variables are
+ * built only when every section is valid. A tolerance on a per-roller parameter ("roller.*")
+ * becomes one variable per roller, drawn independently, unless "shared": true; a start-index
+ * tolerance one per start; a radial magnitude (run-out, periodic lead, tilt) gets a second
+ * variable, its direction, uniform on [0, 2 pi).
  */
 #include "io/study_json.h"
 
-#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -25,29 +29,15 @@
 #include "io/json_util.h"
 #include "model/analysis.h"
 #include "model/performance.h"
-#include "util/utf8.h"
-#include "util/version.h"
 #include "prsm_io_tables.h"
 
-static const char *const study_keys[] = {"name", "design", "model", "errors", "assembly",
-                                         "tolerances", "correlations", "outputs", "specs",
-                                         "monte_carlo", "sensitivity", NULL};
-static const char *const model_keys[] = {"benchmark", "a", "b", "coefficients", "constant", NULL};
-static const char *const bench_names[] = {"ishigami", "gfunction", "linear", NULL};
-static const char *const tolerance_keys[] = {
-	"parameter", "distribution", "mean", "sd", "lower", "upper", "mode", "mu", "sigma",
-	"tol", "tol_um", "tol_mrad", "tol_um_per_300mm", "cpk", "nominal", "shared", NULL};
-static const char *const dist_names[] = {"normal", "truncnormal", "uniform", "triangular",
-                                         "lognormal", "rayleigh", NULL}; /* = prsm_dist_kind */
-static const char *const sampler_names[] = {"random", "lhs", "sobol", NULL};
-static const char *const target_keys[] = {"output", "standard_error", "cv", "yield_interval_width", NULL};
-static const char *const spec_keys[] = {"lower", "upper", NULL};
-static const char *const sobol_keys[] = {"samples", "bootstrap", "sampler", NULL};
-static const char *const corr_keys[] = {"between", "rho", NULL};
-
 static const prsm_json_range ANY = {-HUGE_VAL, HUGE_VAL, 0, 0};
-static const prsm_json_range POSITIVE = {0.0, HUGE_VAL, 1, 0};
 
+/* What the steps share while a study is read. */
+typedef struct {
+	prsm_problems *warnings; /* the design's rule warnings (may be NULL) */
+	int design_rc;           /* 0: the design (or benchmark) loaded: the parameters can be known */
+} study_reading;
 
 /* ---- parameters -------------------------------------------------------------------------- */
 
@@ -80,16 +70,10 @@ static int param_find(param_info *pi, const char *path, const prsm_io_study *s, 
 	pi->bench_index = -1;
 	if (s->is_benchmark) {
 		/* x1 .. xn exactly: no leading zero, sign or blank */
-		size_t idx = 0, k = 1;
-		int ok = path[0] == 'x' && path[1] >= '1' && path[1] <= '9';
-		for (; ok && path[k]; k++) {
-			if (path[k] < '0' || path[k] > '9' || idx > 1000) {
-				ok = 0;
-				break;
-			}
-			idx = 10 * idx + (size_t)(path[k] - '0');
-		}
-		if (ok && idx >= 1 && idx <= s->bench.inputs) {
+		const size_t digits = strspn(path + 1, "0123456789");
+		const size_t idx = path[0] == 'x' && path[1] != '0' && digits && digits < 5 && !path[1 + digits]
+		                       ? (size_t)strtoul(path + 1, NULL, 10) : 0;
+		if (idx >= 1 && idx <= s->bench.inputs) {
 			pi->bench_index = (int)idx - 1;
 			pi->unit = "";
 			pi->scale = 1.0;
@@ -108,33 +92,23 @@ static int param_find(param_info *pi, const char *path, const prsm_io_study *s, 
 	memcpy(part, path, (size_t)(dot - path));
 	part[dot - path] = 0;
 	const char *key = dot + 1;
-	if (strcmp(part, "friction") == 0) {
-		pi->part = PRSM_PART_FRICTION;
-		pi->scale = 1.0;
-		pi->unit = "";
-		if (strcmp(key, "screw_roller_mu") == 0)
-			pi->offset = 0;
-		else if (strcmp(key, "nut_roller_mu") == 0)
-			pi->offset = 1;
-		else {
-			snprintf(msg, cap, "friction parameters are screw_roller_mu and nut_roller_mu "
-			                   "(deviations added to the design's coefficients)");
-			return PRSM_ENOTFOUND;
-		}
-		return 0;
+	if (strcmp(part, "friction") == 0) { /* offset 0: screw-roller, 1: nut-roller */
+		*pi = (param_info){PRSM_PART_FRICTION, strcmp(key, "nut_roller_mu") == 0, 1.0, 0, 0, 0, 0, "", -1};
+		if (pi->offset == 1 || strcmp(key, "screw_roller_mu") == 0)
+			return 0;
+		snprintf(msg, cap, "friction parameters are screw_roller_mu and nut_roller_mu "
+		                   "(deviations added to the design's coefficients)");
+		return PRSM_ENOTFOUND;
 	}
-	if (strcmp(part, "screw") == 0)
-		pi->part = PRSM_PART_SCREW;
-	else if (strcmp(part, "nut") == 0)
-		pi->part = PRSM_PART_NUT;
-	else if (strcmp(part, "carrier") == 0)
-		pi->part = PRSM_PART_CARRIER;
-	else if (strcmp(part, "roller") == 0)
-		pi->part = PRSM_PART_ROLLER;
-	else {
+	static const char *const parts[] = {"screw", "nut", "carrier", "roller"}; /* = prsm_part */
+	int p = 0;
+	while (p < 4 && strcmp(part, parts[p]) != 0)
+		p++;
+	if (p == 4) {
 		snprintf(msg, cap, "unknown part '%s': screw, nut, carrier, roller or friction", part);
 		return PRSM_ENOTFOUND;
 	}
+	pi->part = (prsm_part)p;
 	pi->per_roller = pi->part == PRSM_PART_ROLLER;
 	pi->unit = unit_of(key);
 	if ((pi->part == PRSM_PART_SCREW || pi->part == PRSM_PART_NUT) &&
@@ -162,56 +136,39 @@ static int param_find(param_info *pi, const char *path, const prsm_io_study *s, 
 	return 0;
 }
 
-/* ---- sections ---------------------------------------------------------------------------- */
+/* ---- the design or the benchmark --------------------------------------------------------- */
 
-static void read_benchmark(prsm_io_study *s, const cJSON *m, const char *ptr, prsm_problems *pr)
+/* "model": the benchmark, its constants and its inputs' coefficients ($defs/model's table) */
+static void read_benchmark(prsm_io_study *s, const cJSON *m, prsm_problems *pr)
 {
-	int kind = 0;
-	prsm_json_check_keys(m, ptr, model_keys, pr);
-	if (prsm_json_get_enum(&kind, m, ptr, "benchmark", PRSM_JSON_REQUIRED, bench_names, pr) != PRSM_JSON_PRESENT)
-		return;
 	prsm_bench_model *b = &s->bench;
-	b->kind = (prsm_bench_kind)kind;
-	char ap[PRSM_JSON_POINTER_MAX];
-	const char *arr_key = kind == PRSM_BENCH_GFUNCTION ? "a" : "coefficients";
+	const prsm_io_at at = {.base = b, .table = &prsm_io_t_bench_model, .obj = m, .pointer = "/model", .index = -1};
+	prsm_io_read(b, &prsm_io_t_bench_model, m, "/model", pr);
+	if (prsm_io_get(&at, "benchmark", pr) != PRSM_JSON_PRESENT)
+		return;
+	const prsm_bench_kind kind = b->kind;
 	if (kind == PRSM_BENCH_ISHIGAMI) {
 		b->inputs = 3;
 		b->a = 7.0;
 		b->b = 0.1;
-		prsm_json_get_number(&b->a, m, ptr, "a", PRSM_JSON_OPTIONAL, ANY, pr);
-		prsm_json_get_number(&b->b, m, ptr, "b", PRSM_JSON_OPTIONAL, ANY, pr);
+		prsm_json_get_number(&b->a, m, "/model", "a", PRSM_JSON_OPTIONAL, ANY, pr);
+		prsm_io_get(&at, "b", pr);
 		static const char *const foreign[] = {"coefficients", "constant", NULL};
 		for (int k = 0; foreign[k]; k++)
-			if (cJSON_GetObjectItemCaseSensitive(m, foreign[k])) {
-				prsm_json_pointer_append(ap, sizeof ap, ptr, foreign[k]);
-				prsm_problems_add(pr, ap, "not_allowed", "the Ishigami benchmark takes a and b only");
-			}
+			if (cJSON_GetObjectItemCaseSensitive(m, foreign[k]))
+				prsm_io_problem(pr, "/model", foreign[k], "not_allowed", "the Ishigami benchmark takes a and b only");
 		return;
 	}
-	const cJSON *arr = cJSON_GetObjectItemCaseSensitive(m, arr_key);
-	prsm_json_pointer_append(ap, sizeof ap, ptr, arr_key);
-	int n = cJSON_GetArraySize(arr);
-	if (!cJSON_IsArray(arr) || n < 1 || n > PRSM_BENCH_MAX_INPUTS) {
-		prsm_problems_add(pr, ap, arr ? "bad_array" : "required",
-		                  "%s: an array of 1 to %d numbers is required", arr_key, PRSM_BENCH_MAX_INPUTS);
+	prsm_io_get(&at, kind == PRSM_BENCH_GFUNCTION ? "a" : "coefficients", pr);
+	if (b->inputs == 0) /* not an array of 1 to 64 */
 		return;
-	}
-	b->inputs = (size_t)n;
-	int i = 0;
-	for (const cJSON *it = arr->child; it; it = it->next, i++) {
-		char ip[PRSM_JSON_POINTER_MAX];
-		prsm_json_pointer_append_index(ip, sizeof ip, ap, i);
-		prsm_json_range r = kind == PRSM_BENCH_GFUNCTION ? (prsm_json_range){0.0, HUGE_VAL, 0, 0} : ANY;
-		prsm_json_number_value(&b->coef[i], it, ip, r, pr);
-	}
 	if (kind == PRSM_BENCH_LINEAR)
-		prsm_json_get_number(&b->constant, m, ptr, "constant", PRSM_JSON_OPTIONAL, ANY, pr);
+		prsm_io_get(&at, "constant", pr);
 	const char *other = kind == PRSM_BENCH_GFUNCTION ? "coefficients" : "a";
 	if (cJSON_GetObjectItemCaseSensitive(m, other) || cJSON_GetObjectItemCaseSensitive(m, "b") ||
-	    (kind == PRSM_BENCH_GFUNCTION && cJSON_GetObjectItemCaseSensitive(m, "constant"))) {
-		prsm_problems_add(pr, ptr, "not_allowed", "the %s benchmark takes %s only",
-		                  bench_names[kind], kind == PRSM_BENCH_GFUNCTION ? "a" : "coefficients and constant");
-	}
+	    (kind == PRSM_BENCH_GFUNCTION && cJSON_GetObjectItemCaseSensitive(m, "constant")))
+		prsm_problems_add(pr, "/model", "not_allowed", "the %s benchmark takes %s only", prsm_bench_name(kind),
+		                  kind == PRSM_BENCH_GFUNCTION ? "a" : "coefficients and constant");
 }
 
 /* The design and what the engine needs of it. Returns 0 when it is usable. */
@@ -245,153 +202,169 @@ static int read_design(prsm_io_study *s, const cJSON *doc, prsm_problems *warnin
 	return 0;
 }
 
-/* Read one tolerance into t (and its parameter into pi). Returns 0 when valid. */
-static int read_tolerance(prsm_io_tolerance *t, param_info *pi, const prsm_io_study *s,
-                          const cJSON *o, const char *ptr, int params_known, prsm_problems *pr)
+/* The design (with its nominal analysis and assembly) or the benchmark model, exactly one. */
+int prsm_io_step_design(prsm_io_at *at, prsm_problems *pr)
 {
-	int bad = prsm_problems_total(pr);
-	memset(t, 0, sizeof *t);
-	if (prsm_json_object_value(o, ptr, pr))
-		return PRSM_EINVAL;
-	prsm_json_check_keys(o, ptr, tolerance_keys, pr);
-	const char *path = NULL;
-	char pp[PRSM_JSON_POINTER_MAX];
-	prsm_json_pointer_append(pp, sizeof pp, ptr, "parameter");
-	int have_path = prsm_json_get_string(&path, o, ptr, "parameter", PRSM_JSON_REQUIRED,
-	                                     PRSM_STUDY_NAME_MAX - 24, pr) == PRSM_JSON_PRESENT;
-	if (have_path) {
-		prsm_utf8_copy(t->parameter, sizeof t->parameter, path);
-		char msg[200];
-		if (params_known && param_find(pi, path, s, msg, sizeof msg))
-			prsm_problems_add(pr, pp, "unknown_parameter", "%s: %s", path, msg);
+	prsm_io_study *s = at->root;
+	study_reading *c = at->ctx;
+	const cJSON *design = cJSON_GetObjectItemCaseSensitive(at->obj, "design");
+	const cJSON *model = cJSON_GetObjectItemCaseSensitive(at->obj, "model");
+	if (design && model) {
+		prsm_problems_add(pr, "/model", "conflict", "a study has a design or a benchmark model, not both");
+	} else if (model) {
+		s->is_benchmark = 1;
+		if (prsm_json_object_value(model, "/model", pr) == 0)
+			read_benchmark(s, model, pr);
+		static const char *const design_only[] = {"errors", "assembly", NULL};
+		for (int k = 0; design_only[k]; k++)
+			if (cJSON_GetObjectItemCaseSensitive(at->obj, design_only[k]))
+				prsm_io_problem(pr, "", design_only[k], "not_allowed", "%s belongs to a design study, not a benchmark",
+				                design_only[k]);
+		c->design_rc = prsm_problems_total(pr) == at->start ? 0 : PRSM_EINVAL;
+	} else if (design) {
+		c->design_rc = read_design(s, at->obj, c->warnings, pr);
+	} else {
+		prsm_problems_add(pr, "/design", "required", "a study needs a design (or a benchmark model)");
 	}
-	int shared = 0;
-	prsm_json_get_bool(&shared, o, ptr, "shared", PRSM_JSON_OPTIONAL, pr);
-	t->shared = shared;
+	return 0;
+}
 
-	/* the shorthand {"tol_<unit>": t, "cpk": c[, "nominal": x]} or a named distribution */
-	const char *tol_key = NULL;
+/* ---- tolerances -------------------------------------------------------------------------- */
+
+/* The shorthand {"tol_<unit>": t, "cpk": c[, "nominal": x]}: a normal of sd t / (3 cpk) around the
+ * nominal, or for a radial magnitude the Rayleigh with the out-of-tolerance fraction of a centred
+ * normal of that Cpk, P(R > t) = 2 Q(3 Cpk). */
+static void read_shorthand(prsm_io_at *at, const char *tol_key, const char *path, const param_info *pi,
+                           prsm_problems *pr)
+{
+	prsm_io_tolerance *t = at->base;
+	const cJSON *o = at->obj;
+	if (path && prsm_problems_total(pr) == at->start) {
+		const char *want = pi->unit;
+		const char *got = tol_key[3] == '_' ? tol_key + 4 : "";
+		if (strcmp(want, got) != 0)
+			prsm_io_problem(pr, at->pointer, tol_key, "unit", "%s is in %s: use %s%s%s", t->parameter,
+			                want[0] ? want : "its own unit", "tol", want[0] ? "_" : "", want);
+	}
+	double nominal = 0.0;
+	t->tol = NAN;
+	t->cpk = 1.0;
+	prsm_io_get(at, tol_key, pr);
+	prsm_io_get(at, "cpk", pr);
+	prsm_json_get_number(&nominal, o, at->pointer, "nominal", PRSM_JSON_OPTIONAL, ANY, pr);
+	for (int k = 0; k < PRSM_DIST_KIND_COUNT; k++)
+		for (int q = 0; q < 4 && prsm_dist_param_name(k, q); q++) {
+			const char *pn = prsm_dist_param_name(k, q);
+			if (strcmp(pn, "mean") != 0 && cJSON_GetObjectItemCaseSensitive(o, pn))
+				prsm_io_problem(pr, at->pointer, pn, "not_allowed", "%s is a distribution parameter: not with %s",
+				                pn, tol_key);
+		}
+	if (cJSON_GetObjectItemCaseSensitive(o, "mean"))
+		prsm_problems_add(pr, at->pointer, "not_allowed", "the shorthand takes nominal, not mean");
+	t->shorthand = 1;
+	if (!isfinite(t->tol))
+		return;
+	if (path && pi->radial) {
+		t->dist.kind = PRSM_DIST_RAYLEIGH;
+		t->dist.p[0] = t->tol / sqrt(-2.0 * log(2.0 * gsl_cdf_ugaussian_Q(3.0 * t->cpk)));
+		if (nominal != 0.0)
+			prsm_problems_add(pr, at->pointer, "not_allowed", "a radial magnitude has no nominal");
+	} else {
+		prsm_dist_from_tolerance(&t->dist, nominal, t->tol, t->cpk);
+	}
+}
+
+/* A named distribution: its parameters in its order (normal's and truncnormal's mean default to
+ * 0, a deviation from nominal; truncnormal's bounds to none, one at least), no other's. */
+static void read_named(prsm_io_at *at, prsm_problems *pr)
+{
+	prsm_io_tolerance *t = at->base;
+	const cJSON *o = at->obj;
+	if (prsm_io_get(at, "distribution", pr) != PRSM_JSON_PRESENT)
+		return;
+	const int kind = t->dist.kind, bounded = kind == PRSM_DIST_TRUNCNORMAL;
+	for (int q = 0; q < 4 && prsm_dist_param_name(kind, q); q++) {
+		const int optional = ((kind == PRSM_DIST_NORMAL || bounded) && q == 0) || (bounded && q >= 2);
+		double v = optional && q == 0 ? 0.0 : NAN;
+		if (prsm_json_get_number(&v, o, at->pointer, prsm_dist_param_name(kind, q),
+		                         optional ? PRSM_JSON_OPTIONAL : PRSM_JSON_REQUIRED, ANY, pr) == PRSM_JSON_ABSENT &&
+		    bounded && q >= 2)
+			v = q == 2 ? -INFINITY : INFINITY;
+		t->dist.p[q] = v;
+	}
+	if (bounded && !cJSON_GetObjectItemCaseSensitive(o, "lower") && !cJSON_GetObjectItemCaseSensitive(o, "upper"))
+		prsm_problems_add(pr, at->pointer, "required", "truncnormal needs lower, upper or both");
+	char list[64] = ""; /* "mean, sd" */
+	for (int q = 0; q < 4 && prsm_dist_param_name(kind, q); q++)
+		snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", q ? ", " : "", prsm_dist_param_name(kind, q));
+	for (const cJSON *it = o->child; it; it = it->next) { /* the parameters of other distributions */
+		int any = 0, mine = 0;
+		for (int j = 0; j < PRSM_DIST_KIND_COUNT; j++)
+			for (int q = 0; q < 4 && prsm_dist_param_name(j, q) && it->string; q++)
+				if (strcmp(prsm_dist_param_name(j, q), it->string) == 0) {
+					any = 1;
+					mine |= j == kind;
+				}
+		if (any && !mine)
+			prsm_io_problem(pr, at->pointer, it->string, "not_allowed", "%s is not a parameter of %s (it takes %s)",
+			                it->string, prsm_dist_name(kind), list);
+	}
+	if (cJSON_GetObjectItemCaseSensitive(o, "cpk") || cJSON_GetObjectItemCaseSensitive(o, "nominal"))
+		prsm_problems_add(pr, at->pointer, "not_allowed", "cpk and nominal belong to the tol shorthand");
+}
+
+/* "tolerances"[i]: a parameter the design (or the benchmark) has, the shorthand or a named
+ * distribution, checked, and one tolerance per parameter */
+int prsm_io_step_tolerance(prsm_io_at *at, prsm_problems *pr)
+{
+	prsm_io_tolerance *t = at->base;
+	const prsm_io_study *s = at->root;
+	const study_reading *c = at->ctx;
+	/* the parameter, when it was read and the design (or benchmark) is known */
+	const char *path = c->design_rc == 0 && prsm_io_was_read(at, "parameter")
+	                       ? cJSON_GetObjectItemCaseSensitive(at->obj, "parameter")->valuestring : NULL;
+	param_info pi;
+	char msg[200];
+	memset(&pi, 0, sizeof pi);
+	if (path && param_find(&pi, path, s, msg, sizeof msg))
+		prsm_io_problem(pr, at->pointer, "parameter", "unknown_parameter", "%s: %s", path, msg);
+	prsm_io_get(at, "shared", pr);
 	static const char *const tol_keys[] = {"tol", "tol_um", "tol_mrad", "tol_um_per_300mm", NULL};
+	const char *tol_key = NULL;
 	for (int i = 0; tol_keys[i]; i++)
-		if (cJSON_GetObjectItemCaseSensitive(o, tol_keys[i])) {
+		if (cJSON_GetObjectItemCaseSensitive(at->obj, tol_keys[i])) {
 			if (tol_key) {
-				prsm_problems_add(pr, ptr, "conflict", "give one of tol, tol_um, tol_mrad, tol_um_per_300mm");
+				prsm_problems_add(pr, at->pointer, "conflict", "give one of tol, tol_um, tol_mrad, tol_um_per_300mm");
 				break;
 			}
 			tol_key = tol_keys[i];
 		}
-	const cJSON *dist = cJSON_GetObjectItemCaseSensitive(o, "distribution");
-	if (tol_key && dist) {
-		prsm_problems_add(pr, ptr, "conflict", "give either a distribution or the %s/cpk shorthand", tol_key);
-		return PRSM_EINVAL;
-	}
-	if (tol_key) {
-		char tp[PRSM_JSON_POINTER_MAX];
-		prsm_json_pointer_append(tp, sizeof tp, ptr, tol_key);
-		if (have_path && params_known && prsm_problems_total(pr) == bad) {
-			const char *want = pi->unit;
-			const char *got = tol_key[3] == '_' ? tol_key + 4 : "";
-			if (strcmp(want, got) != 0)
-				prsm_problems_add(pr, tp, "unit", "%s is in %s: use %s%s%s", t->parameter,
-				                  want[0] ? want : "its own unit", "tol", want[0] ? "_" : "", want);
-		}
-		double tol = NAN, cpk = 1.0, nominal = 0.0;
-		prsm_json_get_number(&tol, o, ptr, tol_key, PRSM_JSON_REQUIRED, POSITIVE, pr);
-		prsm_json_get_number(&cpk, o, ptr, "cpk", PRSM_JSON_OPTIONAL, (prsm_json_range){0.1, 10.0, 0, 0}, pr);
-		prsm_json_get_number(&nominal, o, ptr, "nominal", PRSM_JSON_OPTIONAL, ANY, pr);
-		for (int k = 0; k < 6; k++)
-			for (int q = 0; q < 4 && prsm_dist_param_name(k, q); q++)
-				if (strcmp(prsm_dist_param_name(k, q), "mean") != 0 && cJSON_GetObjectItemCaseSensitive(o, prsm_dist_param_name(k, q))) {
-					char xp[PRSM_JSON_POINTER_MAX];
-					prsm_json_pointer_append(xp, sizeof xp, ptr, prsm_dist_param_name(k, q));
-					prsm_problems_add(pr, xp, "not_allowed", "%s is a distribution parameter: not with %s",
-					                  prsm_dist_param_name(k, q), tol_key);
-				}
-		if (cJSON_GetObjectItemCaseSensitive(o, "mean"))
-			prsm_problems_add(pr, ptr, "not_allowed", "the shorthand takes nominal, not mean");
-		t->shorthand = 1;
-		t->tol = tol;
-		t->cpk = cpk;
-		if (isfinite(tol)) {
-			if (have_path && params_known && pi->radial) {
-				/* a radial magnitude: Rayleigh, with the out-of-tolerance fraction of a centred
-				 * normal of that Cpk, P(R > t) = 2 Q(3 Cpk) */
-				double tail = 2.0 * gsl_cdf_ugaussian_Q(3.0 * cpk);
-				t->dist.kind = PRSM_DIST_RAYLEIGH;
-				t->dist.p[0] = tol / sqrt(-2.0 * log(tail));
-				if (nominal != 0.0)
-					prsm_problems_add(pr, ptr, "not_allowed", "a radial magnitude has no nominal");
-			} else {
-				prsm_dist_from_tolerance(&t->dist, nominal, tol, cpk);
-			}
-		}
+	if (tol_key && cJSON_GetObjectItemCaseSensitive(at->obj, "distribution")) {
+		prsm_problems_add(pr, at->pointer, "conflict", "give either a distribution or the %s/cpk shorthand", tol_key);
 	} else {
-		int kind = 0;
-		if (prsm_json_get_enum(&kind, o, ptr, "distribution", PRSM_JSON_REQUIRED, dist_names, pr) ==
-		    PRSM_JSON_PRESENT) {
-			t->dist.kind = (prsm_dist_kind)kind;
-			for (int q = 0; q < 4; q++) {
-				const char *pn = prsm_dist_param_name(kind, q);
-				if (!pn)
-					break;
-				/* normal's mean defaults to 0 (a deviation from nominal) */
-				int optional = (kind == PRSM_DIST_NORMAL || kind == PRSM_DIST_TRUNCNORMAL) && q == 0;
-				double v = optional ? 0.0 : NAN;
-				prsm_json_range r = ANY;
-				if (kind == PRSM_DIST_TRUNCNORMAL && q >= 2)
-					r = (prsm_json_range){-HUGE_VAL, HUGE_VAL, 0, 0};
-				int got = prsm_json_get_number(&v, o, ptr, pn,
-				                               optional || (kind == PRSM_DIST_TRUNCNORMAL && q >= 2)
-				                                   ? PRSM_JSON_OPTIONAL : PRSM_JSON_REQUIRED, r, pr);
-				if (kind == PRSM_DIST_TRUNCNORMAL && q >= 2 && got == PRSM_JSON_ABSENT)
-					v = q == 2 ? -INFINITY : INFINITY;
-				t->dist.p[q] = v;
-			}
-			if (kind == PRSM_DIST_TRUNCNORMAL && !cJSON_GetObjectItemCaseSensitive(o, "lower") &&
-			    !cJSON_GetObjectItemCaseSensitive(o, "upper"))
-				prsm_problems_add(pr, ptr, "required", "truncnormal needs lower, upper or both");
-			/* parameters of other distributions */
-			for (const cJSON *it = o->child; it; it = it->next) {
-				if (!it->string)
-					continue;
-				int mine = 0, foreign = 0;
-				for (int k = 0; k < 6; k++)
-					for (int q = 0; q < 4 && prsm_dist_param_name(k, q); q++)
-						if (strcmp(prsm_dist_param_name(k, q), it->string) == 0) {
-							foreign = 1;
-							mine |= k == kind;
-						}
-				if (foreign && !mine) {
-					char xp[PRSM_JSON_POINTER_MAX];
-					prsm_json_pointer_append(xp, sizeof xp, ptr, it->string);
-					prsm_problems_add(pr, xp, "not_allowed", "%s is not a parameter of %s (it takes %s%s%s%s%s%s%s)",
-					                  it->string, dist_names[kind], prsm_dist_param_name(kind, 0),
-					                  prsm_dist_param_name(kind, 1) ? ", " : "", prsm_dist_param_name(kind, 1) ? prsm_dist_param_name(kind, 1) : "",
-					                  prsm_dist_param_name(kind, 2) ? ", " : "", prsm_dist_param_name(kind, 2) ? prsm_dist_param_name(kind, 2) : "",
-					                  prsm_dist_param_name(kind, 3) ? ", " : "", prsm_dist_param_name(kind, 3) ? prsm_dist_param_name(kind, 3) : "");
-				}
-			}
-			if (cJSON_GetObjectItemCaseSensitive(o, "cpk") || cJSON_GetObjectItemCaseSensitive(o, "nominal"))
-				prsm_problems_add(pr, ptr, "not_allowed", "cpk and nominal belong to the tol shorthand");
+		if (tol_key)
+			read_shorthand(at, tol_key, path, &pi, pr);
+		else
+			read_named(at, pr);
+		if (prsm_problems_total(pr) == at->start && prsm_dist_check(&t->dist, msg, sizeof msg))
+			prsm_problems_add(pr, at->pointer, "bad_distribution", "%s", msg);
+		if (path && prsm_problems_total(pr) == at->start) {
+			t->per_roller = pi.per_roller;
+			t->per_start = pi.per_start;
+			t->radial = pi.radial;
+			if (t->shared && !pi.per_roller && !pi.per_start)
+				prsm_io_problem(pr, at->pointer, "shared", "not_allowed",
+				                "shared applies to per-roller and per-start parameters only");
 		}
 	}
-	if (prsm_problems_total(pr) == bad) {
-		char msg[200];
-		if (prsm_dist_check(&t->dist, msg, sizeof msg))
-			prsm_problems_add(pr, ptr, "bad_distribution", "%s", msg);
-	}
-	if (have_path && params_known && prsm_problems_total(pr) == bad) {
-		t->per_roller = pi->per_roller;
-		t->per_start = pi->per_start;
-		t->radial = pi->radial;
-		if (shared && !pi->per_roller && !pi->per_start) {
-			char sp[PRSM_JSON_POINTER_MAX];
-			prsm_json_pointer_append(sp, sizeof sp, ptr, "shared");
-			prsm_problems_add(pr, sp, "not_allowed", "shared applies to per-roller and per-start parameters only");
-		}
-	}
-	return prsm_problems_total(pr) == bad ? 0 : PRSM_EINVAL;
+	for (int k = 0; k < at->index; k++)
+		if (t->parameter[0] && strcmp(s->tolerances[k].parameter, t->parameter) == 0)
+			prsm_io_problem(pr, at->pointer, "parameter", "duplicate", "%s has a tolerance already (at /tolerances/%d)",
+			                t->parameter, k);
+	return 0;
 }
+
+/* ---- variables --------------------------------------------------------------------------- */
 
 /* Append one variable bound as b. Returns its index. */
 static size_t add_var(prsm_io_study *s, const prsm_dist *dist, int group, const prsm_mc_binding *b,
@@ -416,32 +389,22 @@ static size_t count_vars(const prsm_io_tolerance *t, const prsm_io_study *s)
 {
 	if (s->is_benchmark)
 		return 1;
-	size_t copies = 1;
-	if (t->per_roller && !t->shared)
-		copies = (size_t)s->design.rollers;
-	if (t->per_start && !t->shared)
-		copies = (size_t)s->design.starts;
-	return copies * (t->radial ? 2 : 1);
+	const int copies = t->shared ? 1 : t->per_roller ? s->design.rollers : t->per_start ? s->design.starts : 1;
+	return (size_t)copies * (t->radial ? 2 : 1);
 }
 
-/* Variables of tolerance g. */
-static void build_vars(prsm_io_study *s, size_t g, const param_info *pi)
+/* The variables of tolerance g: one per roller (per start) unless shared, a radial magnitude's
+ * each followed by its direction; a benchmark's inputs keep their order (x_i is variable i-1). */
+static void build_vars(prsm_io_study *s, size_t g)
 {
 	const prsm_io_tolerance *t = &s->tolerances[g];
 	prsm_study *st = &s->study;
 	prsm_study_group *gr = &st->groups[g];
+	param_info info, *pi = &info;
+	char msg[200];
+	param_find(pi, t->parameter, s, msg, sizeof msg); /* found when it was read */
 	snprintf(gr->name, sizeof gr->name, "%s", t->parameter);
-	gr->first_var = st->d;
-	prsm_mc_binding b = {pi->part, 0, pi->offset, pi->scale};
-	prsm_dist phase = {PRSM_DIST_UNIFORM, {0.0, 2.0 * M_PI, 0.0, 0.0}};
-	const char *dot = strchr(t->parameter, '.');
-	const char *key = dot ? dot + 1 : t->parameter;
-	char stem[PRSM_STUDY_NAME_MAX];
-	/* the key without its unit: runout_um -> runout, tilt_mrad -> tilt */
-	size_t unit_len = strlen(unit_of(key));
-	snprintf(stem, sizeof stem, "%.*s", (int)(unit_len ? strlen(key) - unit_len - 1 : strlen(key)), key);
 	if (s->is_benchmark) {
-		/* benchmark inputs keep their own order: x_i is variable i-1 */
 		size_t i = (size_t)pi->bench_index;
 		st->vars[i].dist = t->dist;
 		st->vars[i].group = (int)g;
@@ -450,53 +413,137 @@ static void build_vars(prsm_io_study *s, size_t g, const param_info *pi)
 		gr->first_var = i;
 		gr->n_vars = 1;
 		return;
-	} else if (t->per_roller) {
-		int Z = t->shared ? 1 : s->design.rollers;
-		for (int j = 0; j < Z; j++) {
-			b.roller = t->shared ? -1 : j;
-			b.offset = pi->offset;
-			b.scale = pi->scale;
-			char who[32];
-			if (t->shared)
-				snprintf(who, sizeof who, "roller[*]");
-			else
-				snprintf(who, sizeof who, "roller[%d]", j);
-			size_t m = add_var(s, &t->dist, (int)g, &b, "%s.%s", who, key);
-			if (pi->radial) {
-				prsm_mc_binding bp = b;
-				bp.offset = pi->phase_offset;
-				bp.scale = 1.0;
-				size_t q = add_var(s, &phase, (int)g, &bp, "%s.%s_phase_rad", who, stem);
-				st->info[m].phase = (int)q;
-				st->info[q].phase_of = (int)m;
-			}
-		}
-	} else if (t->per_start) {
-		int n = t->shared ? 1 : s->design.starts;
-		for (int k = 0; k < n; k++) {
-			b.roller = t->shared ? -1 : k; /* for starts: which start, -1 all */
-			b.offset = pi->offset + (t->shared ? 0 : (size_t)k * sizeof(double));
-			if (t->shared)
-				add_var(s, &t->dist, (int)g, &b, "%s[*]", t->parameter);
-			else
-				add_var(s, &t->dist, (int)g, &b, "%s[%d]", t->parameter, k);
-		}
-	} else {
-		b.roller = 0;
-		size_t m = add_var(s, &t->dist, (int)g, &b, "%s", t->parameter);
+	}
+	static const prsm_dist phase = {PRSM_DIST_UNIFORM, {0.0, 2.0 * M_PI, 0.0, 0.0}};
+	const char *key = strchr(t->parameter, '.') + 1;
+	/* the key without its unit: runout_um -> runout, tilt_mrad -> tilt */
+	const size_t unit_len = strlen(unit_of(key));
+	const int stem = (int)(unit_len ? strlen(key) - unit_len - 1 : strlen(key));
+	const int each = t->per_roller || t->per_start, n = (int)count_vars(t, s) / (t->radial ? 2 : 1);
+	gr->first_var = st->d;
+	for (int j = 0; j < n; j++) {
+		char who[32], idx[16] = ""; /* roller[j].key, part.key[j] or part.key */
+		if (t->per_roller && t->shared)
+			snprintf(who, sizeof who, "roller[*]");
+		else if (t->per_roller)
+			snprintf(who, sizeof who, "roller[%d]", j);
+		else
+			snprintf(who, sizeof who, "%.*s", (int)(key - 1 - t->parameter), t->parameter);
+		if (t->per_start && t->shared)
+			snprintf(idx, sizeof idx, "[*]");
+		else if (t->per_start)
+			snprintf(idx, sizeof idx, "[%d]", j);
+		/* a start's index error: the start's own double, -1 all starts */
+		const prsm_mc_binding b = {pi->part, each ? (t->shared ? -1 : j) : 0,
+		                           pi->offset + (t->per_start && !t->shared ? (size_t)j * sizeof(double) : 0), pi->scale};
+		const size_t m = add_var(s, &t->dist, (int)g, &b, "%s.%s%s", who, key, idx);
 		if (pi->radial) {
-			prsm_mc_binding bp = b;
-			bp.offset = pi->phase_offset;
-			bp.scale = 1.0;
-			char part[16];
-			snprintf(part, sizeof part, "%.*s", (int)(dot - t->parameter), t->parameter);
-			size_t q = add_var(s, &phase, (int)g, &bp, "%s.%s_phase_rad", part, stem);
+			const prsm_mc_binding bp = {b.part, b.roller, pi->phase_offset, 1.0};
+			const size_t q = add_var(s, &phase, (int)g, &bp, "%s.%.*s_phase_rad", who, stem, key);
 			st->info[m].phase = (int)q;
 			st->info[q].phase_of = (int)m;
 		}
 	}
 	gr->n_vars = st->d - gr->first_var;
 }
+
+/* The variables of every tolerance, once everything they depend on is valid. */
+int prsm_io_step_variables(prsm_io_at *at, prsm_problems *pr)
+{
+	prsm_io_study *s = at->root;
+	const size_t nt = s->n_tolerances;
+	if (prsm_problems_total(pr) != at->start || nt == 0)
+		return 0;
+	size_t d = 0;
+	for (size_t g = 0; g < nt; g++)
+		d += count_vars(&s->tolerances[g], s);
+	if (d > PRSM_MC_MAX_VARIABLES) {
+		prsm_problems_add(pr, "/tolerances", "too_many", "the tolerances make %zu variables (per roller, "
+		                  "per start, with phases): at most %d", d, PRSM_MC_MAX_VARIABLES);
+		return 0;
+	}
+	if (s->is_benchmark && d != s->bench.inputs)
+		prsm_problems_add(pr, "/tolerances", "incomplete", "the %s benchmark has %zu inputs: give "
+		                  "each of x1 .. x%zu one tolerance", prsm_bench_name(s->bench.kind),
+		                  s->bench.inputs, s->bench.inputs);
+	for (size_t g = 0; g < nt; g++)
+		build_vars(s, g);
+	if (s->is_benchmark)
+		s->study.d = s->bench.inputs;
+	s->study.n_groups = nt;
+	return 0;
+}
+
+/* "correlations"[i]: between two tolerances, variable by variable */
+int prsm_io_step_correlation(prsm_io_at *at, prsm_problems *pr)
+{
+	prsm_io_study *s = at->root;
+	prsm_study *st = &s->study;
+	const prsm_mc_correlation *item = at->base;
+	char bp[PRSM_JSON_POINTER_MAX];
+	prsm_json_pointer_append(bp, sizeof bp, at->pointer, "between");
+	const cJSON *between = cJSON_GetObjectItemCaseSensitive(at->obj, "between");
+	if (!cJSON_IsArray(between) || cJSON_GetArraySize(between) != 2 || !cJSON_IsString(between->child) ||
+	    !cJSON_IsString(between->child->next)) {
+		prsm_problems_add(pr, bp, "bad_array", "between: the parameters of two tolerances");
+		return 0;
+	}
+	int g[2] = {-1, -1};
+	for (int k = 0; k < 2; k++) {
+		const char *name = (k ? between->child->next : between->child)->valuestring;
+		for (size_t t = 0; t < s->n_tolerances; t++)
+			if (strcmp(s->tolerances[t].parameter, name) == 0)
+				g[k] = (int)t;
+		if (g[k] < 0) {
+			char ep[PRSM_JSON_POINTER_MAX];
+			prsm_json_pointer_append_index(ep, sizeof ep, bp, k);
+			prsm_problems_add(pr, ep, "unknown_tolerance", "'%s' is not one of the study's tolerances", name);
+		}
+	}
+	if (g[0] < 0 || g[1] < 0 || !prsm_io_was_read(at, "rho") || st->d == 0)
+		return 0;
+	if (g[0] == g[1]) {
+		prsm_problems_add(pr, bp, "same", "a tolerance cannot be correlated with itself");
+		return 0;
+	}
+	const prsm_study_group *ga = &st->groups[g[0]], *gb = &st->groups[g[1]];
+	size_t step_a = s->tolerances[g[0]].radial ? 2 : 1, step_b = s->tolerances[g[1]].radial ? 2 : 1;
+	size_t na = ga->n_vars / step_a, nb = gb->n_vars / step_b;
+	if (na != nb && na != 1 && nb != 1) {
+		prsm_problems_add(pr, bp, "shape", "these tolerances have %zu and %zu variables: correlate per-roller "
+		                  "with per-roller, or with a single tolerance", na, nb);
+		return 0;
+	}
+	if (na != nb) {
+		prsm_problems_add(pr, bp, "shape", "a single tolerance cannot be correlated with each of %zu "
+		                  "independent ones: make the per-roller one shared, or correlate like with like",
+		                  na > nb ? na : nb);
+		return 0;
+	}
+	for (size_t k = 0; k < na; k++) {
+		if (st->n_corr >= PRSM_MC_MAX_CORRELATIONS) {
+			prsm_problems_add(pr, at->pointer, "too_many", "at most %d correlated variable pairs",
+			                  PRSM_MC_MAX_CORRELATIONS);
+			break;
+		}
+		st->corr[st->n_corr++] = (prsm_mc_correlation){ga->first_var + k * step_a, gb->first_var + k * step_b,
+		                                               item->rho};
+	}
+	return 0;
+}
+
+/* "correlations": the pairs make a positive definite matrix */
+int prsm_io_step_correlations(prsm_io_at *at, prsm_problems *pr)
+{
+	const prsm_study *st = &((prsm_io_study *)at->root)->study;
+	prsm_error err = PRSM_ERROR_INIT;
+	if (prsm_problems_total(pr) == at->start && st->n_corr &&
+	    prsm_mc_correlation_check(st->corr, st->n_corr, st->d, &err))
+		prsm_problems_add(pr, "/correlations", "not_positive_definite", "%s", err.message);
+	return 0;
+}
+
+/* ---- outputs, specs, targets ------------------------------------------------------------- */
 
 static int output_index(const prsm_io_study *s, const char *name)
 {
@@ -561,99 +608,6 @@ static int nominal_unit_terms(prsm_io_study *s, prsm_problems *pr)
 	return bad;
 }
 
-/* design_ok: the design loaded, so its operating load is known. */
-static void read_outputs(prsm_io_study *s, const cJSON *doc, int design_ok, prsm_problems *pr)
-{
-	const cJSON *arr = cJSON_GetObjectItemCaseSensitive(doc, "outputs");
-	int n = cJSON_GetArraySize(arr);
-	if (!arr) {
-		/* default: the benchmark's y, or backlash and load sharing */
-		if (s->is_benchmark) {
-			snprintf(s->study.outputs[0].name, sizeof s->study.outputs[0].name, "y");
-			s->study.m = 1;
-		} else {
-			snprintf(s->study.outputs[0].name, sizeof s->study.outputs[0].name, "backlash_um");
-			s->prsm.outputs[0] = PRSM_OUT_BACKLASH;
-			s->study.m = 1;
-			if (s->design.axial_load_N > 0.0) {
-				snprintf(s->study.outputs[1].name, sizeof s->study.outputs[1].name, "load_sharing_factor");
-				s->prsm.outputs[1] = PRSM_OUT_SHARING;
-				s->study.m = 2;
-			}
-		}
-		return;
-	}
-	if (!cJSON_IsArray(arr) || n < 1 || n > PRSM_MC_MAX_OUTPUTS) {
-		prsm_problems_add(pr, "/outputs", "bad_array", "outputs: an array of 1 to %d output names",
-		                  PRSM_MC_MAX_OUTPUTS);
-		return;
-	}
-	int i = 0;
-	for (const cJSON *it = arr->child; it; it = it->next, i++) {
-		char ip[PRSM_JSON_POINTER_MAX];
-		const char *name = NULL;
-		prsm_json_pointer_append_index(ip, sizeof ip, "/outputs", i);
-		if (prsm_json_string_value(&name, it, ip, 47, pr))
-			continue;
-		prsm_output_kind k;
-		if (s->is_benchmark ? strcmp(name, "y") != 0 : prsm_output_parse(name, &k) != 0) {
-			if (s->is_benchmark)
-				prsm_problems_add(pr, ip, "unknown_output", "a benchmark has one output, y");
-			else
-				prsm_problems_add(pr, ip, "unknown_output",
-				                  "unknown output '%s': " PRSM_OUTPUT_NAMES_TEXT, name);
-			continue;
-		}
-		if (output_index(s, name) >= 0) {
-			prsm_problems_add(pr, ip, "duplicate", "output '%s' is listed twice", name);
-			continue;
-		}
-		if (!s->is_benchmark && design_ok && !(s->design.axial_load_N > 0.0) &&
-		    (k == PRSM_OUT_SHARING || k == PRSM_OUT_STIFFNESS || k == PRSM_OUT_STIFFNESS_RATIO ||
-		     k == PRSM_OUT_UNIT_STIFFNESS || k == PRSM_OUT_EFFICIENCY_LOSSES)) {
-			prsm_problems_add(pr, ip, "no_load", "%s needs an operating axial load "
-			                  "(/design/operating_point/axial_load_N > 0)", name);
-			continue;
-		}
-		snprintf(s->study.outputs[s->study.m].name, sizeof s->study.outputs[0].name, "%s", name);
-		if (!s->is_benchmark)
-			s->prsm.outputs[s->study.m] = k;
-		s->study.m++;
-	}
-}
-
-static void read_specs(prsm_io_study *s, const cJSON *doc, prsm_problems *pr)
-{
-	const cJSON *specs = NULL;
-	if (prsm_json_get_object(&specs, doc, "", "specs", PRSM_JSON_OPTIONAL, pr) != PRSM_JSON_PRESENT)
-		return;
-	prsm_json_check_duplicates(specs, "/specs", pr);
-	for (const cJSON *it = specs->child; it; it = it->next) {
-		char sp[PRSM_JSON_POINTER_MAX];
-		prsm_json_pointer_append(sp, sizeof sp, "/specs", it->string);
-		int o = output_index(s, it->string);
-		if (o < 0) {
-			prsm_problems_add(pr, sp, "unknown_output", "'%s' is not one of the study's outputs", it->string);
-			continue;
-		}
-		if (prsm_json_object_value(it, sp, pr))
-			continue;
-		prsm_json_check_keys(it, sp, spec_keys, pr);
-		prsm_spec *spec = &s->study.outputs[o].spec;
-		int lo = prsm_json_get_number(&spec->lower, it, sp, "lower", PRSM_JSON_OPTIONAL, ANY, pr);
-		int hi = prsm_json_get_number(&spec->upper, it, sp, "upper", PRSM_JSON_OPTIONAL, ANY, pr);
-		spec->has_lower = lo == PRSM_JSON_PRESENT;
-		spec->has_upper = hi == PRSM_JSON_PRESENT;
-		if (lo == PRSM_JSON_ABSENT && hi == PRSM_JSON_ABSENT)
-			prsm_problems_add(pr, sp, "required", "a spec needs lower, upper or both");
-		if (spec->has_lower && spec->has_upper && !(spec->lower < spec->upper)) {
-			char up[PRSM_JSON_POINTER_MAX];
-			prsm_json_pointer_append(up, sizeof up, sp, "upper");
-			prsm_problems_add(pr, up, "range", "upper must be greater than lower");
-		}
-		s->study.outputs[o].has_spec = spec->has_lower || spec->has_upper;
-	}
-}
 
 /* "monte_carlo"."seed": an integer up to 2^53, which JSON may spell 1e3 */
 void prsm_io_hook_seed(void *base, const cJSON *mc, const char *p, prsm_problems *pr)
@@ -669,302 +623,158 @@ void prsm_io_hook_seed(void *base, const cJSON *mc, const char *p, prsm_problems
 	}
 }
 
-void prsm_io_study_mc_from_json(prsm_io_study *s, const cJSON *doc, prsm_problems *pr)
-{
-	prsm_mc_options *o = &s->study.mc;
-	prsm_mc_options_default(o);
-	const cJSON *mc = NULL;
-	if (prsm_json_get_object(&mc, doc, "", "monte_carlo", PRSM_JSON_OPTIONAL, pr) != PRSM_JSON_PRESENT)
-		return;
-	/* the fields: schemas/study.schema.json, $defs/monte_carlo (x-prsm); the targets name the
-	 * study's outputs, so they are read here */
-	prsm_io_read(o, &prsm_io_t_monte_carlo, mc, "/monte_carlo", pr);
-	const cJSON *targets = cJSON_GetObjectItemCaseSensitive(mc, "targets");
-	if (targets) {
-		int n = cJSON_GetArraySize(targets);
-		if (!cJSON_IsArray(targets) || n > PRSM_MC_MAX_TARGETS) {
-			prsm_problems_add(pr, "/monte_carlo/targets", "bad_array", "targets: an array of at most %d objects",
-			                  PRSM_MC_MAX_TARGETS);
-			return;
-		}
-		int i = 0;
-		for (const cJSON *it = targets->child; it; it = it->next, i++) {
-			char tp[PRSM_JSON_POINTER_MAX];
-			prsm_json_pointer_append_index(tp, sizeof tp, "/monte_carlo/targets", i);
-			if (prsm_json_object_value(it, tp, pr))
-				continue;
-			prsm_json_check_keys(it, tp, target_keys, pr);
-			const char *name = NULL;
-			prsm_mc_target *tg = &o->targets[o->n_targets];
-			memset(tg, 0, sizeof *tg);
-			if (prsm_json_get_string(&name, it, tp, "output", PRSM_JSON_REQUIRED, 47, pr) != PRSM_JSON_PRESENT)
-				continue;
-			int oi = output_index(s, name);
-			if (oi < 0) {
-				char op[PRSM_JSON_POINTER_MAX];
-				prsm_json_pointer_append(op, sizeof op, tp, "output");
-				prsm_problems_add(pr, op, "unknown_output", "'%s' is not one of the study's outputs", name);
-				continue;
-			}
-			tg->output = (size_t)oi;
-			int kinds = 0;
-			static const char *const tk[] = {"standard_error", "cv", "yield_interval_width"};
-			for (int k = 0; k < 3; k++)
-				if (prsm_json_get_number(&tg->value, it, tp, tk[k], PRSM_JSON_OPTIONAL, POSITIVE, pr) ==
-				    PRSM_JSON_PRESENT) {
-					tg->kind = (prsm_target_kind)k;
-					kinds++;
-				}
-			if (kinds != 1) {
-				prsm_problems_add(pr, tp, "required", "a target has exactly one of standard_error, cv, yield_interval_width");
-				continue;
-			}
-			if (tg->kind == PRSM_TARGET_YIELD_WIDTH) {
-				const prsm_study_output *so = &s->study.outputs[oi];
-				if (!so->has_spec) {
-					prsm_problems_add(pr, tp, "no_spec", "a yield target needs a spec for %s in specs", name);
-					continue;
-				}
-				tg->has_lower = so->spec.has_lower;
-				tg->has_upper = so->spec.has_upper;
-				tg->lower = so->spec.lower;
-				tg->upper = so->spec.upper;
-			}
-			o->n_targets++;
-		}
-	}
-}
-
-/* "sensitivity"."sobol": true, false or the Saltelli design's options */
+/* "sensitivity"."sobol": true, false or the Saltelli design's settings ($defs/sobol's table; its
+ * sampler is random or sobol, lhs refused with its own message) */
 void prsm_io_hook_sobol(void *base, const cJSON *sec, const char *p, prsm_problems *pr)
 {
+	static const char *const sampler_names[] = {"random", "lhs", "sobol", NULL};
 	prsm_sens_options *o = base;
 	const cJSON *sob = cJSON_GetObjectItemCaseSensitive(sec, "sobol");
-	if (!sob)
-		return;
-	if (cJSON_IsBool(sob)) {
-		o->sobol = cJSON_IsTrue(sob);
-		return;
-	}
 	char sp[PRSM_JSON_POINTER_MAX];
+	int v;
 	prsm_json_pointer_append(sp, sizeof sp, p, "sobol");
+	if (sob && cJSON_IsBool(sob))
+		o->sobol = cJSON_IsTrue(sob);
+	if (!sob || cJSON_IsBool(sob))
+		return;
 	if (!cJSON_IsObject(sob)) {
 		prsm_problems_add(pr, sp, "type", "sobol: true, false or an object {samples, bootstrap, sampler}");
 		return;
 	}
-	prsm_json_check_keys(sob, sp, sobol_keys, pr);
 	o->sobol = 1;
-	int v;
-	if (prsm_json_get_int(&v, sob, sp, "samples", PRSM_JSON_OPTIONAL, 16, PRSM_IO_STUDY_SOBOL_MAX_SAMPLES, pr) ==
-	    PRSM_JSON_PRESENT)
-		o->sobol_samples = (size_t)v;
-	if (prsm_json_get_int(&v, sob, sp, "bootstrap", PRSM_JSON_OPTIONAL, 0, PRSM_IO_STUDY_MAX_BOOTSTRAP, pr) ==
-	    PRSM_JSON_PRESENT) {
-		if (v == 1) {
-			char bp[PRSM_JSON_POINTER_MAX];
-			prsm_json_pointer_append(bp, sizeof bp, sp, "bootstrap");
-			prsm_problems_add(pr, bp, "range", "bootstrap: 0 (none) or at least 2 resamples");
-		}
-		o->bootstrap = (size_t)v;
-	}
+	prsm_io_read(o, &prsm_io_t_sobol, sob, sp, pr);
+	if (o->bootstrap == 1)
+		prsm_io_problem(pr, sp, "bootstrap", "range", "bootstrap: 0 (none) or at least 2 resamples");
 	if (prsm_json_get_enum(&v, sob, sp, "sampler", PRSM_JSON_OPTIONAL, sampler_names, pr) == PRSM_JSON_PRESENT) {
-		if (v == PRSM_SAMPLER_LHS) {
-			char bp[PRSM_JSON_POINTER_MAX];
-			prsm_json_pointer_append(bp, sizeof bp, sp, "sampler");
-			prsm_problems_add(pr, bp, "enum", "the Saltelli design takes random or sobol");
-		}
+		if (v == PRSM_SAMPLER_LHS)
+			prsm_io_problem(pr, sp, "sampler", "enum", "the Saltelli design takes random or sobol");
 		o->sobol_sampler = (prsm_sampler_kind)v;
 	}
 }
 
-void prsm_io_study_sensitivity_from_json(prsm_io_study *s, const cJSON *doc, prsm_problems *pr)
+/* "outputs" absent: the benchmark's y, or backlash and load sharing */
+int prsm_io_step_outputs(prsm_io_at *at, prsm_problems *pr)
 {
-	prsm_sens_options *o = &s->study.sens;
-	prsm_sens_options_default(o);
-	const cJSON *sec = NULL;
-	if (prsm_json_get_object(&sec, doc, "", "sensitivity", PRSM_JSON_OPTIONAL, pr) != PRSM_JSON_PRESENT)
-		return;
-	/* schemas/study.schema.json, $defs/sensitivity (x-prsm) */
-	prsm_io_read(o, &prsm_io_t_sensitivity, sec, "/sensitivity", pr);
+	(void)pr;
+	prsm_io_study *s = at->root;
+	prsm_study_output *o = s->study.outputs;
+	if (at->obj)
+		return 0;
+	snprintf(o[0].name, sizeof o[0].name, "%s", s->is_benchmark ? "y" : "backlash_um");
+	s->prsm.outputs[0] = PRSM_OUT_BACKLASH;
+	s->study.m = 1;
+	if (!s->is_benchmark && s->design.axial_load_N > 0.0) {
+		snprintf(o[1].name, sizeof o[1].name, "load_sharing_factor");
+		s->prsm.outputs[1] = PRSM_OUT_SHARING;
+		s->study.m = 2;
+	}
+	return 0;
 }
 
-static void read_correlations_list(prsm_io_study *s, const cJSON *doc, prsm_problems *pr);
-
-static void read_correlations(prsm_io_study *s, const cJSON *doc, prsm_problems *pr)
+/* "outputs"[i]: a known one, once, at a load when it needs one */
+int prsm_io_step_output(prsm_io_at *at, prsm_problems *pr)
 {
-	int before = prsm_problems_total(pr);
-	read_correlations_list(s, doc, pr);
-	prsm_error err = PRSM_ERROR_INIT;
-	if (prsm_problems_total(pr) == before && s->study.n_corr &&
-	    prsm_mc_correlation_check(s->study.corr, s->study.n_corr, s->study.d, &err))
-		prsm_problems_add(pr, "/correlations", "not_positive_definite", "%s", err.message);
+	prsm_io_study *s = at->root;
+	const study_reading *c = at->ctx;
+	const char *name = at->obj->valuestring;
+	prsm_output_kind k;
+	if (s->is_benchmark ? strcmp(name, "y") != 0 : prsm_output_parse(name, &k) != 0) {
+		if (s->is_benchmark)
+			prsm_problems_add(pr, at->pointer, "unknown_output", "a benchmark has one output, y");
+		else
+			prsm_problems_add(pr, at->pointer, "unknown_output", "unknown output '%s': " PRSM_OUTPUT_NAMES_TEXT, name);
+		return 0;
+	}
+	if (output_index(s, name) >= 0) {
+		prsm_problems_add(pr, at->pointer, "duplicate", "output '%s' is listed twice", name);
+		return 0;
+	}
+	if (!s->is_benchmark && c->design_rc == 0 && !(s->design.axial_load_N > 0.0) &&
+	    (k == PRSM_OUT_SHARING || k == PRSM_OUT_STIFFNESS || k == PRSM_OUT_STIFFNESS_RATIO ||
+	     k == PRSM_OUT_UNIT_STIFFNESS || k == PRSM_OUT_EFFICIENCY_LOSSES)) {
+		prsm_problems_add(pr, at->pointer, "no_load", "%s needs an operating axial load "
+		                  "(/design/operating_point/axial_load_N > 0)", name);
+		return 0;
+	}
+	snprintf(s->study.outputs[s->study.m].name, sizeof s->study.outputs[0].name, "%s", name);
+	if (!s->is_benchmark)
+		s->prsm.outputs[s->study.m] = k;
+	s->study.m++;
+	return 0;
 }
 
-static void read_correlations_list(prsm_io_study *s, const cJSON *doc, prsm_problems *pr)
+/* "specs": keyed by an output of the study */
+void *prsm_io_key_spec(const prsm_io_at *at, const char *key, prsm_problems *pr)
 {
-	const cJSON *arr = cJSON_GetObjectItemCaseSensitive(doc, "correlations");
-	if (!arr)
-		return;
-	if (!cJSON_IsArray(arr)) {
-		prsm_problems_add(pr, "/correlations", "type", "correlations: an array of {between: [a, b], rho}");
-		return;
-	}
-	prsm_study *st = &s->study;
-	int i = 0;
-	for (const cJSON *it = arr->child; it; it = it->next, i++) {
-		char cp[PRSM_JSON_POINTER_MAX], bp[PRSM_JSON_POINTER_MAX];
-		prsm_json_pointer_append_index(cp, sizeof cp, "/correlations", i);
-		prsm_json_pointer_append(bp, sizeof bp, cp, "between");
-		if (prsm_json_object_value(it, cp, pr))
-			continue;
-		prsm_json_check_keys(it, cp, corr_keys, pr);
-		double rho = NAN;
-		prsm_json_get_number(&rho, it, cp, "rho", PRSM_JSON_REQUIRED,
-		                     (prsm_json_range){-1.0, 1.0, 1, 1}, pr);
-		const cJSON *between = cJSON_GetObjectItemCaseSensitive(it, "between");
-		if (!cJSON_IsArray(between) || cJSON_GetArraySize(between) != 2 ||
-		    !cJSON_IsString(between->child) || !cJSON_IsString(between->child->next)) {
-			prsm_problems_add(pr, bp, "bad_array", "between: the parameters of two tolerances");
-			continue;
-		}
-		int g[2] = {-1, -1};
-		for (int k = 0; k < 2; k++) {
-			const char *name = (k ? between->child->next : between->child)->valuestring;
-			for (size_t t = 0; t < s->n_tolerances; t++)
-				if (strcmp(s->tolerances[t].parameter, name) == 0)
-					g[k] = (int)t;
-			if (g[k] < 0) {
-				char ep[PRSM_JSON_POINTER_MAX];
-				prsm_json_pointer_append_index(ep, sizeof ep, bp, k);
-				prsm_problems_add(pr, ep, "unknown_tolerance", "'%s' is not one of the study's tolerances", name);
-			}
-		}
-		if (g[0] < 0 || g[1] < 0 || !isfinite(rho) || st->d == 0)
-			continue;
-		if (g[0] == g[1]) {
-			prsm_problems_add(pr, bp, "same", "a tolerance cannot be correlated with itself");
-			continue;
-		}
-		const prsm_study_group *ga = &st->groups[g[0]], *gb = &st->groups[g[1]];
-		size_t step_a = s->tolerances[g[0]].radial ? 2 : 1, step_b = s->tolerances[g[1]].radial ? 2 : 1;
-		size_t na = ga->n_vars / step_a, nb = gb->n_vars / step_b;
-		if (na != nb && na != 1 && nb != 1) {
-			prsm_problems_add(pr, bp, "shape", "these tolerances have %zu and %zu variables: correlate per-roller "
-			                  "with per-roller, or with a single tolerance", na, nb);
-			continue;
-		}
-		if (na != nb) {
-			prsm_problems_add(pr, bp, "shape", "a single tolerance cannot be correlated with each of %zu "
-			                  "independent ones: make the per-roller one shared, or correlate like with like",
-			                  na > nb ? na : nb);
-			continue;
-		}
-		for (size_t k = 0; k < na; k++) {
-			if (st->n_corr >= PRSM_MC_MAX_CORRELATIONS) {
-				prsm_problems_add(pr, cp, "too_many", "at most %d correlated variable pairs", PRSM_MC_MAX_CORRELATIONS);
-				break;
-			}
-			prsm_mc_correlation *c = &st->corr[st->n_corr++];
-			c->a = ga->first_var + k * step_a;
-			c->b = gb->first_var + k * step_b;
-			c->rho = rho;
-		}
-	}
+	prsm_io_study *s = at->root;
+	const int o = output_index(s, key);
+	if (o >= 0)
+		return &s->study.outputs[o];
+	prsm_problems_add(pr, at->pointer, "unknown_output", "'%s' is not one of the study's outputs", key);
+	return NULL;
 }
 
-int prsm_io_study_load(prsm_io_study *out, const cJSON *doc, prsm_problems *warnings,
-                       prsm_problems *pr)
+/* "specs".output: lower, upper or both, lower < upper */
+int prsm_io_step_spec(prsm_io_at *at, prsm_problems *pr)
 {
-	memset(out, 0, sizeof *out);
-	int start = prsm_problems_total(pr);
-	if (prsm_json_object_value(doc, "", pr))
-		return PRSM_EINVAL;
-	prsm_json_check_keys(doc, "", study_keys, pr);
-	const char *name = NULL;
-	if (prsm_json_get_string(&name, doc, "", "name", PRSM_JSON_OPTIONAL, 100, pr) == PRSM_JSON_PRESENT)
-		prsm_utf8_copy(out->name, sizeof out->name, name);
+	prsm_study_output *o = at->base;
+	prsm_spec *spec = &o->spec;
+	spec->has_lower = prsm_io_was_read(at, "lower");
+	spec->has_upper = prsm_io_was_read(at, "upper");
+	if (!cJSON_GetObjectItemCaseSensitive(at->obj, "lower") && !cJSON_GetObjectItemCaseSensitive(at->obj, "upper"))
+		prsm_problems_add(pr, at->pointer, "required", "a spec needs lower, upper or both");
+	if (spec->has_lower && spec->has_upper && !(spec->lower < spec->upper))
+		prsm_io_problem(pr, at->pointer, "upper", "range", "upper must be greater than lower");
+	o->has_spec = spec->has_lower || spec->has_upper;
+	return 0;
+}
 
-	const cJSON *design = cJSON_GetObjectItemCaseSensitive(doc, "design");
-	const cJSON *model = cJSON_GetObjectItemCaseSensitive(doc, "model");
-	int design_rc = PRSM_EINVAL;
-	if (design && model) {
-		prsm_problems_add(pr, "/model", "conflict", "a study has a design or a benchmark model, not both");
-	} else if (model) {
-		out->is_benchmark = 1;
-		if (prsm_json_object_value(model, "/model", pr) == 0)
-			read_benchmark(out, model, "/model", pr);
-		static const char *const design_only[] = {"errors", "assembly", NULL};
-		for (int k = 0; design_only[k]; k++)
-			if (cJSON_GetObjectItemCaseSensitive(doc, design_only[k])) {
-				char kp[PRSM_JSON_POINTER_MAX];
-				prsm_json_pointer_append(kp, sizeof kp, "", design_only[k]);
-				prsm_problems_add(pr, kp, "not_allowed", "%s belongs to a design study, not a benchmark",
-				                  design_only[k]);
-			}
-		design_rc = prsm_problems_total(pr) == start ? 0 : PRSM_EINVAL;
-	} else if (design) {
-		design_rc = read_design(out, doc, warnings, pr);
-	} else {
-		prsm_problems_add(pr, "/design", "required", "a study needs a design (or a benchmark model)");
+/* "monte_carlo"."targets"[i]: for an output of the study, exactly one kind; a yield's needs the
+ * output's spec (nonzero: not kept) */
+int prsm_io_step_target(prsm_io_at *at, prsm_problems *pr)
+{
+	prsm_mc_target *tg = at->base;
+	const prsm_io_study *s = at->root;
+	if (!prsm_io_was_read(at, "output"))
+		return 1;
+	const char *name = cJSON_GetObjectItemCaseSensitive(at->obj, "output")->valuestring;
+	const int o = output_index(s, name);
+	if (o < 0) {
+		prsm_io_problem(pr, at->pointer, "output", "unknown_output", "'%s' is not one of the study's outputs", name);
+		return 1;
 	}
-	int params_known = design_rc == 0;
-
-	/* tolerances */
-	const cJSON *tols = cJSON_GetObjectItemCaseSensitive(doc, "tolerances");
-	int nt = cJSON_GetArraySize(tols);
-	param_info pis[PRSM_IO_STUDY_MAX_TOLERANCES];
-	if (!cJSON_IsArray(tols) || nt < 1 || nt > PRSM_IO_STUDY_MAX_TOLERANCES) {
-		prsm_problems_add(pr, "/tolerances", tols ? "bad_array" : "required",
-		                  "tolerances: an array of 1 to %d tolerances", PRSM_IO_STUDY_MAX_TOLERANCES);
-		nt = 0;
-	} else {
-		int i = 0;
-		for (const cJSON *it = tols->child; it; it = it->next, i++) {
-			char tp[PRSM_JSON_POINTER_MAX];
-			prsm_json_pointer_append_index(tp, sizeof tp, "/tolerances", i);
-			read_tolerance(&out->tolerances[i], &pis[i], out, it, tp, params_known, pr);
-			for (int k = 0; k < i; k++)
-				if (out->tolerances[i].parameter[0] &&
-				    strcmp(out->tolerances[k].parameter, out->tolerances[i].parameter) == 0) {
-					char pp[PRSM_JSON_POINTER_MAX];
-					prsm_json_pointer_append(pp, sizeof pp, tp, "parameter");
-					prsm_problems_add(pr, pp, "duplicate", "%s has a tolerance already (at /tolerances/%d)",
-					                  out->tolerances[i].parameter, k);
-				}
+	tg->output = (size_t)o;
+	int kinds = prsm_io_get(at, "standard_error", pr) == PRSM_JSON_PRESENT;
+	kinds += prsm_io_get(at, "cv", pr) == PRSM_JSON_PRESENT;
+	kinds += prsm_io_get(at, "yield_interval_width", pr) == PRSM_JSON_PRESENT;
+	if (kinds != 1) {
+		prsm_problems_add(pr, at->pointer, "required",
+		                  "a target has exactly one of standard_error, cv, yield_interval_width");
+		return 1;
+	}
+	if (tg->kind == PRSM_TARGET_YIELD_WIDTH) {
+		const prsm_study_output *so = &s->study.outputs[o];
+		if (!so->has_spec) {
+			prsm_problems_add(pr, at->pointer, "no_spec", "a yield target needs a spec for %s in specs", name);
+			return 1;
 		}
+		tg->has_lower = so->spec.has_lower;
+		tg->has_upper = so->spec.has_upper;
+		tg->lower = so->spec.lower;
+		tg->upper = so->spec.upper;
 	}
-	out->n_tolerances = (size_t)nt;
-	read_outputs(out, doc, design_rc == 0, pr);
-	read_specs(out, doc, pr);
-	prsm_io_study_mc_from_json(out, doc, pr);
-	prsm_io_study_sensitivity_from_json(out, doc, pr);
+	return 0;
+}
 
-	/* variables, once everything they depend on is valid */
+/* ---- the model --------------------------------------------------------------------------- */
+
+/* Storage within limits, then the engine's model of the study. */
+int prsm_io_step_model(prsm_io_at *at, prsm_problems *pr)
+{
+	prsm_io_study *out = at->root;
 	prsm_study *st = &out->study;
-	if (prsm_problems_total(pr) == start && nt > 0) {
-		size_t d = 0;
-		for (size_t g = 0; g < (size_t)nt; g++)
-			d += count_vars(&out->tolerances[g], out);
-		if (d > PRSM_MC_MAX_VARIABLES) {
-			prsm_problems_add(pr, "/tolerances", "too_many", "the tolerances make %zu variables (per roller, "
-			                  "per start, with phases): at most %d", d, PRSM_MC_MAX_VARIABLES);
-		} else {
-			if (out->is_benchmark && d != out->bench.inputs)
-				prsm_problems_add(pr, "/tolerances", "incomplete", "the %s benchmark has %zu inputs: give "
-				                  "each of x1 .. x%zu one tolerance", prsm_bench_name(out->bench.kind),
-				                  out->bench.inputs, out->bench.inputs);
-			for (size_t g = 0; g < (size_t)nt; g++)
-				build_vars(out, g, &pis[g]);
-			if (out->is_benchmark)
-				st->d = out->bench.inputs;
-			st->n_groups = (size_t)nt;
-		}
-	}
-	read_correlations(out, doc, pr);
-	if (prsm_problems_total(pr) != start)
-		return design_rc && design_rc != PRSM_EINVAL ? design_rc : PRSM_EINVAL;
-
-	/* storage */
+	if (prsm_problems_total(pr) != at->start)
+		return 0;
 	double stored = (double)(st->d + st->m) * (double)st->mc.samples;
 	if (stored > PRSM_MC_MAX_STORED)
 		prsm_problems_add(pr, "/monte_carlo/samples", "too_large",
@@ -976,27 +786,34 @@ int prsm_io_study_load(prsm_io_study *out, const cJSON *doc, prsm_problems *warn
 			prsm_problems_add(pr, "/sensitivity/sobol/samples", "too_large",
 			                  "the Saltelli design would store %.0f values (limit %d)", ss, PRSM_MC_MAX_STORED);
 	}
-	if (prsm_problems_total(pr) != start)
-		return PRSM_EINVAL;
-
-	/* the model */
+	if (prsm_problems_total(pr) != at->start)
+		return 0;
 	if (out->is_benchmark) {
+		/* benchmark variables are the inputs in order */
 		prsm_bench_mc_model(&st->model, &out->bench);
-		/* benchmark variables are the inputs in order: bind by reordering through the binding */
-	} else {
-		prsm_mc_prsm *p = &out->prsm;
-		p->as = &out->assembly;
-		p->an = &out->analysis;
-		p->mode = out->assembly_options.mode;
-		p->angles_per_revolution = out->assembly_options.angles_per_revolution;
-		p->measuring_load_N = out->assembly_options.measuring_load_N;
-		p->n_bindings = st->d;
-		p->bindings = out->bindings;
-		p->n_outputs = st->m;
-		if (nominal_unit_terms(out, pr))
-			return PRSM_EINVAL;
-		prsm_prsm_mc_model(&st->model, p);
+		return 0;
 	}
+	prsm_mc_prsm *p = &out->prsm;
+	p->as = &out->assembly;
+	p->an = &out->analysis;
+	p->mode = out->assembly_options.mode;
+	p->angles_per_revolution = out->assembly_options.angles_per_revolution;
+	p->measuring_load_N = out->assembly_options.measuring_load_N;
+	p->n_bindings = st->d;
+	p->bindings = out->bindings;
+	p->n_outputs = st->m;
+	if (nominal_unit_terms(out, pr) == 0)
+		prsm_prsm_mc_model(&st->model, p);
 	return 0;
 }
 
+int prsm_io_study_load(prsm_io_study *out, const cJSON *doc, prsm_problems *warnings, prsm_problems *pr)
+{
+	memset(out, 0, sizeof *out);
+	if (prsm_json_object_value(doc, "", pr))
+		return PRSM_EINVAL;
+	study_reading c = {warnings, PRSM_EINVAL};
+	if (prsm_io_read_ctx(out, &prsm_io_t_study, doc, "", &c, pr) == 0)
+		return 0;
+	return c.design_rc && c.design_rc != PRSM_EINVAL ? c.design_rc : PRSM_EINVAL;
+}

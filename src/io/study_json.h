@@ -69,13 +69,6 @@ cJSON *prsm_io_study_result_to_json(const prsm_io_study *s, const prsm_study_res
 
 /* Every sample as CSV: sample index, status, the variables in their API units, the outputs
  * (empty for failed samples). Returns 0 or PRSM_EIO. */
-/* The "monte_carlo" section of doc into s->study.mc (its targets name s's outputs, which must be
- * read first). Problems go to pr. */
-void prsm_io_study_mc_from_json(prsm_io_study *s, const cJSON *doc, prsm_problems *pr);
-
-/* The "sensitivity" section of doc into s->study.sens. */
-void prsm_io_study_sensitivity_from_json(prsm_io_study *s, const cJSON *doc, prsm_problems *pr);
-
 int prsm_io_study_write_csv(FILE *f, const prsm_io_study *s, const prsm_study_result *r);
 
 #endif
