@@ -147,7 +147,7 @@ static void compare_study(const cJSON *doc, tally *t)
 	for (int k = 0; k < 4; k++)
 		prsm_problems_init(&study_lists[k]);
 	const int ra = prsm_legacy_study_load(a, doc, &study_lists[2], &study_lists[0]);
-	const int rb = prsm_io_study_load(b, doc, &study_lists[3], &study_lists[1]);
+	const int rb = prsm_io_study_read(b, doc, &study_lists[3], &study_lists[1]);
 	normalise(a);
 	normalise(b);
 	check_same("study", doc, ra, rb, &study_lists[0], &study_lists[1], a, b, sizeof *a, t);

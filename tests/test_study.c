@@ -341,6 +341,60 @@ static void test_nut_unit_stiffness(void **state)
 	free(s);
 }
 
+/* Issue 19, items 4 and 6: a document the engine cannot compute is refused at the field that
+ * makes it so (it used to pass and fail at run time without a cause); a length error the size
+ * of a thread pitch is refused, and linear assembly mode beyond its checked range warned of. */
+static void expect_refused(const char *text, const char *pointer, const char *code)
+{
+	prsm_problems pr;
+	assert_null(load(text, &pr));
+	int found = 0;
+	for (int i = 0; i < pr.count; i++)
+		found |= strcmp(pr.items[i].pointer, pointer) == 0 && strcmp(pr.items[i].code, code) == 0;
+	assert_true(found);
+}
+
+static void test_ranges(void **state)
+{
+	(void)state;
+	expect_refused("{\"model\": {\"benchmark\": \"ishigami\", \"a\": 1e308}, \"tolerances\": ["
+	               "{\"parameter\": \"x1\", \"distribution\": \"uniform\", \"lower\": -3, \"upper\": 3},"
+	               "{\"parameter\": \"x2\", \"distribution\": \"uniform\", \"lower\": -3, \"upper\": 3},"
+	               "{\"parameter\": \"x3\", \"distribution\": \"uniform\", \"lower\": -3, \"upper\": 3}]}",
+	               "/model", "range");
+	expect_refused("{\"model\": {\"benchmark\": \"linear\", \"coefficients\": [1e300]}, \"tolerances\": ["
+	               "{\"parameter\": \"x1\", \"distribution\": \"normal\", \"mean\": 0, \"sd\": 1}]}",
+	               "/model", "range");
+	expect_refused("{\"model\": {\"benchmark\": \"linear\", \"coefficients\": [1]}, \"tolerances\": ["
+	               "{\"parameter\": \"x1\", \"distribution\": \"lognormal\", \"mu\": 700, \"sigma\": 1}]}",
+	               "/tolerances/0", "range");
+	expect_refused("{\"model\": {\"benchmark\": \"linear\", \"coefficients\": [1]}, \"tolerances\": ["
+	               "{\"parameter\": \"x1\", \"distribution\": \"normal\", \"mean\": 1e300, \"sd\": 1e299}]}",
+	               "/tolerances/0", "range");
+	/* a run-out of 1e9 um on a 2 mm pitch: refused; 500 um in linear mode: a warning */
+	char *t = study_text("{\"parameter\": \"screw.runout_um\", \"tol_um\": 1e9, \"cpk\": 1}",
+	                     ", \"monte_carlo\": {\"samples\": 64}");
+	expect_refused(t, "/tolerances/0", "range");
+	free(t);
+	t = study_text("{\"parameter\": \"screw.runout_um\", \"tol_um\": 500, \"cpk\": 1}",
+	               ", \"monte_carlo\": {\"samples\": 64}");
+	cJSON *doc = cJSON_Parse(t);
+	assert_non_null(doc);
+	prsm_io_study *s = calloc(1, sizeof *s);
+	assert_non_null(s);
+	prsm_problems pr, w;
+	prsm_problems_init(&pr);
+	prsm_problems_init(&w);
+	assert_int_equal(prsm_io_study_load(s, doc, &w, &pr), 0);
+	int warned = 0;
+	for (int i = 0; i < w.count; i++)
+		warned |= strcmp(w.items[i].code, "linear_range") == 0 && strcmp(w.items[i].pointer, "/tolerances/0") == 0;
+	assert_true(warned);
+	cJSON_Delete(doc);
+	free(s);
+	free(t);
+}
+
 int main(void)
 {
 	prsm_global_init();
@@ -350,6 +404,7 @@ int main(void)
 		cmocka_unit_test(test_copula),
 		cmocka_unit_test(test_ls1),
 		cmocka_unit_test(test_rss_uniform),
+		cmocka_unit_test(test_ranges),
 		cmocka_unit_test(test_nut_unit_stiffness),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);

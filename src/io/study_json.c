@@ -768,6 +768,91 @@ int prsm_io_step_target(prsm_io_at *at, prsm_problems *pr)
 
 /* ---- the model --------------------------------------------------------------------------- */
 
+/* Magnitudes a study's inputs and outputs may reach (at the 0.135 / 99.865 % quantiles): beyond
+ * it their squares, and so the moments, overflow double arithmetic. */
+#define RANGE_MAX 1e150
+/* Linear assembly mode was checked against exact mode to about 1 % up to errors of this size
+ * (docs/model/errors-and-assembly.md), um. */
+#define LINEAR_VALID_UM 50.0
+
+/* A document the engine cannot compute is refused here, at the field that makes it so, not at
+ * run time without a cause (issue 19, items 4 and 6): every distribution's 0.135 and 99.865 %
+ * quantiles within +-RANGE_MAX; a benchmark's outputs too, at the centre and with each input at
+ * either quantile in turn; a length error no larger than the thread pitch (an error that size
+ * is no manufacturing error of a meshing thread), and in linear assembly mode a warning beyond
+ * the range where that mode was checked. */
+static void check_ranges(prsm_io_study *out, prsm_problems *warnings, prsm_problems *pr)
+{
+	prsm_study *st = &out->study;
+	const double u[2] = {0.00135, 0.99865};
+	const int before = prsm_problems_total(pr);
+	for (size_t g = 0; g < out->n_tolerances; g++) {
+		const prsm_io_tolerance *t = &out->tolerances[g];
+		char tp[PRSM_JSON_POINTER_MAX];
+		prsm_json_pointer_append_index(tp, sizeof tp, "/tolerances", (int)g);
+		double q[2];
+		for (int k = 0; k < 2; k++)
+			q[k] = prsm_dist_quantile(&t->dist, u[k]);
+		if (!(fabs(q[0]) <= RANGE_MAX && fabs(q[1]) <= RANGE_MAX)) {
+			prsm_problems_add(pr, tp, "range", "the distribution spans %.6g to %.6g (0.135 to 99.865 %%): "
+			                  "beyond +-%g its squares overflow double arithmetic", q[0], q[1], RANGE_MAX);
+			continue;
+		}
+		if (out->is_benchmark)
+			continue;
+		const char *key = strchr(t->parameter, '.');
+		const char *unit = key ? unit_of(key + 1) : "";
+		if (strcmp(unit, "um") != 0 && strcmp(unit, "um_per_300mm") != 0)
+			continue;
+		const double big = fmax(fabs(q[0]), fabs(q[1])), pitch_um = 1e3 * out->design.pitch_mm;
+		if (big > pitch_um)
+			prsm_problems_add(pr, tp, "range", "%s reaches %.6g um (99.865 %% quantile), more than the "
+			                  "thread pitch (%.6g um): not a manufacturing error of a meshing thread",
+			                  t->parameter, big, pitch_um);
+		else if (big > LINEAR_VALID_UM && out->assembly_options.mode == PRSM_MODE_LINEAR && warnings)
+			prsm_problems_add(warnings, tp, "linear_range", "%s reaches %.3g um: linear assembly mode "
+			                  "was checked against exact mode (about 1 %%) only up to %g um errors; use "
+			                  "\"assembly\": {\"mode\": \"exact\"} for errors this large",
+			                  t->parameter, big, LINEAR_VALID_UM);
+	}
+	if (!out->is_benchmark || prsm_problems_total(pr) > before)
+		return;
+	/* a benchmark's outputs at the centre and one input at a time at its quantiles */
+	const prsm_mc_model *m = &st->model;
+	double x[PRSM_MC_MAX_VARIABLES], y[PRSM_MC_MAX_OUTPUTS];
+	unsigned flags;
+	void *ws = NULL;
+	if (m->workspace_alloc && m->workspace_alloc(&ws, m->ctx))
+		return;
+	for (size_t i = 0; i < st->d; i++)
+		x[i] = prsm_dist_center(&st->vars[i].dist);
+	for (size_t i = 0; i <= st->d; i++)
+		for (int k = 0; k < (i < st->d ? 2 : 1); k++) {
+			const double keep = i < st->d ? x[i] : 0.0;
+			if (i < st->d)
+				x[i] = prsm_dist_quantile(&st->vars[i].dist, u[k]);
+			int bad = m->eval(y, &flags, m->ctx, ws, x) != 0;
+			for (size_t o = 0; o < st->m && !bad; o++)
+				bad = !(fabs(y[o]) <= RANGE_MAX);
+			if (bad) {
+				if (i < st->d)
+					prsm_problems_add(pr, "/model", "range", "the model's output leaves +-%g (or is not "
+					                  "finite) with %s at its %s quantile %.6g: its moments would overflow "
+					                  "double arithmetic; use smaller coefficients or tolerances",
+					                  RANGE_MAX, st->info[i].name, k ? "99.865 %" : "0.135 %", x[i]);
+				else
+					prsm_problems_add(pr, "/model", "range", "the model's output leaves +-%g (or is not "
+					                  "finite) at the distributions' centres", RANGE_MAX);
+				i = st->d; /* one problem is enough */
+				break;
+			}
+			if (i < st->d)
+				x[i] = keep;
+		}
+	if (ws && m->workspace_free)
+		m->workspace_free(ws);
+}
+
 /* Storage within limits, then the engine's model of the study. */
 int prsm_io_step_model(prsm_io_at *at, prsm_problems *pr)
 {
@@ -807,7 +892,7 @@ int prsm_io_step_model(prsm_io_at *at, prsm_problems *pr)
 	return 0;
 }
 
-int prsm_io_study_load(prsm_io_study *out, const cJSON *doc, prsm_problems *warnings, prsm_problems *pr)
+int prsm_io_study_read(prsm_io_study *out, const cJSON *doc, prsm_problems *warnings, prsm_problems *pr)
 {
 	memset(out, 0, sizeof *out);
 	if (prsm_json_object_value(doc, "", pr))
@@ -816,4 +901,14 @@ int prsm_io_study_load(prsm_io_study *out, const cJSON *doc, prsm_problems *warn
 	if (prsm_io_read_ctx(out, &prsm_io_t_study, doc, "", &c, pr) == 0)
 		return 0;
 	return c.design_rc && c.design_rc != PRSM_EINVAL ? c.design_rc : PRSM_EINVAL;
+}
+
+int prsm_io_study_load(prsm_io_study *out, const cJSON *doc, prsm_problems *warnings, prsm_problems *pr)
+{
+	int rc = prsm_io_study_read(out, doc, warnings, pr);
+	if (rc)
+		return rc;
+	const int before = prsm_problems_total(pr);
+	check_ranges(out, warnings, pr);
+	return prsm_problems_total(pr) > before ? PRSM_EINVAL : 0;
 }

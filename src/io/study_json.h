@@ -64,6 +64,12 @@ typedef struct {
 int prsm_io_study_load(prsm_io_study *out, const cJSON *doc, prsm_problems *warnings,
                        prsm_problems *problems);
 
+/* prsm_io_study_load without its range checks (every distribution's 0.135 / 99.865 % quantiles
+ * and a benchmark's outputs there within +-1e150; a length error no larger than the thread pitch;
+ * a warning beyond linear assembly mode's checked range): the document as read, which the
+ * side-by-side proof compares with the reader it replaced. */
+int prsm_io_study_read(prsm_io_study *out, const cJSON *doc, prsm_problems *warnings, prsm_problems *pr);
+
 /* The result document (schemas/study-result.schema.json). The caller owns the tree. */
 cJSON *prsm_io_study_result_to_json(const prsm_io_study *s, const prsm_study_result *r);
 
