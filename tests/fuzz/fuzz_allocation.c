@@ -1,7 +1,7 @@
 /*
  * fuzz_allocation.c: a libFuzzer-style target (LLVMFuzzerTestOneInput) for the
  * tolerance-allocation document (schemas/allocation.schema.json, POST /v1/allocations,
- * prsm allocate): the bytes through the command line's check (prsm_io_allocation_check with
+ * prsm allocate): the bytes through the command line's check (prsm_app_allocation_check with
  * the document's caps: the embedded study or the analytic stack, costs, bounds, constraints,
  * the linearisation and the linear allocation at f = 1) and, when accepted, the service's
  * (normalise with its limits, canonical request, cache key, the stored request read back).

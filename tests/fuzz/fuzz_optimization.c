@@ -1,7 +1,7 @@
 /*
  * fuzz_optimization.c: a libFuzzer-style target (LLVMFuzzerTestOneInput) for the
  * design-optimisation document (schemas/optimization.schema.json, POST /v1/optimizations,
- * prsm optimize): the bytes through the command line's check (prsm_io_optimization_check with
+ * prsm optimize): the bytes through the command line's check (prsm_app_optimization_check with
  * the document's caps: base design, variables, objectives, constraints, solver, robust
  * section, the feasibility scan of the integer levels) and, when accepted, the service's
  * (normalise with its limits, canonical request, cache key, the stored request read back).
