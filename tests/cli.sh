@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # CLI tests: exit codes (0 ok, 1 invalid, 2 failed, 64 usage), JSON on stdout, problems with
 # their pointers, the text summary, validate, the request form {design, errors, assembly},
-# study (tolerance studies: --out, --csv, --threads, stdin), bench. Args: PRSM_BINARY SOURCE_DIR
+# study (tolerance studies: --out, --csv, --threads, stdin), bench, simulate (the dynamics
+# examples). Args: PRSM_BINARY SOURCE_DIR
 set -u
 prsm=$1
 src=$2
@@ -525,6 +526,87 @@ d = {b["name"]: b for b in json.load(open(sys.argv[1]))["benchmarks"]}
 assert d["design_optimization_4var_seconds"]["value"] > 0, d
 assert d["design_optimization_4var_evaluations"]["value"] > 0, d
 PY
+
+# simulate (issue 15, docs/dynamics.md): every dynamics example from the command line, V1's open
+# numbers in the JSON, the text summary, the time series as CSV, the five friction rows of seed
+# 000 in their order, problems at their pointers (1), a run that does not converge (2), usage (64)
+for f in "$src"/studies/dynamics-*.json; do
+  "$prsm" simulate "$f" --quiet > "$tmp/sim.json" 2> "$tmp/err"; check "simulate $(basename "$f")" 0 $?
+  ok "simulate $(basename "$f"): settled, checks passed, a value per output time" $py - "$tmp/sim.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))["dynamics"]
+n = d["transient"]["points"]
+assert n > 1 and len(d["transient"]["time_s"]) == n and len(d["checks"]["power_balance_residual_W"]) == n, n
+assert d["settled"]["defined"] and d["checks"]["passed"] and d["convergence"]["converged"], d["checks"]
+assert all(s["time_to_99_percent_s"] is not None for s in d["settled"]["stages"]), d["settled"]["stages"]
+PY
+done
+"$prsm" simulate "$src/studies/dynamics-case-a-v1.json" --csv "$tmp/v1.csv" > "$tmp/v1.json"; check "simulate V1 --csv" 0 $?
+ok "simulate V1: its open numbers (docs/dynamics.md)" $py - "$tmp/v1.json" "$tmp/v1.csv" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))["dynamics"]
+s, m = d["settled"], d["model"]["stages"][0]
+rel = lambda a, b, t: abs(a / b - 1) <= t
+assert rel(m["carrier_ratio_min_slip"], 0.37369408, 1e-6) and rel(s["stages"][0]["carrier_ratio"], 0.37369408, 1e-6)
+assert rel(1 / s["stages"][0]["carrier_rate_per_s"], 1.277814e-4, 1e-6), s["stages"][0]
+assert rel(s["stages"][0]["time_to_50_percent_s"], 8.857132e-5, 1e-5) and rel(s["stages"][0]["time_to_99_percent_s"], 5.884551e-4, 1e-5)
+assert abs(d["transient"]["efficiency"][0] - 0.8655226) < 1e-6 and rel(d["transient"]["input_torque_Nm"][0], 0.1838830, 1e-6)
+assert abs(s["efficiency"] - 0.9922054) < 1e-6 and rel(s["input_torque_Nm"], 0.1604052, 1e-6)
+assert m["carrier_ratio_statics"] > m["carrier_ratio_min_slip"] and abs(m["carrier_ratio_statics"] - 0.37564) < 5e-6
+rows = open(sys.argv[2]).read().splitlines()
+head = rows[0].split(",")
+assert head[0] == "time_s" and "stage1_carrier_ratio" in head and len(rows) == 102, (head[:3], len(rows))
+assert all(len(r.split(",")) == len(head) for r in rows[1:])
+i = head.index("stage1_carrier_ratio")
+assert abs(float(rows[-1].split(",")[i]) - d["transient"]["stages"][0]["carrier_ratio"][-1]) < 1e-15
+PY
+"$prsm" simulate "$src/studies/dynamics-case-a-v1.json" --format text > "$tmp/v1.txt"; check "simulate text" 0 $?
+ok "simulate text: k*, the statics ratio beside it, the settled efficiency" grep -q "k\* 0.37369408 (statics contact-radius ratio 0.3756" "$tmp/v1.txt"
+ok "simulate text: eta(0+)" grep -q "efficiency 0.8655226" "$tmp/v1.txt"
+"$prsm" simulate - --quiet < "$src/studies/dynamics-case-a-v1.json" > "$tmp/v1b.json"; check "simulate stdin" 0 $?
+ok "simulate: the result does not depend on how it was read" $py -c 'import json,sys
+a, b = (json.load(open(p))["dynamics"] for p in sys.argv[1:3]); assert a == b' "$tmp/v1.json" "$tmp/v1b.json"
+for i in 1 2 3 4 5; do "$prsm" simulate "$src/studies/dynamics-seed000-row$i.json" --quiet > "$tmp/row$i.json" || echo "row $i failed"; done
+ok "seed 000 rows: efficiency falls with mu_SS (rows 1-3) and with mu_NS (4, 1, 5); carrier 2 settles above 1" $py - "$tmp" <<'PY'
+import json, sys
+eta, r = {}, {}
+for i in range(1, 6):
+    d = json.load(open(f"{sys.argv[1]}/row{i}.json"))["dynamics"]
+    eta[i] = d["settled"]["efficiency"]
+    st = d["settled"]["stages"]
+    assert st[1]["carrier_ratio"] > st[0]["carrier_ratio"], st
+    assert abs(d["settled"]["efficiency"] - d["settled"]["efficiency_statics"]) < 2e-5, d["settled"]
+    assert d["transient"]["efficiency"][0] < eta[i], "the efficiency rises from its start"
+assert eta[1] > eta[2] > eta[3] and eta[4] > eta[1] > eta[5], eta
+PY
+"$prsm" analyze "$src/studies/dynamics-case-a-v1.json" > "$tmp/an.json"; check "analyze a simulation request" 0 $?
+ok "analyze: the statics, with a warning that the transient is prsm simulate's" $py -c 'import json,sys
+d = json.load(open(sys.argv[1])); assert "dynamics" not in d and d["efficiency"]["eta"] > 0
+assert [w["code"] for w in d["warnings"] if w["pointer"] == "/dynamics"] == ["not_simulated"], d["warnings"]' "$tmp/an.json"
+"$prsm" validate "$src/studies/dynamics-seed000-row1.json" > /dev/null; check "validate a simulation request" 0 $?
+$py -c 'import json, sys
+d = json.load(open(sys.argv[1]))
+d["dynamics"]["analysis"] = "vibration"
+d["dynamics"]["time"] = {"end_s": 0, "output_step_s": 1e-10}
+d["dynamics"]["inertia"] = {"roller_mass_kg": -1, "carrier_inertia_kg_mm2": -2}
+d["dynamics"]["input"] = {"kind": "torque", "value_rad_s": 100}
+json.dump(d, open(sys.argv[2], "w"))' "$src/studies/dynamics-case-a-v1.json" "$tmp/sim-bad.json"
+"$prsm" simulate "$tmp/sim-bad.json" > "$tmp/out" 2> "$tmp/err"; check "simulate invalid" 1 $?
+ok "simulate invalid: nothing on stdout" test ! -s "$tmp/out"
+for ptr in /dynamics/analysis /dynamics/time/end_s /dynamics/time/output_step_s /dynamics/inertia/roller_mass_kg \
+           /dynamics/inertia/carrier_inertia_kg_mm2 /dynamics/input/value_Nm /dynamics/input/value_rad_s; do
+  ok "simulate invalid: $ptr" grep -q ": $ptr: " "$tmp/err"
+done
+"$prsm" validate "$tmp/sim-bad.json" --format text > "$tmp/v.txt"; check "validate invalid simulation request" 1 $?
+ok "validate: the same problems" test "$(grep -c ': /dynamics/' "$tmp/v.txt")" -eq "$(grep -c ': /dynamics/' "$tmp/err")"
+$py -c 'import json, sys
+d = json.load(open(sys.argv[1])); d["dynamics"]["time"]["max_steps"] = 2
+json.dump(d, open(sys.argv[2], "w"))' "$src/studies/dynamics-case-a-v1.json" "$tmp/sim-nc.json"
+"$prsm" simulate "$tmp/sim-nc.json" --csv "$tmp/nc.csv" > "$tmp/out" 2> "$tmp/err"; check "simulate not converging" 2 $?
+ok "not converging: said, no curve" sh -c 'grep -q "did not converge" "$1" && test ! -s "$2" && test ! -e "$3"' sh "$tmp/err" "$tmp/out" "$tmp/nc.csv"
+"$prsm" simulate > /dev/null 2>&1; check "simulate without a file" 64 $?
+"$prsm" simulate "$src/studies/dynamics-case-a-v1.json" --format xml > /dev/null 2>&1; check "simulate --format xml" 64 $?
+"$prsm" simulate "$tmp/does-not-exist.json" > /dev/null 2>&1; check "simulate missing file" 64 $?
 
 echo "cli: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

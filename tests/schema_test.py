@@ -8,7 +8,9 @@ what `prsm analyze` prints for them (`errors`, `assembly`) against analysis.sche
 array lengths and figures checked against each other (section 8). Tolerance studies against
 study.schema.json and the C reader (`prsm validate`), and what `prsm study` prints against
 study-result.schema.json with its figures checked against each other and against analytic
-benchmarks (section 9).
+benchmarks (section 9). Simulation requests (the dynamics examples and variants) against
+simulation.schema.json and `prsm validate`, what `prsm simulate` prints against
+dynamics-result.schema.json (section 13).
 
 Args: PRSM_BINARY SOURCE_DIR. Needs only Debian's python3-jsonschema (Draft202012Validator).
 Prints one line per failure and closes with "schemas: N passed, M failed"; exits 1 on a failure.
@@ -2185,6 +2187,87 @@ if "allocation.schema.json" in schemas and "allocation-result.schema.json" in sc
 
 # ---- 12. prsm batch: input and output lines against batch-line and batch-result schemas -------
 V_BATCH_LINE = make_validator(schemas["batch-line.schema.json"])
+# ---- 13. simulations (issue 15): simulation.schema.json, dynamics.schema.json, dynamics-result ------
+# every dynamics example against the request schemas and through `prsm simulate` (its result
+# against dynamics-result.schema.json, the echoed parameters against dynamics.schema.json);
+# invalid dynamics objects refused by both the schema and `prsm validate`, at the pointer; what
+# the schema cannot say (the descriptions name it) refused by the engine alone.
+V_SIMULATION = make_validator(schemas["simulation.schema.json"])
+V_DYNAMICS = make_validator(schemas["dynamics.schema.json"])
+V_DYN_RESULT = make_validator(schemas["dynamics-result.schema.json"])
+simulation_documents = sorted(glob.glob(os.path.join(SRC, "studies", "dynamics-*.json")))
+check("studies/ holds the dynamics examples (V1, Coulomb, torque, seed 000's five rows)", len(simulation_documents) >= 8,
+      str(len(simulation_documents)))
+for path in simulation_documents:
+    name = "studies/" + os.path.basename(path)
+    doc = load_json(path)
+    for label, v in (("simulation", V_SIMULATION), ("analyze-request", V_REQUEST)):
+        e = schema_errors(v, doc)
+        check(f"{name}: matches {label}.schema.json", not e, e)
+    rc, res, out, err = prsm("simulate", path, "--quiet")
+    if not check(f"{name}: prsm simulate exits 0 with strict JSON", rc == 0 and res is not None, f"exit {rc}: {err[-300:]}"):
+        continue
+    e = schema_errors(V_DYN_RESULT, res)
+    check(f"{name}: simulate output matches dynamics-result.schema.json", not e, e)
+    e = schema_errors(V_DYNAMICS, res["dynamics"]["parameters"])
+    check(f"{name}: the echoed parameters are a dynamics object", not e, e)
+    check(f"{name}: settled efficiency equals the statics one (sliding only, no drag) within 2e-5",
+          doc["dynamics"].get("losses") != "sliding_only" or doc["dynamics"]["friction"]["model"] == "viscous"
+          or doc["dynamics"]["input"].get("viscous_drag_Nm_s_per_rad", 0) != 0
+          or abs(res["dynamics"]["settled"]["efficiency"] - res["dynamics"]["settled"]["efficiency_statics"]) < 2e-5,
+          str(res["dynamics"]["settled"]))
+if simulation_documents:
+    base = load_json(os.path.join(SRC, "studies", "dynamics-case-a-v1.json"))
+
+    def dyn_variant(**changes):
+        d = copy.deepcopy(base)
+        for path_, value in changes.items():
+            o = d["dynamics"]
+            keys = path_.split("__")
+            for k in keys[:-1]:
+                o = o.setdefault(k, {})
+            o[keys[-1]] = value
+        return d
+    both = [
+        ("zero end time", dyn_variant(time__end_s=0), "/dynamics/time/end_s"),
+        ("negative inertia", dyn_variant(inertia__carrier_inertia_kg_mm2=-1), "/dynamics/inertia/carrier_inertia_kg_mm2"),
+        ("negative mass", dyn_variant(inertia__roller_mass_kg=-0.1), "/dynamics/inertia/roller_mass_kg"),
+        ("output step finer than 1e-9 s", dyn_variant(time__output_step_s=1e-10), "/dynamics/time/output_step_s"),
+        ("a later analysis", dyn_variant(analysis="vibration"), "/dynamics/analysis"),
+        ("an unknown stepper", dyn_variant(time__stepper="euler"), "/dynamics/time/stepper"),
+        ("an unknown member", dyn_variant(time__end=1), "/dynamics/time/end"),
+        ("friction above 1", dyn_variant(friction__mu=1.5), "/dynamics/friction/mu"),
+        ("a fractional step count", dyn_variant(time__max_steps=2.5), "/dynamics/time/max_steps"),
+    ]
+    for label, doc, pointer in both:
+        check(f"simulation, {label}: simulation.schema.json refuses it", bool(schema_errors(V_SIMULATION, doc)))
+        rc, vdoc = validate_cli(f"simulation, {label}", write_doc(doc))
+        found = [p_.get("pointer") for p_ in (vdoc or {}).get("errors", [])]
+        check(f"simulation, {label}: prsm validate refuses it at {pointer}", rc == 1 and pointer in found,
+              f"exit {rc}: {found}")
+    engine_only = [
+        ("more than 10^6 output points", dyn_variant(time={"end_s": 2, "output_step_s": 1e-6}), "/dynamics/time/output_step_s"),
+        ("a stiff start without an implicit stepper",
+         dyn_variant(input={"kind": "torque", "value_Nm": 1}, friction={"model": "coulomb"}, time={"stepper": "rk8pd"}),
+         "/dynamics/time/stepper"),
+        ("a torque input without its torque", dyn_variant(input={"kind": "torque"}), "/dynamics/input/value_Nm"),
+        ("Karnopp on a speed input", dyn_variant(friction={"model": "coulomb", "stick_model": "karnopp"}),
+         "/dynamics/friction/stick_model"),
+        ("a chain's masses for one stage", dyn_variant(inertia={"stages": [{}]}), "/dynamics/inertia/stages"),
+    ]
+    for label, doc, pointer in engine_only:
+        e = schema_errors(V_SIMULATION, doc)
+        check(f"simulation, {label}: the schema accepts it (its descriptions say the engine checks it)", not e, e)
+        rc, vdoc = validate_cli(f"simulation, {label}", write_doc(doc))
+        found = [p_.get("pointer") for p_ in (vdoc or {}).get("errors", [])]
+        check(f"simulation, {label}: prsm validate refuses it at {pointer}", rc == 1 and pointer in found,
+              f"exit {rc}: {found}")
+    no_dyn = {"design": base["design"]}
+    check("simulation: a request without dynamics is not a simulation request", bool(schema_errors(V_SIMULATION, no_dyn)))
+    rc, _, _, err = prsm("simulate", write_doc(no_dyn))
+    check("simulation: prsm simulate refuses a request without dynamics at /dynamics", rc == 1 and ": /dynamics: " in err,
+          f"exit {rc}: {err[-200:]}")
+
 V_BATCH_RESULT = make_validator(schemas["batch-result.schema.json"])
 if True:
     study = load_json(os.path.join(SRC, "studies", "case-a-tolerances.json"))
@@ -2194,7 +2277,8 @@ if True:
     opt["solver"]["max_evaluations"] = 300
     good = [{"kind": "study", "request": study, "id": "s"},
             {"kind": "optimization", "request": opt, "id": 7},
-            {"kind": "allocation", "request": load_json(os.path.join(SRC, "studies", "allocate-ls1.json"))}]
+            {"kind": "allocation", "request": load_json(os.path.join(SRC, "studies", "allocate-ls1.json"))},
+            {"kind": "simulation", "request": load_json(os.path.join(SRC, "studies", "dynamics-case-a-v1.json"))}]
     bad = [{"kind": "study", "request": {"tolerances": []}},
            {"kind": "allocation", "request": {"allocate": 1}, "id": "bad-alloc"}]
     for i, line in enumerate(good):
@@ -2211,15 +2295,15 @@ if True:
         rc, _, out, err = prsm("batch", path, "--db", os.path.join(d, "b.db"), "--quiet")
     check("batch: exit 1 with invalid lines", rc == 1, f"exit {rc}: {err[-300:]}")
     rows = [strict_loads(l) for l in out.splitlines() if l.strip()]
-    check("batch: one result line per input line, in order", [r["line"] for r in rows] == list(range(1, 7)),
+    check("batch: one result line per input line, in order", [r["line"] for r in rows] == list(range(1, 8)),
           str([r.get("line") for r in rows]))
     for r in rows:
         errs = schema_errors(V_BATCH_RESULT, r)
         check(f"batch: result line {r['line']} ({r['state']}) matches batch-result.schema.json", not errs, errs)
-    check("batch: the states", [r["state"] for r in rows] == ["done", "done", "done", "invalid", "invalid", "invalid"],
+    check("batch: the states", [r["state"] for r in rows] == ["done", "done", "done", "done", "invalid", "invalid", "invalid"],
           str([r["state"] for r in rows]))
     check("batch: problems of an invalid request at their pointers, relative to the request",
-          any(e["pointer"].startswith("/allocate") for e in rows[4]["problem"]["errors"]) and rows[4]["id"] == "bad-alloc")
+          any(e["pointer"].startswith("/allocate") for e in rows[5]["problem"]["errors"]) and rows[5]["id"] == "bad-alloc")
 
 if known_seen:
     print(f"known disagreements: {len(known_seen)} still reproduce (see KNOWN in {os.path.basename(__file__)})")

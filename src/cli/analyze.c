@@ -1,6 +1,8 @@
 /*
  * analyze.c: `prsm analyze` and `prsm validate`: read a design document, report every problem
- * with its JSON pointer, or print the nominal analysis.
+ * with its JSON pointer, or print the nominal analysis. `prsm analyze` never simulates: a
+ * request's `dynamics` object is checked and the result says (a warning) that the transient is
+ * `prsm simulate`'s (docs/dynamics.md).
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -10,6 +12,7 @@
 #include "cli/summary.h"
 #include "io/global.h"
 #include "app/allocate.h"
+#include "app/simulate.h"
 #include "io/allocation_json.h"
 #include "io/analysis_json.h"
 #include "io/analyze_request.h"
@@ -121,7 +124,8 @@ int prsm_cli_validate(int argc, char **argv)
 	cJSON *doc;
 	int rc = prsm_cli_read_document(&doc, o.path, &problems);
 	/* the document's kind by its members: an allocation (allocate), an optimisation
-	 * (variables, objectives), a study (tolerances), else a design or analyze request */
+	 * (variables, objectives), a study (tolerances), a simulation request (dynamics: checked
+	 * as `prsm simulate` reads it, the model built), else a design or analyze request */
 	if (rc == 0 && cJSON_IsObject(doc) && cJSON_GetObjectItemCaseSensitive(doc, "allocate"))
 		rc = prsm_error_exit_code(prsm_app_allocation_check(doc, 0, &warnings, &problems));
 	else if (rc == 0 && cJSON_IsObject(doc) && cJSON_GetObjectItemCaseSensitive(doc, "variables") &&
@@ -129,6 +133,8 @@ int prsm_cli_validate(int argc, char **argv)
 		rc = prsm_error_exit_code(prsm_app_optimization_check(doc, 0, &warnings, &problems));
 	else if (rc == 0 && cJSON_IsObject(doc) && cJSON_GetObjectItemCaseSensitive(doc, "tolerances"))
 		rc = prsm_cli_study_check(doc, &warnings, &problems);
+	else if (rc == 0 && cJSON_IsObject(doc) && cJSON_GetObjectItemCaseSensitive(doc, "dynamics"))
+		rc = prsm_error_exit_code(prsm_app_simulation_check(doc, &warnings, &problems));
 	else if (rc == 0)
 		rc = prsm_error_exit_code(prsm_io_analyze_load(rq, doc, &warnings, &problems));
 	cJSON_Delete(doc);

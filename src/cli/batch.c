@@ -3,7 +3,8 @@
  * through the same job machinery and SQLite cache as `prsm serve` (src/job), in parallel, with
  * one result line per input line, in input order.
  *
- * An input line is {"kind": "study" | "optimization" | "allocation", "request": {...}} with an
+ * An input line is {"kind": "study" | "optimization" | "allocation" | "simulation", "request":
+ * {...}} with an
  * optional "id" (a label of the caller's, echoed). Every line is validated and submitted first,
  * so identical requests share one job and requests already done are answered from the cache;
  * then the results are written in order as they finish. Accepted jobs live in the database
@@ -59,7 +60,8 @@ static void on_signal(int sig)
 static void batch_usage(FILE *f)
 {
 	fprintf(f, "usage: prsm batch FILE.jsonl|- [--out FILE] [--db PATH] [--workers N] [--threads N] [--quiet]\n"
-	           "  one request per line: {\"kind\": \"study\"|\"optimization\"|\"allocation\", \"request\": {...},"
+	           "  one request per line: {\"kind\": \"study\"|\"optimization\"|\"allocation\"|\"simulation\","
+	           " \"request\": {...},"
 	           " \"id\": label}\n"
 	           "  one result per line, in input order, on stdout or --out; run again to resume\n");
 }
@@ -143,12 +145,12 @@ static int submit_line(prsm_jobs *jobs, batch_line *l, const char *text, prsm_er
 	const cJSON *kind = cJSON_GetObjectItemCaseSensitive(doc, "kind");
 	const cJSON *req = cJSON_GetObjectItemCaseSensitive(doc, "request");
 	if (!cJSON_IsString(kind)) {
-		prsm_problems_add(&p, "/kind", kind ? "type" : "required", "kind is one of study, optimization, allocation");
+		prsm_problems_add(&p, "/kind", kind ? "type" : "required", "kind is one of study, optimization, allocation, simulation");
 	} else {
 		snprintf(l->kind_name, sizeof l->kind_name, "%s", kind->valuestring);
 		l->kind = prsm_job_kind_by_name(kind->valuestring);
 		if (!l->kind)
-			prsm_problems_add(&p, "/kind", "enum", "'%.40s' is not a job kind (study, optimization, allocation)",
+			prsm_problems_add(&p, "/kind", "enum", "'%.40s' is not a job kind (study, optimization, allocation, simulation)",
 			                  kind->valuestring);
 	}
 	if (!cJSON_IsObject(req))

@@ -25,8 +25,11 @@ static void usage(FILE *out)
 	        "                   --out FILE, --threads N, --quiet\n"
 	        "  optimize FILE|-  design optimisation (JSON result on stdout)\n"
 	        "                   --out FILE, --quiet\n"
-	        "  validate FILE|-  check a design, analyze request, study, optimisation or allocation\n"
-	        "                   document, print every problem\n"
+	        "  simulate FILE|-  start-up transient of a design or chain with its dynamics object\n"
+	        "                   (JSON result on stdout): --format json|text, --out FILE,\n"
+	        "                   --csv FILE (the time series), --quiet\n"
+	        "  validate FILE|-  check a design, analyze or simulation request, study, optimisation or\n"
+	        "                   allocation document, print every problem\n"
 	        "                   --format text|json\n"
 	        "  serve            the HTTP/JSON service (default 127.0.0.1:8080, database ./prsm.db)\n"
 	        "                   --port N, --db PATH, --workers N; prsm serve --help for all\n"
@@ -59,6 +62,8 @@ int main(int argc, char **argv)
 		return prsm_cli_allocate(argc - 1, argv + 1);
 	if (strcmp(cmd, "optimize") == 0)
 		return prsm_cli_optimize(argc - 1, argv + 1);
+	if (strcmp(cmd, "simulate") == 0)
+		return prsm_cli_simulate(argc - 1, argv + 1);
 	if (strcmp(cmd, "serve") == 0)
 		return prsm_cli_serve(argc - 1, argv + 1);
 	if (strcmp(cmd, "batch") == 0)

@@ -10,11 +10,21 @@
 #include "io/analysis_json.h"
 #include "io/assembly_json.h"
 #include "io/design_json.h"
+#include "io/dynamics_json.h"
 #include "io/errors_json.h"
 #include "io/json_util.h"
 #include "util/error.h"
 
-static const char *const request_keys[] = {"design", "errors", "assembly", NULL};
+static const char *const request_keys[] = {"design", "errors", "assembly", "dynamics", NULL};
+
+/* The `dynamics` object of doc, when there is one, for a chain of `stages` stages. */
+static void read_dynamics(prsm_analyze_request *rq, const cJSON *doc, int stages, prsm_problems *problems)
+{
+	const cJSON *dyn = cJSON_GetObjectItemCaseSensitive(doc, "dynamics");
+	rq->with_dynamics = dyn != NULL;
+	if (dyn != NULL)
+		prsm_io_dynamics_from_json(&rq->dyn, dyn, stages, problems);
+}
 
 /* The document part: design, and the error set with its options when asked. Returns 0 or
  * PRSM_EINVAL / PRSM_EGEOMETRY (prsm_io_design_load's codes). */
@@ -42,6 +52,7 @@ static int load_document(prsm_analyze_request *rq, prsm_geometry *g, prsm_proble
 	const prsm_design *shape = rc == 0 ? &rq->d : &unknown;
 	prsm_io_errors_from_json(&rq->errors, errors, ep, shape, problems);
 	prsm_io_assembly_options_from_json(&rq->options, opts, op, shape, problems);
+	read_dynamics(rq, doc, 1, problems);
 	if (rc == 0 && (problems->count || problems->dropped))
 		rc = PRSM_EINVAL;
 	return rc;
@@ -65,6 +76,24 @@ static int load_multistage(prsm_analyze_request *rq, const cJSON *doc, prsm_prob
 	if (rq->ms == NULL)
 		return PRSM_ENOMEM;
 	int rc = prsm_io_multistage_load(rq->ms, doc, warnings, problems);
+	/* the dynamics object, checked for the stages the document has, valid or not */
+	int K = rq->ms->stages;
+	if (K < 1) {
+		const int n = cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(doc, "stages"));
+		K = n < 1 ? 1 : n > PRSM_STAGES_MAX ? PRSM_STAGES_MAX : n;
+	}
+	read_dynamics(rq, doc, K, problems);
+	if (rq->with_dynamics) {
+		const prsm_chain_input *in = &rq->ms->chain_input;
+		rq->dyn.couplings.spline_friction = in->spline_friction;
+		rq->dyn.couplings.thrust_bearing_friction = in->thrust_bearing_friction;
+		for (int k = 1; k < rq->ms->stages; k++) {
+			rq->dyn.couplings.spline_radius_mm[k] = in->spline_radius_mm[k];
+			rq->dyn.couplings.thrust_radius_mm[k] = in->thrust_radius_mm[k];
+		}
+		if (rc == 0 && (problems->count || problems->dropped))
+			rc = PRSM_EINVAL;
+	}
 	prsm_error err = PRSM_ERROR_INIT;
 	for (int k = 0; rc == 0 && k < rq->ms->stages; k++) {
 		rc = prsm_performance_compute(&rq->ms_perf[k], &rq->ms->design[k], &rq->ms->analysis[k], &err);
@@ -127,8 +156,20 @@ double prsm_io_analyze_cost(const prsm_analyze_request *rq)
 	return rq->with_errors ? prsm_assembly_cost(&rq->as, &rq->options) : 0.0;
 }
 
-cJSON *prsm_io_analyze_to_json(const prsm_analyze_request *rq, const prsm_problems *warnings)
+cJSON *prsm_io_analyze_to_json(const prsm_analyze_request *rq, const prsm_problems *warnings_in)
 {
+	prsm_problems with_note;
+	const prsm_problems *warnings = warnings_in;
+	if (rq->with_dynamics) {
+		if (warnings_in)
+			with_note = *warnings_in;
+		else
+			prsm_problems_init(&with_note);
+		prsm_problems_add(&with_note, "/dynamics", "not_simulated",
+		                  "the analysis is the statics: the transient of `dynamics` is run by prsm simulate "
+		                  "(POST /v1/simulations)");
+		warnings = &with_note;
+	}
 	if (rq->multistage)
 		return prsm_io_multistage_to_json(rq->ms, rq->ms_perf, warnings);
 	cJSON *res = prsm_io_analysis_to_json(&rq->a, &rq->d, &rq->perf, warnings);

@@ -4,7 +4,10 @@
  *
  * A request is a design document alone (the nominal and operating-point analysis), a
  * multi-stage design ({"stages": [...]}, docs/model/kinematics-efficiency-stiffness-life.md) or {"design", "errors", "assembly"} (the
- * analysis and the error analysis of docs/model/errors-and-assembly.md for one concrete error set). Every problem of the document is reported at once, with its JSON pointer; the
+ * analysis and the error analysis of docs/model/errors-and-assembly.md for one concrete error set). The
+ * last two forms may carry the `dynamics` object of a start-up transient (schemas/dynamics.schema.json):
+ * it is read and checked here with every other problem, and run by app/simulate.h (`prsm
+ * simulate`); the analysis itself stays the statics and says so in a warning. Every problem of the document is reported at once, with its JSON pointer; the
  * contact solver's findings (an edge contact, no contact point) are problems too, at the
  * pointer of the design's geometry.
  */
@@ -15,6 +18,7 @@
 
 #include <cJSON.h>
 
+#include "dyn/dyn.h"
 #include "model/analysis.h"
 #include "model/assembly.h"
 #include "model/assembly_report.h"
@@ -37,6 +41,9 @@ typedef struct {
 	prsm_assembly as;              /* the assembly built from the design (with_errors) */
 	prsm_assembly_report report;   /* the error analysis, after prsm_io_analyze_run */
 	prsm_assembly_workspace *ws;   /* its buffers, owned here (prsm_io_analyze_free) */
+	int with_dynamics;             /* the request has a `dynamics` object (docs/dynamics.md) */
+	prsm_dyn_options dyn;          /* its options, read and checked (with_dynamics; a chain's
+	                                  couplings copied from the multi-stage document) */
 } prsm_analyze_request;
 
 /* Read the request doc (not taken over) into rq and run the nominal analysis. Problems of the
@@ -56,7 +63,7 @@ int prsm_io_analyze_run(prsm_analyze_request *rq);
 double prsm_io_analyze_cost(const prsm_analyze_request *rq);
 
 /* The result document of a loaded and run request; the caller owns it. NULL when out of
- * memory. */
+ * memory. A request with `dynamics` gets a warning at /dynamics that the transient was not run. */
 cJSON *prsm_io_analyze_to_json(const prsm_analyze_request *rq, const prsm_problems *warnings);
 
 /* Free what rq owns (not rq itself). */

@@ -14,7 +14,7 @@
 #include "model/performance.h"
 
 static const char *const multistage_keys[] = {"name", "description", "stages", "couplings",
-                                              "operating_point", NULL};
+                                              "operating_point", "dynamics", NULL};
 static const char *const coupling_keys[] = {"spline_friction", "thrust_bearing_friction",
                                             "spline_radius_mm", "thrust_bearing_radius_mm", NULL};
 

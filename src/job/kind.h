@@ -63,7 +63,8 @@ typedef struct prsm_job_kind {
 	const char *request_schema;  /* e.g. "study.schema.json" */
 	const char *result_schema;   /* e.g. "study-result.schema.json" */
 	int has_samples_csv;         /* GET /v1/<collection>/{id}/samples.csv exists */
-	const char *progress_unit;   /* what progress counts: "samples" or "evaluations" */
+	const char *progress_unit;   /* what progress counts: "samples", "evaluations" or
+	                                "simulated_ns" (nanoseconds of simulated time) */
 	/* Engine and model versions of the results (a static string, computed once). */
 	const char *(*version)(void);
 	/* Validate doc (not taken over) against the document's rules and lim; on success *out is
@@ -89,5 +90,6 @@ extern const prsm_job_kind prsm_job_kind_study;
 extern const prsm_job_kind prsm_job_kind_optimization;
 extern const prsm_job_kind prsm_job_kind_allocation;
 extern const prsm_job_kind prsm_job_kind_analysis;
+extern const prsm_job_kind prsm_job_kind_simulation;
 
 #endif

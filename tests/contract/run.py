@@ -633,6 +633,96 @@ def suite_design_jobs(client, contract, source):
         check("DELETE a cancelled optimisation again: 409", r.status == 409, str(r.status))
 
 
+def suite_simulations(client, contract, source):
+    """/v1/simulations: a start-up transient as a job (progress in simulated nanoseconds, the cache,
+    the time series as CSV, cancel, 422 with pointers, the service's cap on output times); and
+    POST /v1/designs/analyze with a dynamics object: the statics, saying the transient is not run."""
+    v1 = load_json(os.path.join(source, "studies", "dynamics-case-a-v1.json"))
+    r = client.post("/v1/designs/analyze", v1)
+    check("analyze a request with dynamics: 200, the statics", r.status == 200 and "efficiency" in r.json(),
+          f"{r.status} {r.body[:200]!r}")
+    if r.status == 200:
+        check("analyze a request with dynamics: a warning says the transient is not run",
+              any(w["pointer"] == "/dynamics" and w["code"] == "not_simulated" for w in r.json()["warnings"]),
+              str(r.json()["warnings"]))
+    r = client.post("/v1/simulations", v1)
+    check("submit simulation V1: 202 or 200", r.status in (200, 202), f"{r.status} {r.body[:300]!r}")
+    if r.status not in (200, 202):
+        return
+    job = r.json()
+    loc = f"/v1/simulations/{job['id']}"
+    if r.status == 202:
+        check("simulation: Location names the job", r.headers.get("location") == loc, str(r.headers.get("location")))
+    done = wait_job(client, loc, timeout=60)
+    check("simulation: the job finishes", done is not None and done["state"] == "done",
+          str(done and (done["state"], done.get("problem"))))
+    if done and done["state"] == "done":
+        p = done["progress"]
+        check("simulation: progress in simulated nanoseconds, all of it", p["unit"] == "simulated_ns"
+              and p["samples_done"] == p["samples_planned"] == 1000000, str(p))
+        d = done["result"]["dynamics"]
+        st = d["settled"]["stages"][0]
+        check("simulation: V1's k*, settled efficiency and eta(0+) in the result",
+              abs(st["carrier_ratio_min_slip"] - 0.37369408) < 1e-6 and abs(d["settled"]["efficiency"] - 0.9922054) < 1e-6
+              and abs(d["transient"]["efficiency"][0] - 0.8655226) < 1e-6
+              and abs(st["time_to_50_percent_s"] / 8.857132e-5 - 1) < 1e-5, json.dumps(d["settled"])[:300])
+        check("simulation: 101 output times, checks passed", d["transient"]["points"] == 101
+              and len(d["transient"]["time_s"]) == 101 and d["checks"]["passed"] is True)
+        check("simulation: links to its time series", done["links"].get("samples_csv") == loc + "/samples.csv",
+              str(done["links"]))
+        r = client.get(loc + "/samples.csv")
+        lines = r.body.decode("utf-8").splitlines() if r.status == 200 else []
+        check("simulation: the time series as CSV (header and 101 rows)", r.status == 200
+              and lines[0].startswith("time_s,") and len(lines) == 102, f"{r.status} {len(lines)}")
+        again = json.loads(json.dumps(v1), object_pairs_hook=lambda kv: dict(reversed(kv)))
+        r = client.post("/v1/simulations", again)
+        check("simulation: identical request answered from the cache", r.status == 200 and r.json()["id"] == job["id"]
+              and r.json()["cache_hit"] is True, str(r.status))
+        r = client.delete(loc)
+        check("DELETE a done simulation: 409", r.status == 409, str(r.status))
+    r = client.get("/v1/simulations?limit=5")
+    check("list simulations: the job is there", r.status == 200 and job["id"] in [j["id"] for j in r.json()["items"]])
+    r = client.get("/v1/simulations/" + "0" * 32)
+    check("unknown simulation: 404", r.status == 404)
+    bad = copy.deepcopy(v1)
+    bad["dynamics"]["time"] = {"end_s": 0, "stepper": "rk8pd"}
+    bad["dynamics"]["inertia"] = {"roller_mass_kg": -1}
+    bad["dynamics"]["analysis"] = "vibration"
+    r = client.post("/v1/simulations", bad)
+    check("invalid simulation: 422", r.status == 422, str(r.status))
+    if r.status == 422:
+        ptrs = {e["pointer"] for e in r.json()["errors"]}
+        check("invalid simulation: every problem with its pointer", {"/dynamics/time/end_s",
+              "/dynamics/inertia/roller_mass_kg", "/dynamics/analysis"} <= ptrs, str(ptrs))
+    r = client.post("/v1/simulations", {"design": v1["design"]})
+    check("a simulation without dynamics: 422 at /dynamics", r.status == 422
+          and "/dynamics" in [e["pointer"] for e in r.json()["errors"]], f"{r.status} {r.body[:200]!r}")
+    fine = copy.deepcopy(v1)
+    fine["dynamics"]["time"] = {"end_s": 0.001, "output_step_s": 5e-9}
+    r = client.post("/v1/simulations", fine)
+    check("more output times than the service keeps: 422 at output_step_s", r.status == 422
+          and [(e["pointer"], e["code"]) for e in r.json()["errors"]] == [("/dynamics/time/output_step_s", "service_cap")],
+          f"{r.status} {r.body[:300]!r}")
+    # a long run, cancelled while it runs: no result
+    long = load_json(os.path.join(source, "studies", "dynamics-case-a-coulomb.json"))
+    long["dynamics"]["input"] = {"kind": "speed", "shape": "sine", "value_rad_s": 100,
+                                 "sine_amplitude_rad_s": 50, "sine_frequency_Hz": 2000 + random.randrange(1000)}
+    long["dynamics"]["time"] = {"end_s": 100, "output_step_s": 0.001}
+    r = client.post("/v1/simulations", long)
+    check("long simulation: 202", r.status == 202, f"{r.status} {r.body[:300]!r}")
+    if r.status == 202:
+        loc = r.headers["location"]
+        running = wait_job(client, loc, states=("running",), timeout=60, pred=lambda d: d["progress"]["samples_done"] > 0)
+        check("a running simulation reports simulated time", running is not None
+              and running["progress"]["unit"] == "simulated_ns" and 0 < running["progress"]["samples_done"]
+              < running["progress"]["samples_planned"] == 100 * 10**9, str(running and running["progress"]))
+        r = client.delete(loc)
+        check("DELETE a running simulation: 200 cancelled", r.status == 200 and r.json()["state"] == "cancelled",
+              str(r.status))
+        gone = wait_job(client, loc, states=("cancelled",), timeout=60)
+        check("a cancelled simulation has no result", gone is not None and "result" not in gone, str(gone and gone.get("state")))
+
+
 def suite_slow_client(client, server_timeout_s):
     """A client that sends half a request and stalls: others are served meanwhile; with a known
     server timeout, the stalled connection is closed."""
@@ -936,6 +1026,7 @@ def main():
         suite_analyze(client, contract, source)
         suite_studies(client, contract, source)
         suite_design_jobs(client, contract, source)
+        suite_simulations(client, contract, source)
         suite_slow_client(client, timeout)
         if srv:
             code = srv.stop()

@@ -1,8 +1,7 @@
 /*
  * fuzz_document.h: the body shared by the fuzz targets of the service's job documents
- * (fuzz_study.c, fuzz_optimization.c, fuzz_allocation.c; a dynamics document gets a
- * fuzz_dynamics.c of four lines the day it exists). Each target only names its job kind
- * (src/job/kind.h) and the command line's check of the same document.
+ * (fuzz_study.c, fuzz_optimization.c, fuzz_allocation.c, fuzz_dynamics.c). Each target only
+ * names its job kind (src/job/kind.h) and the command line's check of the same document.
  *
  * For the bytes of one input, prsm_fuzz_document() follows both readers a document reaches:
  *
@@ -25,7 +24,8 @@
  *     is accepted again by normalise, and its canonical text is the same bytes: the cache key
  *     is a fixed point and a queued job never fails to load its own request.
  *
- * No Monte Carlo run, optimisation or allocation is executed: those are the jobs' work.
+ * No Monte Carlo run, optimisation, allocation or transient is executed: those are the jobs'
+ * work.
  */
 #ifndef PRSM_FUZZ_DOCUMENT_H
 #define PRSM_FUZZ_DOCUMENT_H

@@ -1,0 +1,83 @@
+/*
+ * simulate.h: running a simulation request (schemas/simulation.schema.json): the application
+ * layer between the callers (cli/simulate.c, job/kind_simulation.c) and the reader and writer of
+ * io/ (io/analyze_request.h reads the design or the chain with its statics and the `dynamics`
+ * object, io/dynamics_json.h writes the result) and the rigid-body transient of dyn/.
+ * Issue 15; docs/dynamics.md.
+ *
+ * A run is read -> model -> simulate -> write:
+ *
+ *   prsm_app_simulation *s;
+ *   prsm_app_simulation_load(&s, doc, &warnings, &problems);   the document, every problem
+ *   prsm_app_simulation_run(s, cancel, progress, ctx, 0, &err); the integration
+ *   cJSON *res = prsm_app_simulation_result(s);                  the result document
+ *   prsm_app_simulation_free(s);
+ *
+ * A simulation that does not converge is an error that says so (PRSM_ENOCONVERGE with err),
+ * never a curve.
+ */
+#ifndef PRSM_APP_SIMULATE_H
+#define PRSM_APP_SIMULATE_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+#include <cJSON.h>
+
+#include "dyn/dyn.h"
+#include "util/cancel.h"
+#include "util/error.h"
+#include "util/problems.h"
+#include "util/progress.h"
+
+typedef struct prsm_app_simulation prsm_app_simulation;
+
+/*
+ * Read and check the simulation request doc (not taken over): the form ({design, dynamics} or a
+ * multi-stage design with dynamics; no error set), the design or each stage with its nominal
+ * analysis, the dynamics object, then the model (kinematic structure, masses, statics
+ * references and the settled state). Every problem goes to problems with its pointer, the
+ * designs' rule warnings to warnings (may be NULL). Returns 0 with *out allocated
+ * (prsm_app_simulation_free), or PRSM_EINVAL, PRSM_EGEOMETRY, PRSM_EEDGE, PRSM_ENOCONVERGE (the
+ * statics references did not converge), PRSM_ENOMEM with *out NULL.
+ */
+int prsm_app_simulation_load(prsm_app_simulation **out, const cJSON *doc, prsm_problems *warnings,
+                             prsm_problems *problems);
+
+/* Output times the loaded request asks for (end_s / output_step_s, the end included). */
+size_t prsm_app_simulation_points(const prsm_app_simulation *s);
+
+/*
+ * Integrate the loaded request. cancel (may be NULL) stops it; progress (may be NULL) is called
+ * with done / planned in simulated nanoseconds; max_time_s > 0 caps the wall-clock time (then
+ * cancel and the cap are looked at with each progress report, every 1/200 of the simulated
+ * time or output time, whichever is later). Returns 0; PRSM_ECANCELLED (err says whether the
+ * flag or the time cap stopped it); PRSM_ENOCONVERGE (err says when and why); PRSM_ENOMEM.
+ */
+int prsm_app_simulation_run(prsm_app_simulation *s, const prsm_cancel_flag *cancel, prsm_progress_fn progress,
+                            void *progress_ctx, double max_time_s, prsm_error *err);
+
+/* The result document of a run (schemas/dynamics-result.schema.json); the caller owns it. NULL
+ * when out of memory or not run. */
+cJSON *prsm_app_simulation_result(const prsm_app_simulation *s);
+
+/* The run's time series as CSV, and its text summary. Return 0, PRSM_EIO, or PRSM_EINVAL when not run. */
+int prsm_app_simulation_csv(FILE *f, const prsm_app_simulation *s);
+int prsm_app_simulation_text(FILE *f, const prsm_app_simulation *s);
+
+/* The model and the run's result (NULL before a successful run), for tests and summaries. */
+const prsm_dyn_model *prsm_app_simulation_model(const prsm_app_simulation *s);
+const prsm_dyn_result *prsm_app_simulation_dyn_result(const prsm_app_simulation *s);
+
+/* Release a simulation (NULL is fine). */
+void prsm_app_simulation_free(prsm_app_simulation *s);
+
+/* Load and free: the document's check (prsm validate, the fuzz target). Returns as _load. */
+int prsm_app_simulation_check(const cJSON *doc, prsm_problems *warnings, prsm_problems *problems);
+
+/* Load, run and write in one call; the caller owns *result (NULL unless 0 is returned).
+ * Returns 0, PRSM_EINVAL (problems filled), or the codes of _load and _run with err. */
+int prsm_app_simulate(cJSON **result, const cJSON *doc, const prsm_cancel_flag *cancel, prsm_progress_fn progress,
+                      void *progress_ctx, double max_time_s, prsm_problems *problems, prsm_error *err);
+
+#endif

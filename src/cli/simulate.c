@@ -1,0 +1,135 @@
+/*
+ * simulate.c: `prsm simulate FILE|-`: the start-up transient of a design or a chain (issue 15,
+ * docs/dynamics.md). Reads the simulation request (schemas/simulation.schema.json), reports
+ * every problem with its pointer (exit 1), runs the integration with a progress line on stderr
+ * when stderr is a terminal (simulated time), and prints the result as JSON
+ * (schemas/dynamics-result.schema.json) or, with --format text, a summary, on stdout or --out;
+ * --csv FILE writes the time series. A simulation that does not converge prints why and exits 2.
+ */
+#include <stdio.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "app/simulate.h"
+#include "cli/commands.h"
+
+static void progress(void *ctx, const prsm_progress *p)
+{
+	(void)ctx;
+	fprintf(stderr, "\rsimulated %.6g of %.6g s   ", (double)p->done * 1e-9, (double)p->planned * 1e-9);
+	fflush(stderr);
+}
+
+typedef struct {
+	const char *path, *out_path, *csv_path;
+	int text, quiet;
+} options;
+
+static int parse(options *o, int argc, char **argv)
+{
+	memset(o, 0, sizeof *o);
+	for (int i = 1; i < argc; i++) {
+		const char *a = argv[i];
+		const int has_value = i + 1 < argc;
+		if (strcmp(a, "--format") == 0 && has_value) {
+			const char *f = argv[++i];
+			if (strcmp(f, "json") != 0 && strcmp(f, "text") != 0) {
+				fprintf(stderr, "prsm simulate: --format must be json or text (got '%s')\n", f);
+				return -1;
+			}
+			o->text = strcmp(f, "text") == 0;
+		} else if (strcmp(a, "--out") == 0 && has_value) {
+			o->out_path = argv[++i];
+		} else if (strcmp(a, "--csv") == 0 && has_value) {
+			o->csv_path = argv[++i];
+		} else if (strcmp(a, "--quiet") == 0) {
+			o->quiet = 1;
+		} else if (a[0] == '-' && a[1] != '\0') {
+			fprintf(stderr, "prsm simulate: unknown option '%s'\n", a);
+			return -1;
+		} else if (!o->path) {
+			o->path = a;
+		} else {
+			fprintf(stderr, "prsm simulate: more than one file given\n");
+			return -1;
+		}
+	}
+	if (!o->path) {
+		fprintf(stderr, "usage: prsm simulate FILE|- [--format json|text] [--out FILE] [--csv FILE] [--quiet]\n");
+		return -1;
+	}
+	return 0;
+}
+
+/* The CSV of the run to path. */
+static int write_csv(const char *path, const prsm_app_simulation *s)
+{
+	FILE *f = fopen(path, "w");
+	if (!f) {
+		perror(path);
+		return PRSM_EXIT_FAILED;
+	}
+	int rc = prsm_app_simulation_csv(f, s) ? PRSM_EXIT_FAILED : 0;
+	if (fclose(f))
+		rc = PRSM_EXIT_FAILED;
+	return rc;
+}
+
+static int write_text(const char *path, const prsm_app_simulation *s)
+{
+	FILE *f = path ? fopen(path, "w") : stdout;
+	if (!f) {
+		perror(path);
+		return PRSM_EXIT_FAILED;
+	}
+	int rc = prsm_app_simulation_text(f, s) ? PRSM_EXIT_FAILED : 0;
+	if (f != stdout && fclose(f))
+		rc = PRSM_EXIT_FAILED;
+	return rc;
+}
+
+int prsm_cli_simulate(int argc, char **argv)
+{
+	options o;
+	if (parse(&o, argc, argv))
+		return PRSM_EXIT_USAGE;
+	prsm_problems problems;
+	prsm_problems_init(&problems);
+	cJSON *doc;
+	int rc = prsm_cli_read_document(&doc, o.path, &problems);
+	if (rc) {
+		prsm_cli_print_problems(stderr, o.path, &problems);
+		return rc;
+	}
+	prsm_app_simulation *s;
+	int lrc = prsm_app_simulation_load(&s, doc, NULL, &problems);
+	cJSON_Delete(doc);
+	if (lrc) {
+		prsm_cli_print_problems(stderr, o.path, &problems);
+		return prsm_error_exit_code(lrc);
+	}
+	const int bar = !o.quiet && isatty(STDERR_FILENO);
+	prsm_error err = PRSM_ERROR_INIT;
+	int src = prsm_app_simulation_run(s, NULL, bar ? progress : NULL, NULL, 0.0, &err);
+	if (bar)
+		fputc('\n', stderr);
+	if (src) {
+		if (err.pointer[0])
+			fprintf(stderr, "%s: %s: %s\n", o.path, err.pointer, err.message);
+		else
+			fprintf(stderr, "%s: %s\n", o.path, err.message);
+		prsm_app_simulation_free(s);
+		return prsm_error_exit_code(src);
+	}
+	if (o.text) {
+		rc = write_text(o.out_path, s);
+	} else {
+		cJSON *res = prsm_app_simulation_result(s);
+		rc = res ? prsm_cli_print_json(res, o.out_path) : PRSM_EXIT_FAILED;
+		cJSON_Delete(res);
+	}
+	if (rc == 0 && o.csv_path)
+		rc = write_csv(o.csv_path, s);
+	prsm_app_simulation_free(s);
+	return rc;
+}

@@ -1,0 +1,137 @@
+/*
+ * kind_simulation.c: the "simulation" job kind (/v1/simulations): a start-up transient
+ * (schemas/simulation.schema.json in, schemas/dynamics-result.schema.json out, the time series
+ * as CSV at /v1/simulations/{id}/samples.csv), run exactly as `prsm simulate` runs it
+ * (app/simulate.h) with the service's per-job time cap and cancel. Progress counts simulated
+ * nanoseconds. Normalising builds the model (masses, statics references, the settled state),
+ * so every problem a run could find before integrating is a 422 at submission; the service also
+ * caps the output grid (PRSM_JOB_SIMULATION_POINTS_MAX points), which bounds the stored result.
+ * Nothing in the request is irrelevant to the result: the cache key is the whole request.
+ */
+#include "job/kind.h"
+
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "app/simulate.h"
+#include "io/dynamics_json.h"
+#include "io/global.h"
+#include "util/version.h"
+
+/* Output times a service job may ask for (about 0.7 kB of JSON each for one stage). */
+#define PRSM_JOB_SIMULATION_POINTS_MAX 100001
+
+static char simulation_version_text[512];
+static pthread_once_t simulation_version_once = PTHREAD_ONCE_INIT;
+
+/* The versions a simulation result names (its "engine" object), from the same constants. */
+static void simulation_version_init(void)
+{
+	snprintf(simulation_version_text, sizeof simulation_version_text, "prsm %s; build %s; %s", PRSM_VERSION,
+	         prsm_engine_build(), PRSM_DYN_MODEL_VERSION);
+}
+
+static const char *simulation_version(void)
+{
+	pthread_once(&simulation_version_once, simulation_version_init);
+	return simulation_version_text;
+}
+
+static int simulation_normalise(cJSON **out, const cJSON *doc, const prsm_job_limits *lim, prsm_problems *problems)
+{
+	(void)lim;
+	*out = NULL;
+	prsm_app_simulation *s;
+	int rc = prsm_app_simulation_load(&s, doc, NULL, problems);
+	if (rc)
+		return rc;
+	const size_t points = prsm_app_simulation_points(s);
+	prsm_app_simulation_free(s);
+	if (points > PRSM_JOB_SIMULATION_POINTS_MAX) {
+		prsm_problems_add(problems, "/dynamics/time/output_step_s", "service_cap",
+		                  "%zu output times: this service keeps at most %d per simulation (the command line "
+		                  "up to %d): raise the output step",
+		                  points, PRSM_JOB_SIMULATION_POINTS_MAX, PRSM_DYN_OUTPUT_POINTS_MAX);
+		return PRSM_EINVAL;
+	}
+	*out = cJSON_Duplicate(doc, 1); /* handed to the caller */
+	return *out ? 0 : PRSM_ENOMEM;
+}
+
+/* The time series as CSV into a malloc'd buffer the caller takes. */
+static int series_csv(char **csv, size_t *len, const prsm_app_simulation *s)
+{
+	*csv = NULL;
+	*len = 0;
+	char *buf = NULL;
+	size_t size = 0;
+	FILE *f = open_memstream(&buf, &size); /* buf handed to the caller on success */
+	if (!f)
+		return PRSM_ENOMEM;
+	int rc = prsm_app_simulation_csv(f, s);
+	if (fclose(f) && !rc)
+		rc = PRSM_EIO;
+	if (rc) {
+		free(buf);
+		return rc;
+	}
+	*csv = buf;
+	*len = size;
+	return 0;
+}
+
+static int simulation_run(prsm_job_output *out, const char *request, const prsm_job_run_ctx *ctx, prsm_error *err)
+{
+	memset(out, 0, sizeof *out);
+	prsm_problems problems;
+	prsm_problems_init(&problems);
+	prsm_app_simulation *s = NULL;
+	int rc;
+	cJSON *doc = cJSON_Parse(request);
+	if (!doc) {
+		rc = prsm_error_set(err, PRSM_EINVAL, NULL, "cannot read the stored request");
+		goto done;
+	}
+	rc = prsm_app_simulation_load(&s, doc, NULL, &problems);
+	if (rc) {
+		rc = prsm_error_set(err, rc, problems.count ? problems.items[0].pointer : NULL, "%s",
+		                    problems.count ? problems.items[0].message : "the stored request is invalid");
+		goto done;
+	}
+	rc = prsm_app_simulation_run(s, ctx->cancel, ctx->progress, ctx->progress_ctx, ctx->limits.max_time_s, err);
+	if (rc)
+		goto done; /* not converged, cancelled or out of time: err says which, and no curve */
+	const unsigned long mark = prsm_json_alloc_failures();
+	cJSON *res = prsm_app_simulation_result(s);
+	out->result = prsm_json_print_whole(res, mark, 0); /* handed to the caller */
+	cJSON_Delete(res);
+	if (!out->result) {
+		rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory writing the result");
+		goto done;
+	}
+	out->result_len = strlen(out->result);
+	const prsm_dyn_options *o = prsm_dyn_model_options(prsm_app_simulation_model(s));
+	out->samples_done = out->samples_planned = (long long)(o->time.end_s * 1e9 + 0.5);
+	if ((rc = series_csv(&out->csv, &out->csv_len, s)))
+		rc = prsm_error_set(err, rc, NULL, "cannot write the time series CSV");
+done:
+	if (rc)
+		prsm_job_output_free(out);
+	prsm_app_simulation_free(s);
+	cJSON_Delete(doc);
+	return rc;
+}
+
+const prsm_job_kind prsm_job_kind_simulation = {
+	.name = "simulation",
+	.collection = "simulations",
+	.request_schema = "simulation.schema.json",
+	.result_schema = "dynamics-result.schema.json",
+	.has_samples_csv = 1,
+	.progress_unit = "simulated_ns",
+	.version = simulation_version,
+	.normalise = simulation_normalise,
+	.run = simulation_run,
+};
