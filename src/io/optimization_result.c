@@ -11,10 +11,7 @@
 
 #include "io/analysis_json.h"
 #include "io/write.h"
-#include "util/version.h"
-
-#define PRSM_OPT_MODEL_VERSION "prsm model 2026-11 (docs/model: geometry and meshing; kinematics, efficiency, stiffness and life)"
-#define PRSM_OPT_ENGINE_NAME "prsm-opt 1 (NLopt local runs from GSL Sobol starts, integers enumerated with pruning)"
+#include "prsm_io_writers.h"
 
 static const char *const constraint_units[] = {"-", "-", "rule warnings", "mm", "mm", "mm", "-",
                                                "h", "revolutions", "MPa", "-"};
@@ -24,35 +21,18 @@ static double percent(double fraction)
 	return 100.0 * fraction;
 }
 
-static void variables_json(prsm_jw *w, cJSON *o, const prsm_design *d)
+void prsm_io_whook_lead(prsm_jw *w, cJSON *obj, const char *key, const void *at)
 {
-	prsm_jw_number(w, o, "starts", d->starts);
-	prsm_jw_number(w, o, "pitch_mm", d->pitch_mm);
-	prsm_jw_number(w, o, "lead_mm", prsm_design_lead_mm(d));
-	prsm_jw_number(w, o, "roller_radius_mm", d->roller_radius_mm);
-	prsm_jw_number(w, o, "screw_radius_mm", d->screw_radius_mm);
-	prsm_jw_number(w, o, "nut_radius_mm", d->nut_radius_mm);
-	prsm_jw_number(w, o, "rollers", d->rollers);
-	prsm_jw_number(w, o, "engaged_threads", d->engaged_threads);
-	prsm_jw_number(w, o, "flank_angle_deg", d->flank_angle_rad * 180.0 / M_PI);
+	prsm_jw_number(w, obj, key, prsm_design_lead_mm(at));
 }
 
-static void figures_json(prsm_jw *w, cJSON *o, const prsm_dp_figures *f, const prsm_design *d)
+void prsm_io_whook_nlopt_version(prsm_jw *w, cJSON *obj, const char *key, const void *at)
 {
-	prsm_jw_number(w, o, "efficiency", f->objective[PRSM_DP_EFFICIENCY]);
-	prsm_jw_number(w, o, "stiffness_N_per_um", f->objective[PRSM_DP_STIFFNESS]);
-	prsm_jw_number(w, o, "mass_kg", f->objective[PRSM_DP_MASS]);
-	prsm_jw_number(w, o, "reflected_inertia_kg_m2", f->objective[PRSM_DP_INERTIA]);
-	prsm_jw_number(w, o, "rollers", d->rollers);
-	prsm_jw_number(w, o, "z_max", f->z_max);
-	prsm_jw_number(w, o, "nut_outer_diameter_mm", f->nut_outer_diameter_mm);
-	prsm_jw_number(w, o, "screw_diameter_mm", f->screw_diameter_mm);
-	prsm_jw_number(w, o, "static_safety", f->static_safety);
-	prsm_jw_number(w, o, "life_h", f->life_h);
-	prsm_jw_number(w, o, "life_revolutions", f->life_revolutions);
-	prsm_jw_number(w, o, "p_max_MPa", f->p_max_MPa);
-	prsm_jw_number(w, o, "critical_speed_rpm", f->critical_speed_rpm);
-	prsm_jw_number(w, o, "operating_speed_rpm", f->operating_speed_rpm);
+	char nl[32];
+	int maj, min, bug;
+	nlopt_version(&maj, &min, &bug);
+	snprintf(nl, sizeof nl, "%d.%d.%d", maj, min, bug);
+	prsm_jw_string(w, obj, key, nl);
 }
 
 /* Every constraint with its value, limit and whether it meets its raw limit; violated names
@@ -144,25 +124,18 @@ int prsm_io_optimization_point_json(cJSON *o, const prsm_io_optimization *od, co
                                     int full, cJSON *violated)
 {
 	prsm_jw w = PRSM_JW_INIT;
-	variables_json(&w, prsm_jw_object(&w, o, "variables"), &p->design);
+	prsm_io_write(&w, o, "variables", &p->design, &prsm_io_w_variables);
 	objectives_json(&w, prsm_jw_array(&w, o, "objectives"), od, p);
 	constraints_json(&w, prsm_jw_array(&w, o, "constraints"), od, p, violated);
 	if (od->has_robust && p->robust_rc != PRSM_ENOMEM)
 		robust_json(&w, prsm_jw_array(&w, o, "robust"), od, p, violated);
-	figures_json(&w, prsm_jw_object(&w, o, "figures"), &p->fig, &p->design);
+	prsm_io_write(&w, o, "figures", p, &prsm_io_w_figures);
 	if (p->analysed) {
-		prsm_problems wr;
-		prsm_problems_init(&wr);
-		cJSON *an = prsm_io_analysis_to_json(p->analysis, &p->design, p->perf, &wr);
-		if (an) {
-			prsm_jw_item(&w, o, "design", cJSON_Duplicate(cJSON_GetObjectItemCaseSensitive(an, "design"), 1));
-			if (full)
-				prsm_jw_item(&w, o, "analysis", an);
-			else
-				cJSON_Delete(an);
-		} else {
-			w.failed = 1;
-		}
+		prsm_problems none;
+		prsm_problems_init(&none);
+		prsm_io_write(&w, o, "design", &p->design, &prsm_io_w_resolved_design);
+		if (full)
+			prsm_io_analysis_write(&w, prsm_jw_object(&w, o, "analysis"), p->analysis, &p->design, p->perf, &none);
 	} else {
 		prsm_jw_null(&w, o, "design");
 	}
@@ -175,23 +148,10 @@ cJSON *prsm_io_optimization_result_head(const prsm_io_optimization *od, const pr
 	cJSON *doc = prsm_jw_root(&w);
 	if (od->name[0])
 		prsm_jw_string(&w, doc, "name", od->name);
-	cJSON *ver = prsm_jw_object(&w, doc, "versions");
-	prsm_jw_string(&w, ver, "prsm", PRSM_VERSION);
-	prsm_jw_string(&w, ver, "engine", PRSM_OPT_ENGINE_NAME);
-	prsm_jw_string(&w, ver, "build", prsm_engine_build());
-	char nl[32];
-	int maj, min, bug;
-	nlopt_version(&maj, &min, &bug);
-	snprintf(nl, sizeof nl, "%d.%d.%d", maj, min, bug);
-	prsm_jw_string(&w, ver, "nlopt", nl);
-	prsm_jw_string(&w, ver, "model", PRSM_OPT_MODEL_VERSION);
+	prsm_io_write(&w, doc, "versions", od, &prsm_io_w_opt_versions);
 	prsm_jw_string(&w, doc, "method", prsm_io_opt_method_names[od->method]);
 	prsm_jw_item(&w, doc, "warnings", prsm_io_problems_to_json(warnings));
-	if (w.failed) {
-		cJSON_Delete(doc);
-		return NULL;
-	}
-	return doc;
+	return prsm_jw_done(&w, doc);
 }
 
 void prsm_io_optimization_run_json(cJSON *doc, const prsm_io_optimization *od, const prsm_io_opt_run *run)
@@ -200,22 +160,8 @@ void prsm_io_optimization_run_json(cJSON *doc, const prsm_io_optimization *od, c
 	prsm_jw_bool(&w, doc, "cancelled", run->cancelled);
 	prsm_jw_string(&w, doc, "stop_reason", prsm_opt_stop_names[run->stop]);
 	prsm_jw_number(&w, doc, "evaluations", (double)run->evaluations);
-	cJSON *sv = prsm_jw_object(&w, doc, "solver");
-	const prsm_opt_options *o = &od->options;
-	prsm_jw_string(&w, sv, "algorithm", prsm_opt_algorithm_names[o->algorithm]);
-	prsm_jw_number(&w, sv, "max_evaluations", (double)o->max_evaluations);
-	prsm_jw_number(&w, sv, "max_time_s", o->max_time_s);
-	prsm_jw_number(&w, sv, "multistart", o->multistart);
-	prsm_jw_number(&w, sv, "seed", (double)o->seed);
-	prsm_jw_number(&w, sv, "xtol_rel", o->xtol_rel);
-	prsm_jw_number(&w, sv, "ftol_rel", o->ftol_rel);
-	prsm_jw_number(&w, sv, "constraint_tolerance", o->constraint_tol);
-	cJSON *cb = prsm_jw_object(&w, doc, "search");
-	prsm_jw_number(&w, cb, "combinations", (double)run->combinations);
-	prsm_jw_number(&w, cb, "pruned", (double)run->pruned);
-	prsm_jw_number(&w, cb, "runs", (double)run->runs);
-	prsm_jw_number(&w, cb, "runs_feasible", (double)run->runs_feasible);
-	prsm_jw_number(&w, cb, "runs_truncated", (double)run->runs_truncated);
+	prsm_io_write(&w, doc, "solver", &od->options, &prsm_io_w_solver);
+	prsm_io_write(&w, doc, "search", run, &prsm_io_w_search);
 	prsm_jw_number(&w, doc, "elapsed_s", run->elapsed_s);
 }
 
@@ -294,18 +240,5 @@ void prsm_io_optimization_robust_json(cJSON *doc, const prsm_io_optimization *od
 	if (!od->has_robust)
 		return;
 	prsm_jw w = PRSM_JW_INIT;
-	const prsm_robust *r = &od->robust;
-	cJSON *ro = prsm_jw_object(&w, doc, "robust");
-	prsm_jw_string(&w, ro, "method", "Monte Carlo yield of the candidate's tolerance study with "
-	               "common random numbers (the same seed, samples, sampler and block size for "
-	               "every candidate); run only when every other constraint holds");
-	prsm_jw_string(&w, ro, "surrogate", prsm_robust_surrogate_names[r->surrogate]);
-	prsm_jw_number(&w, ro, "samples_per_study", (double)r->samples);
-	prsm_jw_number(&w, ro, "seed", (double)r->seed);
-	prsm_jw_string(&w, ro, "sampler", od->sampler);
-	prsm_jw_number(&w, ro, "block_size", (double)od->block_size);
-	prsm_jw_number(&w, ro, "threads", od->threads);
-	prsm_jw_number(&w, ro, "studies", (double)r->studies);
-	prsm_jw_number(&w, ro, "samples", (double)r->samples_total);
-	prsm_jw_number(&w, ro, "elapsed_s", r->elapsed_s);
+	prsm_io_write(&w, doc, "robust", od, &prsm_io_w_robust_settings);
 }

@@ -10,9 +10,11 @@
 #include "io/analysis_json.h"
 #include "io/design_json.h"
 #include "io/json_util.h"
+#include "prsm_io_writers.h"
 #include "model/geometry.h"
 #include "model/performance.h"
 
+/* "dynamics": a start-up transient's settings, read by the caller (io/analyze_request.c) */
 static const char *const multistage_keys[] = {"name", "description", "stages", "couplings",
                                               "operating_point", "dynamics", NULL};
 static const char *const coupling_keys[] = {"spline_friction", "thrust_bearing_friction",
@@ -147,65 +149,24 @@ int prsm_io_multistage_load(prsm_io_multistage *out, const cJSON *doc, prsm_prob
 	return 0;
 }
 
-#define RPM_PER_RAD_S (60.0 / (2.0 * M_PI))
+void prsm_io_whook_stages(prsm_jw *w, cJSON *obj, const char *key, const void *at)
+{
+	const prsm_io_multistage_view *v = at;
+	prsm_problems none;
+	prsm_problems_init(&none);
+	cJSON *arr = prsm_jw_array(w, obj, key);
+	for (int k = 0; arr && k < v->m->stages; k++)
+		prsm_io_analysis_write(w, prsm_jw_object(w, arr, NULL), &v->m->analysis[k], &v->m->design[k], &v->perf[k], &none);
+}
 
 cJSON *prsm_io_multistage_to_json(const prsm_io_multistage *m, const prsm_performance *perf,
                                   const prsm_problems *warnings)
 {
-	cJSON *root = cJSON_CreateObject();
-	if (root == NULL)
-		return NULL;
-	const prsm_chain *c = &m->chain;
-	const prsm_chain_input *in = &m->chain_input;
-	cJSON *ch = cJSON_AddObjectToObject(root, "chain");
-	cJSON_AddStringToObject(ch, "model", "nested stages (docs/model/kinematics-efficiency-stiffness-life.md): screws coupled by splines turn at the input speed, nut k pushes screw k+1 through a thrust bearing; spline friction s_k = mu_SS M_k / r_SS and thrust-bearing torque mu_NS B_k r_NS (seed 000); eta = F sum L / (2 pi T_in)");
-	cJSON_AddNumberToObject(ch, "stages", c->stages);
-	prsm_json_add_number(ch, "axial_load_N", in->axial_load_N);
-	prsm_json_add_number(ch, "screw_speed_rpm", in->screw_speed_rad_s * RPM_PER_RAD_S);
-	prsm_json_add_number(ch, "total_lead_mm", c->total_lead_mm);
-	prsm_json_add_number(ch, "output_speed_mm_s", c->output_speed_mm_s);
-	prsm_json_add_number(ch, "input_torque_Nm", c->input_torque_Nm);
-	prsm_json_add_number(ch, "ideal_torque_Nm", c->ideal_torque_Nm);
-	prsm_json_add_number(ch, "efficiency", c->efficiency);
-	prsm_json_add_number(ch, "efficiency_frictionless_couplings", c->harmonic_efficiency);
-	prsm_json_add_number(ch, "input_power_W", c->input_power_W);
-	prsm_json_add_number(ch, "output_power_W", c->output_power_W);
-	prsm_json_add_number(ch, "loss_power_W", c->loss_power_W);
-	cJSON *cp = cJSON_AddObjectToObject(ch, "couplings");
-	prsm_json_add_number(cp, "spline_friction", in->spline_friction);
-	prsm_json_add_number(cp, "thrust_bearing_friction", in->thrust_bearing_friction);
-	cJSON *per = cJSON_AddArrayToObject(ch, "per_stage");
-	for (int k = 0; k < c->stages; k++) {
-		const prsm_chain_stage *st = &c->stage[k];
-		cJSON *o = cJSON_CreateObject();
-		cJSON_AddNumberToObject(o, "stage", k + 1);
-		prsm_json_add_number(o, "lead_mm", in->lead_mm[k]);
-		prsm_json_add_number(o, "axial_load_N", st->load_N);
-		prsm_json_add_number(o, "stage_torque_Nm", st->stage_torque_Nm);
-		prsm_json_add_number(o, "stage_efficiency", st->stage_efficiency);
-		prsm_json_add_number(o, "torque_into_screw_Nm", st->spline_torque_Nm);
-		prsm_json_add_number(o, "nut_speed_mm_s", st->nut_speed_mm_s);
-		prsm_json_add_number(o, "carrier_ratio", m->analysis[k].kinematics.carrier_ratio);
-		prsm_json_add_number(o, "carrier_ratio_ideal", m->analysis[k].kinematics.carrier_ratio_ideal);
-		prsm_json_add_number(o, "stage_loss_W", st->stage_loss_W);
-		if (k > 0) {
-			prsm_json_add_number(o, "spline_radius_mm", in->spline_radius_mm[k]);
-			cJSON_AddBoolToObject(o, "spline_radius_default", m->spline_radius_default[k]);
-			prsm_json_add_number(o, "spline_friction_force_N", st->spline_force_N);
-			prsm_json_add_number(o, "spline_loss_W", st->spline_loss_W);
-			prsm_json_add_number(o, "thrust_bearing_radius_mm", in->thrust_radius_mm[k]);
-			cJSON_AddBoolToObject(o, "thrust_bearing_radius_default", m->thrust_radius_default[k]);
-			prsm_json_add_number(o, "thrust_bearing_load_N", st->thrust_load_N);
-			prsm_json_add_number(o, "thrust_bearing_torque_Nm", st->thrust_torque_Nm);
-			prsm_json_add_number(o, "thrust_bearing_loss_W", st->thrust_loss_W);
-		}
-		cJSON_AddItemToArray(per, o);
-	}
-	cJSON *stages = cJSON_AddArrayToObject(root, "stages");
-	prsm_problems none;
-	prsm_problems_init(&none);
-	for (int k = 0; k < m->stages; k++)
-		cJSON_AddItemToArray(stages, prsm_io_analysis_to_json(&m->analysis[k], &m->design[k], &perf[k], &none));
-	cJSON_AddItemToObject(root, "warnings", prsm_io_problems_to_json(warnings));
-	return root;
+	prsm_io_multistage_view v = {m, perf, warnings, {0}};
+	for (int k = 0; k < PRSM_STAGES_MAX; k++)
+		v.stage[k] = k + 1;
+	prsm_jw w = PRSM_JW_INIT;
+	cJSON *root = prsm_jw_root(&w);
+	prsm_io_write_fields(&w, root, &v, &prsm_io_w_multistage, 0);
+	return prsm_jw_done(&w, root);
 }

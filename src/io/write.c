@@ -1,24 +1,21 @@
 /*
- * write.c: the sticky-error document writer (see write.h).
+ * write.c: the sticky-error document writer and the generic table writer (see write.h).
  */
 #include "io/write.h"
 
 #include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include "util/version.h"
 
 cJSON *prsm_jw_item(prsm_jw *w, cJSON *parent, const char *key, cJSON *item)
 {
-	if (item == NULL) {
-		w->failed = 1;
-		return NULL;
-	}
-	int ok = parent != NULL && (key ? cJSON_AddItemToObject(parent, key, item)
-	                                : cJSON_AddItemToArray(parent, item));
-	if (!ok) {
-		cJSON_Delete(item);
-		w->failed = 1;
-		return NULL;
-	}
-	return item;
+	if (item && parent && (key ? cJSON_AddItemToObject(parent, key, item) : cJSON_AddItemToArray(parent, item)))
+		return item;
+	cJSON_Delete(item);
+	w->failed = 1;
+	return NULL;
 }
 
 cJSON *prsm_jw_root(prsm_jw *w)
@@ -26,6 +23,15 @@ cJSON *prsm_jw_root(prsm_jw *w)
 	cJSON *root = cJSON_CreateObject();
 	if (root == NULL)
 		w->failed = 1;
+	return root;
+}
+
+cJSON *prsm_jw_done(prsm_jw *w, cJSON *root)
+{
+	if (w->failed) {
+		cJSON_Delete(root);
+		return NULL;
+	}
 	return root;
 }
 
@@ -57,4 +63,193 @@ void prsm_jw_bool(prsm_jw *w, cJSON *parent, const char *key, int b)
 void prsm_jw_null(prsm_jw *w, cJSON *parent, const char *key)
 {
 	prsm_jw_item(w, parent, key, cJSON_CreateNull());
+}
+
+void prsm_jw_pair(prsm_jw *w, cJSON *parent, const char *key, double a, double b)
+{
+	cJSON *arr = prsm_jw_array(w, parent, key);
+	prsm_jw_number(w, arr, NULL, a);
+	prsm_jw_number(w, arr, NULL, b);
+}
+
+cJSON *prsm_io_problems_to_json(const prsm_problems *p)
+{
+	prsm_jw w = PRSM_JW_INIT;
+	cJSON *arr = cJSON_CreateArray();
+	for (int i = 0; arr && i < p->count; i++) {
+		cJSON *it = prsm_jw_object(&w, arr, NULL);
+		prsm_jw_string(&w, it, "pointer", p->items[i].pointer);
+		if (p->items[i].code[0])
+			prsm_jw_string(&w, it, "code", p->items[i].code);
+		prsm_jw_string(&w, it, "message", p->items[i].message);
+	}
+	if (arr && p->dropped) {
+		char msg[96];
+		snprintf(msg, sizeof msg, "%d more problems not listed", p->dropped);
+		cJSON *it = prsm_jw_object(&w, arr, NULL);
+		prsm_jw_string(&w, it, "pointer", "");
+		prsm_jw_string(&w, it, "code", "truncated");
+		prsm_jw_string(&w, it, "message", msg);
+	}
+	return prsm_jw_done(&w, arr);
+}
+
+void prsm_io_whook_problems(prsm_jw *w, cJSON *obj, const char *key, const void *at)
+{
+	prsm_jw_item(w, obj, key, prsm_io_problems_to_json(at));
+}
+
+void prsm_io_whook_engine_build(prsm_jw *w, cJSON *obj, const char *key, const void *at)
+{
+	prsm_jw_string(w, obj, key, prsm_engine_build());
+}
+
+/* ---- the table writer ---------------------------------------------------------------------- */
+
+static const char *member(const void *base, const prsm_io_wref *r, size_t i)
+{
+	const char *p = (const char *)base + r->offset;
+	if (r->deref && (p = *(const char *const *)p) != NULL)
+		p += r->offset2;
+	if (p && r->pointer)
+		p = *(const char *const *)p;
+	return p ? p + i * r->stride : NULL;
+}
+
+static double number(const char *p, int type)
+{
+	switch (type) {
+	case PRSM_IO_W_INT:
+		return *(const int *)p;
+	case PRSM_IO_W_SIZE:
+		return (double)*(const size_t *)p;
+	case PRSM_IO_W_U64:
+		return (double)*(const uint64_t *)p;
+	case PRSM_IO_W_ULONG:
+		return (double)*(const unsigned long *)p;
+	default:
+		return *(const double *)p;
+	}
+}
+
+/* 1 when field f is written (at row i). */
+static int wanted(const void *base, const prsm_io_wfield *f, size_t i)
+{
+	if (f->when == PRSM_IO_W_ALWAYS)
+		return 1;
+	if (f->when == PRSM_IO_W_IF_ROW)
+		return i >= (size_t)f->when_value;
+	const char *p = member(base, &f->when_at, i);
+	if (p == NULL)
+		return 0;
+	double v = f->when_type == PRSM_IO_W_CHARS ? p[0] != '\0' : number(p, f->when_type);
+	switch (f->when) {
+	case PRSM_IO_W_IF:
+		return f->when_type == PRSM_IO_W_DOUBLE ? !isnan(v) : v != 0.0;
+	case PRSM_IO_W_IF_NOT:
+		return v == 0.0;
+	case PRSM_IO_W_IF_IS:
+		return v == f->when_value;
+	default:
+		return v != f->when_value;
+	}
+}
+
+static const char *string(const char *p, int type)
+{
+	return type == PRSM_IO_W_CSTR ? *(const char *const *)p : p;
+}
+
+static void array(prsm_jw *w, cJSON *arr, const void *base, const prsm_io_wfield *f, size_t row)
+{
+	size_t n = (size_t)f->count;
+	if (f->count_type) {
+		const char *c = member(base, &f->count_at, row);
+		n = c ? (size_t)number(c, f->count_type) : 0;
+	}
+	if (f->shape == PRSM_IO_W_TUPLE) {
+		prsm_io_write_fields(w, arr, base, f->child, row);
+		return;
+	}
+	for (size_t i = 0; arr && i < n; i++) {
+		const char *p = f->shape == PRSM_IO_W_ROWS ? base : member(base, &f->at, i);
+		if (p == NULL)
+			break;
+		if (f->child)
+			prsm_io_write_fields(w, prsm_jw_object(w, arr, NULL), p, f->child, f->shape == PRSM_IO_W_ROWS ? i : 0);
+		else if (f->type >= PRSM_IO_W_CHARS)
+			prsm_jw_string(w, arr, NULL, string(p, f->type));
+		else
+			prsm_jw_number(w, arr, NULL, number(p, f->type) * (f->scale != 0.0 ? f->scale : 1.0));
+	}
+}
+
+static void field(prsm_jw *w, cJSON *o, const void *base, const prsm_io_wfield *f, size_t row)
+{
+	const char *p = f->kind == PRSM_IO_W_TEXT || f->kind == PRSM_IO_W_ARRAY ? base : member(base, &f->at, row);
+	if (p == NULL)
+		return;
+	switch (f->kind) {
+	case PRSM_IO_W_NUMBER: {
+		double v = number(p, f->type) * (f->scale != 0.0 ? f->scale : 1.0);
+		prsm_jw_number(w, o, f->name, f->divide != 0.0 ? v / f->divide : v);
+		break;
+	}
+	case PRSM_IO_W_BOOL:
+		prsm_jw_bool(w, o, f->name, f->type ? (f->mask ? (*(const int *)p & f->mask) != 0 : *(const int *)p != 0)
+		                                    : f->mask);
+		break;
+	case PRSM_IO_W_ENUM: {
+		const char *name = f->text;
+		for (int i = 0; i < f->n_values; i++)
+			if (f->values[i] == *(const int *)p)
+				name = f->names[i];
+		if (name)
+			prsm_jw_string(w, o, f->name, name);
+		else
+			prsm_jw_null(w, o, f->name);
+		break;
+	}
+	case PRSM_IO_W_FLAGS: {
+		cJSON *arr = prsm_jw_array(w, o, f->name);
+		for (int i = 0; i < f->n_values; i++)
+			if (*(const int *)p & f->values[i])
+				prsm_jw_string(w, arr, NULL, f->names[i]);
+		break;
+	}
+	case PRSM_IO_W_STRING:
+		if (string(p, f->type))
+			prsm_jw_string(w, o, f->name, string(p, f->type));
+		break;
+	case PRSM_IO_W_TEXT:
+		prsm_jw_string(w, o, f->name, f->text);
+		break;
+	case PRSM_IO_W_OBJECT: /* a section of the same struct keeps the row */
+		prsm_io_write_fields(w, prsm_jw_object(w, o, f->name), p, f->child, f->at.stride ? 0 : row);
+		break;
+	case PRSM_IO_W_ARRAY:
+		array(w, prsm_jw_array(w, o, f->name), p, f, row);
+		break;
+	case PRSM_IO_W_HOOK:
+		f->hook(w, o, f->name, p);
+		break;
+	}
+}
+
+void prsm_io_write_fields(prsm_jw *w, cJSON *obj, const void *base, const prsm_io_wtable *t, size_t row)
+{
+	for (size_t i = 0; obj && i < t->n_fields; i++) {
+		const prsm_io_wfield *f = &t->fields[i];
+		if (wanted(base, f, row))
+			field(w, obj, base, f, row);
+		else if (f->else_null)
+			prsm_jw_null(w, obj, f->name);
+	}
+}
+
+cJSON *prsm_io_write(prsm_jw *w, cJSON *parent, const char *key, const void *base, const prsm_io_wtable *t)
+{
+	cJSON *o = prsm_jw_object(w, parent, key);
+	prsm_io_write_fields(w, o, base, t, 0);
+	return o;
 }

@@ -1,0 +1,155 @@
+#!/usr/bin/python3
+"""The result-writer table generator (scripts/gen-io-writers.py) refuses what would let a
+result and its schema disagree: a property of a written object without an annotation, an
+annotation naming no member, a type that does not fit the member; and it writes what the
+annotations say (order, scale, conditions, cross-file references).
+
+Usage: gen_io_writers_test.py SOURCE_DIR"""
+import copy
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+src = os.path.abspath(sys.argv[1])
+gen = os.path.join(src, 'scripts', 'gen-io-writers.py')
+schemas = os.path.join(src, 'schemas')
+RESULTS = ['analysis.schema.json', 'study-result.schema.json', 'optimization-result.schema.json',
+           'allocation-result.schema.json']
+failed = 0
+
+
+def load(name):
+    with open(os.path.join(schemas, name), encoding='utf-8') as f:
+        return json.load(f)
+
+
+def run(edits):
+    """The generator over a copy of schemas/ with edits {file name: schema}: (rc, stderr + the
+    generated C)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        sdir = os.path.join(tmp, 'schemas')
+        shutil.copytree(schemas, sdir)
+        for name, schema in edits.items():
+            with open(os.path.join(sdir, name), 'w', encoding='utf-8') as f:
+                json.dump(schema, f)
+        paths = sorted(os.path.join(sdir, n) for n in os.listdir(sdir) if n.endswith('.schema.json'))
+        r = subprocess.run(['/usr/bin/python3', gen, '--out-dir', os.path.join(tmp, 'out'), '--src',
+                            os.path.join(src, 'src')] + paths, capture_output=True, text=True)
+        text = ''
+        for name in ('prsm_io_writers.h', 'prsm_io_writers.c'):
+            p = os.path.join(tmp, 'out', name)
+            if os.path.exists(p):
+                with open(p, encoding='utf-8') as f:
+                    text += f.read()
+        return r.returncode, r.stderr + text
+
+
+def check(name, edits, want_rc, *want_texts, absent=()):
+    global failed
+    rc, out = run(edits)
+    ok = rc == want_rc and all(t in out for t in want_texts) and not any(t in out for t in absent)
+    print(('ok   ' if ok else 'FAIL ') + name + ('' if ok else f': rc {rc}, output {out[:600]!r}'))
+    failed += not ok
+
+
+def table(out, cname):
+    """The field initialisers of table cname in the generated C."""
+    start = out.index(f'static const prsm_io_wfield {cname}_fields[] = {{')
+    return out[start:out.index('};', start)]
+
+
+a = load('analysis.schema.json')
+D = a['$defs']
+
+# the project's schemas generate, with the documents' tables and hooks
+rc, out = run({})
+print(('ok   ' if rc == 0 else 'FAIL ') + 'the project schemas generate')
+failed += rc != 0
+for t in ('prsm_io_w_analysis', 'prsm_io_w_multistage', 'prsm_io_w_assembly', 'prsm_io_w_resolved_design',
+          'prsm_io_w_output', 'prsm_io_w_solver', 'prsm_io_w_cost_model', 'prsm_io_w_spec'):
+    ok = f'extern const prsm_io_wtable {t};' in out
+    print(('ok   ' if ok else 'FAIL ') + f'{t} is exported')
+    failed += not ok
+
+# the written order is the schema's: a reordered property moves in the table
+h = table(out, 'prsm_io_w_hertz')
+ok = h.index('"normal_load_N"') < h.index('"sum_rho_per_mm"') < h.index('"p_max_MPa"')
+print(('ok   ' if ok else 'FAIL ') + 'the table follows the schema\'s order')
+failed += not ok
+s = copy.deepcopy(a)
+hp = s['$defs']['hertz_contact']['properties']
+s['$defs']['hertz_contact']['properties'] = {k: hp[k] for k in reversed(list(hp))}
+rc, out2 = run({'analysis.schema.json': s})
+h = table(out2, 'prsm_io_w_hertz')
+ok = rc == 0 and h.index('"p_max_MPa"') < h.index('"normal_load_N"')
+print(('ok   ' if ok else 'FAIL ') + 'a reordered schema reorders the table')
+failed += not ok
+
+# what the annotations say reaches the table
+check('scale, pointer paths and conditions', {}, 0,
+      '.name = "approach_um", .at = {.offset = offsetof(prsm_hertz, delta_mm)}, .kind = PRSM_IO_W_NUMBER, '
+      '.type = PRSM_IO_W_DOUBLE, .scale = 1000.0',
+      '.at = {.offset = offsetof(prsm_io_analysis_view, a), .deref = 1, .offset2 = offsetof(prsm_analysis, geometry)}',
+      '.when = PRSM_IO_W_IF_IS, .when_at = {.offset = offsetof(prsm_design_stiffness, width_rule)}',
+      '_values[] = {PRSM_HAND_RIGHT, PRSM_HAND_LEFT};')
+
+# a property of a written object without an annotation
+s = copy.deepcopy(a)
+del s['$defs']['hertz_contact']['properties']['ellipticity_a_over_b']['x-prsm']
+check('a property without x-prsm is refused', {'analysis.schema.json': s}, 1,
+      'prsm_io_w_hertz/ellipticity_a_over_b has no "x-prsm" annotation')
+# ... also one a cross-file $ref brings in (the design schema's annotations are the reader's)
+s = copy.deepcopy(a)
+del s['$defs']['resolved_design']['properties']['geometry']['properties']['nut_length_mm']
+check('a referenced property the result does not say how to write is refused', {'analysis.schema.json': s}, 1,
+      'prsm_io_w_resolved_design_geometry/nut_length_mm has no "x-prsm"')
+# a member the struct lacks
+s = copy.deepcopy(a)
+s['$defs']['hertz_contact']['properties']['semi_major_a_mm']['x-prsm']['field'] = 'a_um'
+check('an annotation naming no member is refused', {'analysis.schema.json': s}, 1, 'struct prsm_hertz has no member "a_um"')
+s = copy.deepcopy(a)
+s['$defs']['contact']['properties']['x_mm']['x-prsm']['field'] = 'c->x_um'
+check('... through a pointer too', {'analysis.schema.json': s}, 1, 'struct prsm_contact has no member "x_um"')
+# types that do not fit
+s = copy.deepcopy(a)
+s['$defs']['hertz_contact']['properties']['p_max_MPa']['type'] = 'integer'
+check('an integer from a double is refused', {'analysis.schema.json': s}, 1, 'an integer is written from an integer member')
+s = copy.deepcopy(a)
+s['$defs']['hertz_contact']['properties']['p_max_MPa']['type'] = 'string'
+check('a string from a double is refused', {'analysis.schema.json': s}, 1, 'a string is a char array')
+s = copy.deepcopy(a)
+s['$defs']['contact']['properties']['edge_contact']['x-prsm']['field'] = 'c->gap_mm'
+check('a boolean from a double is refused', {'analysis.schema.json': s}, 1, 'a boolean is written from an int')
+s = copy.deepcopy(a)
+del s['$defs']['analysis']['properties']['thinning']['properties']['rule']['x-prsm']['values']
+check('a string enum without its C values is refused', {'analysis.schema.json': s}, 1, '"values" must give one C constant')
+s = copy.deepcopy(a)
+s['$defs']['contact']['properties']['normal_radial_tangential_axial']['x-prsm']['field'] = 'c->x_mm'
+check('array items from a scalar are refused', {'analysis.schema.json': s}, 1, 'no C array or pointer')
+s = copy.deepcopy(a)
+s['$defs']['analysis']['properties']['geometry']['x-prsm']['field'] = 'a->backlash_mm'
+check('an object from a number is refused', {'analysis.schema.json': s}, 1, 'is no struct')
+s = copy.deepcopy(a)
+s['$defs']['analysis']['properties']['contacts']['properties']['screw_roller']['x-prsm']['field'] = 'screw_side'
+check('an object whose table writes another struct is refused', {'analysis.schema.json': s}, 1,
+      'the table contact writes a prsm_io_contact_view, the member is a prsm_io_side_view')
+s = copy.deepcopy(a)
+s['$defs']['analysis']['properties']['load_distribution']['properties']['roller_load_N']['x-prsm']['when'] = 'nothing'
+check('a condition on no member is refused', {'analysis.schema.json': s}, 1, 'has no member "nothing"')
+
+# a new result field is one schema edit: the table grows by it
+s = copy.deepcopy(a)
+s['$defs']['analysis']['properties']['kinematics']['properties']['carrier_ratio_min_slip'] = {
+    'description': 'k*.', 'type': 'number', 'x-prsm': {'field': 'a->kinematics.carrier_ratio_min_slip'}}
+s['$defs']['analysis']['properties']['kinematics']['properties']['roller_spin_ratio_ideal'] = {
+    'description': 'gone', 'type': 'number', 'x-prsm': {'skip': True}}
+check('a field added (and one skipped) in the schema reaches the table', {'analysis.schema.json': s}, 0,
+      '{.name = "carrier_ratio_min_slip", .at = {.offset = offsetof(prsm_io_analysis_view, a), .deref = 1, '
+      '.offset2 = offsetof(prsm_analysis, kinematics.carrier_ratio_min_slip)}',
+      absent=('"roller_spin_ratio_ideal"',))
+
+print('gen-io-writers:', 'FAILED' if failed else 'all ok')
+sys.exit(1 if failed else 0)
