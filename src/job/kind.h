@@ -19,6 +19,7 @@
 #define PRSM_JOB_KIND_H
 
 #include <stddef.h>
+#include <stdio.h>
 
 #include <cJSON.h>
 
@@ -56,6 +57,10 @@ typedef struct {
 } prsm_job_output;
 
 void prsm_job_output_free(prsm_job_output *o);
+
+/* What write(f, ctx) prints, as a malloc'd buffer (*text, the caller's, *len bytes): an in-memory
+ * CSV for prsm_job_output.csv. Returns 0, write's error, PRSM_EIO or PRSM_ENOMEM (*text NULL). */
+int prsm_job_text(char **text, size_t *len, int (*write)(FILE *f, const void *ctx), const void *ctx);
 
 typedef struct prsm_job_kind {
 	const char *name;            /* job kind, e.g. "study" */

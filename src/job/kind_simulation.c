@@ -60,26 +60,9 @@ static int simulation_normalise(cJSON **out, const cJSON *doc, const prsm_job_li
 	return *out ? 0 : PRSM_ENOMEM;
 }
 
-/* The time series as CSV into a malloc'd buffer the caller takes. */
-static int series_csv(char **csv, size_t *len, const prsm_app_simulation *s)
+static int series_csv(FILE *f, const void *s)
 {
-	*csv = NULL;
-	*len = 0;
-	char *buf = NULL;
-	size_t size = 0;
-	FILE *f = open_memstream(&buf, &size); /* buf handed to the caller on success */
-	if (!f)
-		return PRSM_ENOMEM;
-	int rc = prsm_app_simulation_csv(f, s);
-	if (fclose(f) && !rc)
-		rc = PRSM_EIO;
-	if (rc) {
-		free(buf);
-		return rc;
-	}
-	*csv = buf;
-	*len = size;
-	return 0;
+	return prsm_app_simulation_csv(f, s);
 }
 
 static int simulation_run(prsm_job_output *out, const char *request, const prsm_job_run_ctx *ctx, prsm_error *err)
@@ -114,7 +97,7 @@ static int simulation_run(prsm_job_output *out, const char *request, const prsm_
 	out->result_len = strlen(out->result);
 	const prsm_dyn_options *o = prsm_dyn_model_options(prsm_app_simulation_model(s));
 	out->samples_done = out->samples_planned = (long long)(o->time.end_s * 1e9 + 0.5);
-	if ((rc = series_csv(&out->csv, &out->csv_len, s)))
+	if ((rc = prsm_job_text(&out->csv, &out->csv_len, series_csv, s)))
 		rc = prsm_error_set(err, rc, NULL, "cannot write the time series CSV");
 done:
 	if (rc)

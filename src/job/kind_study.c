@@ -108,6 +108,17 @@ static int study_normalise(cJSON **out, const cJSON *doc, const prsm_job_limits 
 	return 0;
 }
 
+typedef struct {
+	const prsm_io_study *s;
+	const prsm_study_result *r;
+} study_csv;
+
+static int write_samples(FILE *f, const void *ctx)
+{
+	const study_csv *c = ctx;
+	return prsm_io_study_write_csv(f, c->s, c->r);
+}
+
 /* Every sample as CSV into a malloc'd buffer (*csv, the caller's), or NULL when it would be
  * larger than STUDY_CSV_MAX_BYTES. Returns 0 or PRSM_EIO / PRSM_ENOMEM. */
 static int samples_csv(char **csv, size_t *len, const prsm_io_study *s, const prsm_study_result *r)
@@ -118,21 +129,8 @@ static int samples_csv(char **csv, size_t *len, const prsm_io_study *s, const pr
 	size_t cols = r->run.d + r->run.m + 2;
 	if (r->run.n > STUDY_CSV_MAX_BYTES / (25 * cols))
 		return 0;
-	char *buf = NULL;
-	size_t size = 0;
-	FILE *f = open_memstream(&buf, &size); /* buf handed to the caller on success */
-	if (!f)
-		return PRSM_ENOMEM;
-	int rc = prsm_io_study_write_csv(f, s, r);
-	if (fclose(f) && !rc)
-		rc = PRSM_EIO;
-	if (rc) {
-		free(buf);
-		return rc;
-	}
-	*csv = buf;
-	*len = size;
-	return 0;
+	const study_csv c = {s, r};
+	return prsm_job_text(csv, len, write_samples, &c);
 }
 
 static int study_run(prsm_job_output *out, const char *request, const prsm_job_run_ctx *ctx, prsm_error *err)

@@ -32,6 +32,27 @@ const prsm_job_kind *prsm_job_kind_by_name(const char *name)
 	return NULL;
 }
 
+int prsm_job_text(char **text, size_t *len, int (*write)(FILE *f, const void *ctx), const void *ctx)
+{
+	*text = NULL;
+	*len = 0;
+	char *buf = NULL;
+	size_t size = 0;
+	FILE *f = open_memstream(&buf, &size); /* buf handed to the caller on success */
+	if (!f)
+		return PRSM_ENOMEM;
+	int rc = write(f, ctx);
+	if (fclose(f) && !rc)
+		rc = PRSM_EIO;
+	if (rc) {
+		free(buf);
+		return rc;
+	}
+	*text = buf;
+	*len = size;
+	return 0;
+}
+
 void prsm_job_output_free(prsm_job_output *o)
 {
 	free(o->result);
