@@ -419,6 +419,8 @@ for b in d["benchmarks"]:
     # an overhead measured on a busy machine may come out <= 0; every rate and time is positive
     assert isinstance(b["value"], (int, float)) and (b["unit"] == "percent" or b["value"] > 0), b
 assert {"load_distribution_case_a", "operating_point_analysis_case_a"} <= names, names
+# the rigid-body start-ups (issue 15): a rate, never a time asserted
+assert {"startup_coulomb_case_a_5ms", "startup_two_stage_seed000_5ms"} <= names, names
 PY
 
 # allocate: the analytic LS-1 example (closed form), the case-A example with its Monte Carlo

@@ -290,6 +290,7 @@ int prsm_cli_bench(int argc, char **argv)
 	add(list, "te_curve_64_linear", bench_assembly(budget, PRSM_MODE_LINEAR, 1), "curves/s", 1);
 	add(list, "te_curve_64_exact", bench_assembly(budget, PRSM_MODE_EXACT, 1), "curves/s", 1);
 	prsm_cli_bench_study(list, budget);
+	prsm_cli_bench_dyn(list, budget);
 	prsm_cli_bench_opt(list);
 	int rc = prsm_cli_print_json(doc, NULL);
 	cJSON_Delete(doc);

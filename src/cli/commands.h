@@ -33,6 +33,8 @@ void prsm_cli_bench_add(cJSON *list, const char *name, double value, const char 
                         int decimals);
 /* The Monte Carlo entries of `prsm bench`, each sized to about budget_s seconds. */
 void prsm_cli_bench_study(cJSON *list, double budget_s);
+/* The rigid-body dynamics entries of `prsm bench` (src/cli/bench_dyn.c), each about budget_s. */
+void prsm_cli_bench_dyn(cJSON *list, double budget_s);
 /* The design-optimisation entry of `prsm bench` (src/cli/bench_opt.c). */
 void prsm_cli_bench_opt(cJSON *list);
 /* Case A of docs/model/geometry-and-meshing.md as the benches take it (Z = 10, 10 engaged threads, 20 um target

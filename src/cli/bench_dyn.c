@@ -1,0 +1,97 @@
+/*
+ * bench_dyn.c: the rigid-body dynamics entries of `prsm bench` (issue 15; docs/dynamics.md):
+ *   - case A's Coulomb start-up (studies/dynamics-case-a-coulomb.json: a step to 100 rad/s
+ *     against 7 kN, regularised Coulomb friction, the statics losses) integrated to 0.005 s of
+ *     simulated time with an output step of 1e-5 s (501 output times), simulations/s on one core;
+ *   - seed 000's two-stage screw, friction row 1 (studies/dynamics-seed000-row1.json), from rest
+ *     to 0.005 s at the same output step, simulations/s on one core.
+ * Each entry times prsm_dyn_simulate alone: the request is read and its model (kinematic
+ * structure, masses, statics references, settled state) built once, as a sweep over input
+ * values would reuse it; the checks at every output time are part of what is timed.
+ */
+#include <cJSON.h>
+#include <math.h>
+#include <stdio.h>
+
+#include "app/simulate.h"
+#include "cli/commands.h"
+#include "util/clock.h"
+
+static const char coulomb_case_a[] =
+	"{\"design\": {\"geometry\": {\"starts\": 5, \"hand\": \"right\", \"pitch_mm\": 2, \"flank_angle_deg\": 45,"
+	" \"roller_radius_mm\": 3.25, \"rollers\": 10, \"engaged_threads\": 10},"
+	" \"target_axial_clearance_um\": 20, \"friction\": {\"screw_roller\": 0.05, \"nut_roller\": 0.05}},"
+	" \"dynamics\": {\"analysis\": \"transient\","
+	"  \"input\": {\"kind\": \"speed\", \"shape\": \"step\", \"value_rad_s\": 100},"
+	"  \"load\": {\"axial_load_N\": 7000},"
+	"  \"friction\": {\"model\": \"coulomb\", \"smoothing_velocity_m_s\": 0.0001},"
+	"  \"losses\": \"statics\", \"time\": {\"end_s\": 0.005, \"output_step_s\": 1e-05}}}";
+
+static const char two_stage_seed000[] =
+	"{\"stages\": ["
+	"  {\"geometry\": {\"starts\": 5, \"pitch_mm\": 2, \"flank_angle_deg\": 45, \"screw_radius_mm\": 9.75,"
+	"   \"roller_radius_mm\": 3.25, \"nut_radius_mm\": 16.25, \"rollers\": 7, \"engaged_threads\": 10},"
+	"   \"target_axial_clearance_um\": 20, \"friction\": {\"screw_roller\": 0.05, \"nut_roller\": 0}},"
+	"  {\"geometry\": {\"starts\": 5, \"pitch_mm\": 2, \"flank_angle_deg\": 45, \"screw_radius_mm\": 16.5,"
+	"   \"roller_radius_mm\": 5.5, \"nut_radius_mm\": 27.5, \"rollers\": 7, \"engaged_threads\": 10},"
+	"   \"target_axial_clearance_um\": 20, \"friction\": {\"screw_roller\": 0.05, \"nut_roller\": 0}}],"
+	" \"couplings\": {\"spline_friction\": 0.1, \"thrust_bearing_friction\": 0.055},"
+	" \"operating_point\": {\"axial_load_N\": 7000, \"screw_speed_rpm\": 954.9296585513721},"
+	" \"dynamics\": {\"analysis\": \"transient\","
+	"  \"input\": {\"kind\": \"speed\", \"shape\": \"step\", \"value_rad_s\": 100},"
+	"  \"load\": {\"axial_load_N\": 7000}, \"friction\": {\"model\": \"coulomb\"},"
+	"  \"losses\": \"sliding_only\","
+	"  \"inertia\": {\"stages\": ["
+	"   {\"roller_mass_kg\": 0.014, \"roller_inertia_kg_mm2\": 0.077, \"carrier_inertia_kg_mm2\": 2.95,"
+	"    \"nut_mass_kg\": 2.2, \"screw_mass_kg\": 0.761, \"screw_inertia_kg_mm2\": 51.94},"
+	"   {\"roller_mass_kg\": 0.039, \"roller_inertia_kg_mm2\": 0.471, \"carrier_inertia_kg_mm2\": 19.88,"
+	"    \"nut_mass_kg\": 20, \"screw_mass_kg\": 0.761, \"screw_inertia_kg_mm2\": 172.3}]},"
+	"  \"time\": {\"end_s\": 0.005, \"output_step_s\": 1e-05}}}";
+
+static volatile double sink;
+
+/* Simulations per second of the request text (NAN when it does not load or run). */
+static double bench_simulation(const char *text, double budget_s)
+{
+	cJSON *doc = cJSON_Parse(text);
+	prsm_problems w, pr;
+	prsm_problems_init(&w);
+	prsm_problems_init(&pr);
+	prsm_app_simulation *s = NULL;
+	if (doc == NULL || prsm_app_simulation_load(&s, doc, &w, &pr)) {
+		fprintf(stderr, "prsm bench: built-in simulation invalid: %s %s\n", pr.count ? pr.items[0].pointer : "",
+		        pr.count ? pr.items[0].message : "?");
+		cJSON_Delete(doc);
+		return NAN;
+	}
+	cJSON_Delete(doc);
+	const prsm_dyn_model *m = prsm_app_simulation_model(s);
+	long n = 0;
+	double rate = NAN, t0 = prsm_clock_seconds(), t = t0;
+	while (t - t0 < budget_s) {
+		prsm_dyn_result r = {0};
+		prsm_error err = PRSM_ERROR_INIT;
+		if (prsm_dyn_simulate(&r, m, NULL, NULL, NULL, &err)) {
+			fprintf(stderr, "prsm bench: simulation failed: %s\n", err.message);
+			prsm_dyn_result_free(&r);
+			n = 0;
+			break;
+		}
+		sink = (double)r.points;
+		prsm_dyn_result_free(&r);
+		n++;
+		t = prsm_clock_seconds();
+	}
+	if (n > 0)
+		rate = (double)n / (t - t0);
+	prsm_app_simulation_free(s);
+	return rate;
+}
+
+void prsm_cli_bench_dyn(cJSON *list, double budget_s)
+{
+	prsm_cli_bench_add(list, "startup_coulomb_case_a_5ms", bench_simulation(coulomb_case_a, budget_s),
+	                   "simulations/s", 1, 0);
+	prsm_cli_bench_add(list, "startup_two_stage_seed000_5ms", bench_simulation(two_stage_seed000, budget_s),
+	                   "simulations/s", 1, 0);
+}
