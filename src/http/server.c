@@ -34,6 +34,7 @@
 #include <nettle/version.h>
 #include <sqlite3.h>
 
+#include "http/mhd.h"
 #include "http/request.h"
 #include "io/analysis_json.h"
 #include "io/analyze_request.h"
@@ -107,18 +108,18 @@ static enum MHD_Result send_response(struct MHD_Connection *c, unsigned status, 
                                      size_t len, enum MHD_ResponseMemoryMode mode, const char *hname,
                                      const char *hvalue)
 {
-	struct MHD_Response *r = MHD_create_response_from_buffer(len, buf, mode);
+	struct MHD_Response *r = prsm_mhd.create_response_from_buffer(len, buf, mode);
 	if (!r) {
 		if (mode == MHD_RESPMEM_MUST_FREE)
 			free(buf);
 		return MHD_NO;
 	}
-	MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, type);
-	MHD_add_response_header(r, "X-Content-Type-Options", "nosniff");
+	prsm_mhd.add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, type);
+	prsm_mhd.add_response_header(r, "X-Content-Type-Options", "nosniff");
 	if (hname && hvalue)
-		MHD_add_response_header(r, hname, hvalue);
-	enum MHD_Result ok = MHD_queue_response(c, status, r);
-	MHD_destroy_response(r);
+		prsm_mhd.add_response_header(r, hname, hvalue);
+	enum MHD_Result ok = prsm_mhd.queue_response(c, status, r);
+	prsm_mhd.destroy_response(r);
 	return ok;
 }
 
@@ -319,7 +320,7 @@ static int precheck(prsm_http *h, struct MHD_Connection *c, const char *url, con
 	prsm_problems p;
 	prsm_problems_init(&p);
 	framing f = {0, 0, NULL};
-	MHD_get_connection_values(c, MHD_HEADER_KIND, count_headers, &f);
+	prsm_mhd.get_connection_values(c, MHD_HEADER_KIND, count_headers, &f);
 	int status = prsm_http_check_framing(f.content_length, f.content_length_value, f.transfer_encoding, &p);
 	if (status) {
 		*ret = send_problems(c, (unsigned)status, &p, "Connection", "close");
@@ -337,14 +338,14 @@ static int precheck(prsm_http *h, struct MHD_Connection *c, const char *url, con
 	}
 	int writes = strcmp(method, "POST") == 0 || strcmp(method, "DELETE") == 0;
 	if (writes && h->token[0] &&
-	    !prsm_http_bearer_ok(MHD_lookup_connection_value(c, MHD_HEADER_KIND, MHD_HTTP_HEADER_AUTHORIZATION),
+	    !prsm_http_bearer_ok(prsm_mhd.lookup_connection_value(c, MHD_HEADER_KIND, MHD_HTTP_HEADER_AUTHORIZATION),
 	                         h->token)) {
 		*ret = send_problem(c, 401, "", "token", "WWW-Authenticate", "Bearer realm=\"prsm\"",
 		                    "this service needs 'Authorization: Bearer <token>' for %s", method);
 		return 1;
 	}
 	if (strcmp(method, "POST") == 0) {
-		const char *type = MHD_lookup_connection_value(c, MHD_HEADER_KIND, MHD_HTTP_HEADER_CONTENT_TYPE);
+		const char *type = prsm_mhd.lookup_connection_value(c, MHD_HEADER_KIND, MHD_HTTP_HEADER_CONTENT_TYPE);
 		if (!prsm_http_is_json_type(type)) {
 			*ret = send_problem(c, 415, "", "media_type", "Accept-Post", "application/json",
 			                    "Content-Type %.80s: send application/json", type ? type : "(none)");
@@ -551,8 +552,8 @@ static enum MHD_Result on_submit(prsm_http *h, struct MHD_Connection *c, request
 
 static enum MHD_Result on_list(prsm_http *h, struct MHD_Connection *c, request *r)
 {
-	const char *ls = MHD_lookup_connection_value(c, MHD_GET_ARGUMENT_KIND, "limit");
-	const char *cs = MHD_lookup_connection_value(c, MHD_GET_ARGUMENT_KIND, "cursor");
+	const char *ls = prsm_mhd.lookup_connection_value(c, MHD_GET_ARGUMENT_KIND, "limit");
+	const char *cs = prsm_mhd.lookup_connection_value(c, MHD_GET_ARGUMENT_KIND, "cursor");
 	long limit = LIST_DEFAULT;
 	long long cursor = 0;
 	if (ls) {
@@ -685,15 +686,15 @@ static enum MHD_Result on_static(prsm_http *h, struct MHD_Connection *c, const c
 		close(fd);
 		return send_problem(c, 404, "", "not_found", NULL, NULL, "no such file");
 	}
-	struct MHD_Response *resp = MHD_create_response_from_fd((uint64_t)st.st_size, fd); /* takes fd */
+	struct MHD_Response *resp = prsm_mhd.create_response_from_fd((uint64_t)st.st_size, fd); /* takes fd */
 	if (!resp) {
 		close(fd);
 		return MHD_NO;
 	}
-	MHD_add_response_header(resp, MHD_HTTP_HEADER_CONTENT_TYPE, content_type_of(real));
-	MHD_add_response_header(resp, "X-Content-Type-Options", "nosniff");
-	enum MHD_Result ok = MHD_queue_response(c, 200, resp);
-	MHD_destroy_response(resp);
+	prsm_mhd.add_response_header(resp, MHD_HTTP_HEADER_CONTENT_TYPE, content_type_of(real));
+	prsm_mhd.add_response_header(resp, "X-Content-Type-Options", "nosniff");
+	enum MHD_Result ok = prsm_mhd.queue_response(c, 200, resp);
+	prsm_mhd.destroy_response(resp);
 	return ok;
 }
 
@@ -844,7 +845,7 @@ static int build_version(prsm_http *h)
 	}
 	cJSON *lib = cJSON_AddObjectToObject(v, "libraries");
 	char buf[32];
-	cJSON_AddStringToObject(lib, "libmicrohttpd", MHD_get_version());
+	cJSON_AddStringToObject(lib, "libmicrohttpd", prsm_mhd.get_version());
 	cJSON_AddStringToObject(lib, "sqlite", sqlite3_libversion());
 	cJSON_AddStringToObject(lib, "cjson", cJSON_Version());
 	cJSON_AddStringToObject(lib, "gsl", gsl_version);
@@ -869,6 +870,9 @@ static void free_docs(prsm_http *h)
 int prsm_http_start(prsm_http **out, const prsm_http_options *o, prsm_jobs *jobs, prsm_error *err)
 {
 	*out = NULL;
+	int rc = prsm_mhd_load(err);
+	if (rc)
+		return rc;
 	prsm_http *h = calloc(1, sizeof *h); /* handed to the caller */
 	if (!h)
 		return prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
@@ -878,7 +882,7 @@ int prsm_http_start(prsm_http **out, const prsm_http_options *o, prsm_jobs *jobs
 	atomic_init(&h->body_bytes, 0);
 	if (o->token)
 		snprintf(h->token, sizeof h->token, "%s", o->token);
-	int rc = load_schemas(h, err);
+	rc = load_schemas(h, err);
 	if (!rc) {
 		char path[PATH_MAX];
 		snprintf(path, sizeof path, "%s/api/openapi.json", o->data_dir);
@@ -909,7 +913,7 @@ int prsm_http_start(prsm_http **out, const prsm_http_options *o, prsm_jobs *jobs
 		rc = prsm_error_set(err, PRSM_EINVAL, NULL, "--host %s: give a numeric IPv4 or IPv6 address", o->host);
 		goto fail;
 	}
-	h->d = MHD_start_daemon(flags, (uint16_t)o->port, NULL, NULL, handle, h,
+	h->d = prsm_mhd.start_daemon(flags, (uint16_t)o->port, NULL, NULL, handle, h,
 	                        MHD_OPTION_NOTIFY_COMPLETED, request_completed, h,
 	                        MHD_OPTION_SOCK_ADDR, (struct sockaddr *)&addr,
 	                        MHD_OPTION_THREAD_POOL_SIZE, (unsigned)(o->threads > 1 ? o->threads : 1),
@@ -922,7 +926,7 @@ int prsm_http_start(prsm_http **out, const prsm_http_options *o, prsm_jobs *jobs
 		                    o->host, o->port);
 		goto fail;
 	}
-	const union MHD_DaemonInfo *info = MHD_get_daemon_info(h->d, MHD_DAEMON_INFO_BIND_PORT);
+	const union MHD_DaemonInfo *info = prsm_mhd.get_daemon_info(h->d, MHD_DAEMON_INFO_BIND_PORT);
 	h->port = info ? info->port : o->port;
 	*out = h;
 	return 0;
@@ -940,7 +944,7 @@ int prsm_http_port(const prsm_http *h)
 void prsm_http_quiesce(prsm_http *h)
 {
 	if (h && h->d) {
-		MHD_socket s = MHD_quiesce_daemon(h->d);
+		MHD_socket s = prsm_mhd.quiesce_daemon(h->d);
 		if (s != MHD_INVALID_SOCKET)
 			close(s);
 	}
@@ -951,7 +955,7 @@ void prsm_http_stop(prsm_http *h)
 	if (!h)
 		return;
 	if (h->d)
-		MHD_stop_daemon(h->d);
+		prsm_mhd.stop_daemon(h->d);
 	free_docs(h);
 	free(h);
 }
