@@ -82,6 +82,66 @@ static void trunc_window_init(trunc_window *w, const prsm_dist *d)
 	}
 }
 
+/*
+ * The standard normal quantile by Wichura's algorithm AS 241 (PPND16: Applied Statistics 37,
+ * 477-484, 1988; relative error about 1e-16), the published coefficients, each rational function
+ * evaluated by Horner's rule, numerator and denominator, then divided. Evaluated in that order
+ * it gives the same doubles as GSL's gsl_cdf_ugaussian_Pinv (test_dist checks equality on a
+ * million probabilities across the three regions); written out here so that the Monte Carlo
+ * kernel inlines it: the sampling of a 40-variable study spent more instructions in the loops
+ * of the library's generic rational evaluator than in its arithmetic.
+ */
+#define HORNER8(c, x) \
+	(((((((c[7] * (x) + c[6]) * (x) + c[5]) * (x) + c[4]) * (x) + c[3]) * (x) + c[2]) * (x) + c[1]) * (x) + c[0])
+
+static const double as241_central_num[8] = {3.387132872796366608, 133.14166789178437745, 1971.5909503065514427,
+                                             13731.693765509461125, 45921.953931549871457,
+                                             67265.770927008700853, 33430.575583588128105,
+                                             2509.0809287301226727};
+static const double as241_central_den[8] = {1.0, 42.313330701600911252, 687.1870074920579083,
+                                             5394.1960214247511077, 21213.794301586595867,
+                                             39307.89580009271061, 28729.085735721942674,
+                                             5226.495278852854561};
+static const double as241_middle_num[8] = {1.42343711074968357734, 4.6303378461565452959,
+                                            5.7694972214606914055, 3.64784832476320460504,
+                                            1.27045825245236838258, 0.24178072517745061177,
+                                            0.0227238449892691845833, 7.7454501427834140764e-4};
+static const double as241_middle_den[8] = {1.0, 2.05319162663775882187, 1.6763848301838038494,
+                                            0.68976733498510000455, 0.14810397642748007459,
+                                            0.0151986665636164571966, 5.475938084995344946e-4,
+                                            1.05075007164441684324e-9};
+static const double as241_tail_num[8] = {6.6579046435011037772, 5.4637849111641143699, 1.7848265399172913358,
+                                          0.29656057182850489123, 0.026532189526576123093,
+                                          0.0012426609473880784386, 2.71155556874348757815e-5,
+                                          2.01033439929228813265e-7};
+static const double as241_tail_den[8] = {1.0, 0.59983220655588793769, 0.13692988092273580531,
+                                          0.0148753612908506148525, 7.868691311456132591e-4,
+                                          1.8463183175100546818e-5, 1.4215117583164458887e-7,
+                                          2.04426310338993978564e-15};
+
+double prsm_normal_quantile(double p)
+{
+	if (p == 1.0)
+		return INFINITY;
+	if (p == 0.0)
+		return -INFINITY;
+	const double q = p - 0.5;
+	if (fabs(q) <= 0.425) {
+		const double r = 0.180625 - q * q;
+		return q * (HORNER8(as241_central_num, r) / HORNER8(as241_central_den, r));
+	}
+	const double r = sqrt(-log(p < 0.5 ? p : 1.0 - p));
+	double x;
+	if (r <= 5.0) {
+		const double t = r - 1.6;
+		x = HORNER8(as241_middle_num, t) / HORNER8(as241_middle_den, t);
+	} else {
+		const double t = r - 5.0;
+		x = HORNER8(as241_tail_num, t) / HORNER8(as241_tail_den, t);
+	}
+	return p < 0.5 ? -x : x;
+}
+
 /* Standard-unit quantile of the window for u in (0, 1). The tail probability is formed from
  * the nearer end so that u and 1 - u are resolved alike. */
 static double trunc_std_quantile(const trunc_window *w, double u)
@@ -91,7 +151,7 @@ static double trunc_std_quantile(const trunc_window *w, double u)
 		return gsl_cdf_ugaussian_Qinv(q);
 	}
 	double p = u <= 0.5 ? w->fa + u * w->mass : w->fb - (1.0 - u) * w->mass;
-	return gsl_cdf_ugaussian_Pinv(p);
+	return prsm_normal_quantile(p);
 }
 
 /* phi(x) and x phi(x), both 0 at infinite x. */
@@ -289,7 +349,7 @@ double prsm_dist_quantile(const prsm_dist *d, double u)
 			return -INFINITY;
 		if (u >= 1.0)
 			return INFINITY;
-		return p[0] + p[1] * gsl_cdf_ugaussian_Pinv(u);
+		return p[0] + p[1] * prsm_normal_quantile(u);
 	case PRSM_DIST_TRUNCNORMAL: {
 		if (u <= 0.0)
 			return p[2];
@@ -323,7 +383,7 @@ double prsm_dist_quantile(const prsm_dist *d, double u)
 			return 0.0;
 		if (u >= 1.0)
 			return INFINITY;
-		return exp(p[0] + p[1] * gsl_cdf_ugaussian_Pinv(u));
+		return exp(p[0] + p[1] * prsm_normal_quantile(u));
 	case PRSM_DIST_RAYLEIGH:
 		if (u <= 0.0)
 			return 0.0;

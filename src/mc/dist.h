@@ -57,6 +57,10 @@ int prsm_dist_kind_parse(const char *name, prsm_dist_kind *out);
  * window holding < 1e-12 of the probability, a lognormal whose mean or sd overflows. */
 int prsm_dist_check(const prsm_dist *d, char *msg, size_t msg_size);
 
+/* The standard normal quantile for p in [0, 1] (-inf at 0, +inf at 1): Wichura's AS 241, the same
+ * doubles as GSL's gsl_cdf_ugaussian_Pinv, inlined for the sampling kernel. */
+double prsm_normal_quantile(double p);
+
 /* The u-quantile (inverse CDF) for u in (0, 1); always within the support (truncnormal: within
  * [lower, upper]). u <= 0 and u >= 1 give the ends of the support (possibly infinite). */
 double prsm_dist_quantile(const prsm_dist *d, double u);

@@ -19,6 +19,7 @@
 
 #define NEWTON_MAX_ITER 30
 #define NEWTON_TOL_MM 1e-12
+#define NEWTON_QUADRATIC_MM 1e-6 /* steps below this are in Newton's quadratic regime */
 
 static double body_sigma(const prsm_flank_pair *p)
 {
@@ -86,20 +87,21 @@ void prsm_contact_gap_derivatives(const prsm_flank_pair *p, double x, double y, 
 	const double S = sqrt(R * R - u2);
 	const double st = body_sigma(p) * p->body_tan_beta;
 	const double pb = p->body_p, pr = p->roller_p;
+	/* the Monte Carlo kernel: three divisions, the rest multiplications by these reciprocals */
+	const double iS = 1.0 / S, iu2 = 1.0 / u2, irho = 1.0 / rho;
+	const double irho2 = irho * irho;
 	/* grad: w/S + p_r (-wy, wx)/u^2 - sigma tan(beta) (X, Y)/rho - p_b (-Y, X)/rho^2 */
-	g[0] = wx / S - pr * wy / u2 - st * X / rho + pb * Y / rho2;
-	g[1] = wy / S + pr * wx / u2 - st * Y / rho - pb * X / rho2;
+	g[0] = wx * iS - pr * wy * iu2 - st * X * irho + pb * Y * irho2;
+	g[1] = wy * iS + pr * wx * iu2 - st * Y * irho - pb * X * irho2;
 	if (h == NULL)
 		return;
-	const double S3 = S * S * S, rho3 = rho2 * rho, rho4 = rho2 * rho2, u4 = u2 * u2;
+	const double iS3 = iS * iS * iS, irho3 = irho2 * irho, irho4 = irho2 * irho2, iu4 = iu2 * iu2;
 	/* Hess of -S: I/S + w w^T / S^3; Hess of an angle about (0,0) at (X,Y):
 	 * [[2XY, Y^2-X^2], [Y^2-X^2, -2XY]] / r^4; Hess rho = [[Y^2, -XY], [-XY, X^2]] / rho^3 */
-	h[0] = 1.0 / S + wx * wx / S3 + pr * 2.0 * wx * wy / u4 - st * Y * Y / rho3 -
-	       pb * 2.0 * X * Y / rho4;
-	h[1] = wx * wy / S3 + pr * (wy * wy - wx * wx) / u4 + st * X * Y / rho3 -
-	       pb * (Y * Y - X * X) / rho4;
-	h[2] = 1.0 / S + wy * wy / S3 - pr * 2.0 * wx * wy / u4 - st * X * X / rho3 +
-	       pb * 2.0 * X * Y / rho4;
+	const double wxy = wx * wy, XY = X * Y;
+	h[0] = iS + wx * wx * iS3 + pr * 2.0 * wxy * iu4 - st * Y * Y * irho3 - pb * 2.0 * XY * irho4;
+	h[1] = wxy * iS3 + pr * (wy * wy - wx * wx) * iu4 + st * XY * irho3 - pb * (Y * Y - X * X) * irho4;
+	h[2] = iS + wy * wy * iS3 - pr * 2.0 * wxy * iu4 - st * X * X * irho3 + pb * 2.0 * XY * irho4;
 }
 
 void prsm_contact_start(const prsm_flank_pair *p, double *x, double *y)
@@ -125,6 +127,7 @@ int prsm_contact_solve_gap(const prsm_flank_pair *p, double *x_mm, double *y_mm,
 	double x = *x_mm, y = *y_mm, g[2], h[3];
 	const double R = p->arc_radius_mm;
 	const double maxstep = 0.5 * R;
+	double last = 0.0; /* the previous step, mm (0: none yet) */
 	int it;
 	for (it = 1; it <= NEWTON_MAX_ITER; it++) {
 		prsm_contact_gap_derivatives(p, x, y, g, h);
@@ -133,7 +136,7 @@ int prsm_contact_solve_gap(const prsm_flank_pair *p, double *x_mm, double *y_mm,
 			break; /* not a minimum of the gap: no common normal here */
 		double dx = -(h[2] * g[0] - h[1] * g[1]) / det;
 		double dy = -(h[0] * g[1] - h[1] * g[0]) / det;
-		double step = hypot(dx, dy);
+		double step = sqrt(dx * dx + dy * dy);
 		if (step > maxstep) {
 			dx *= maxstep / step;
 			dy *= maxstep / step;
@@ -143,7 +146,14 @@ int prsm_contact_solve_gap(const prsm_flank_pair *p, double *x_mm, double *y_mm,
 		double wx = x - p->roller_x_mm, wy = y - p->roller_y_mm;
 		if (wx * wx + wy * wy >= R * R)
 			break; /* left the arc's domain: cannot continue */
-		if (step < NEWTON_TOL_MM) {
+		/* Converged when the step was below the tolerance, or when, in the quadratic regime
+		 * (step small, e_next ~ K step^2 with K = step / last^2 measured on the last two
+		 * steps), the error left after this step is a thousandth of it: that saves the one
+		 * evaluation which would only confirm a step at the rounding level (K is about
+		 * 0.5 / mm for case A). */
+		const int quadratic = last > 0.0 && step < NEWTON_QUADRATIC_MM &&
+		                      step * step * step < 1e-3 * NEWTON_TOL_MM * last * last;
+		if (step < NEWTON_TOL_MM || quadratic) {
 			*x_mm = x;
 			*y_mm = y;
 			*gap_mm = prsm_contact_gap(p, x, y);
@@ -151,6 +161,7 @@ int prsm_contact_solve_gap(const prsm_flank_pair *p, double *x_mm, double *y_mm,
 				*iterations = it;
 			return 0;
 		}
+		last = step;
 	}
 	*x_mm = x;
 	*y_mm = y;

@@ -27,17 +27,22 @@ static void rng_state_reset(prsm_rng_state *st, uint64_t seed, uint64_t stream)
 	st->next_word = PRSM_RNG_WORDS_PER_BLOCK;
 }
 
+/* The next Philox block of the stream into the state, its words unread. */
+static inline void rng_refill(prsm_rng_state *st)
+{
+	philox4x64_ctr_t ctr = {{st->next_block, 0, 0, 0}};
+	philox4x64_key_t key = {{st->key[0], st->key[1]}};
+	philox4x64_ctr_t out = philox4x64_R(10, ctr, key);
+	for (int i = 0; i < 4; i++)
+		st->block[i] = out.v[i];
+	st->next_block++;
+	st->next_word = 0;
+}
+
 static uint32_t rng_next_word(prsm_rng_state *st)
 {
-	if (st->next_word == PRSM_RNG_WORDS_PER_BLOCK) {
-		philox4x64_ctr_t ctr = {{st->next_block, 0, 0, 0}};
-		philox4x64_key_t key = {{st->key[0], st->key[1]}};
-		philox4x64_ctr_t out = philox4x64_R(10, ctr, key);
-		for (int i = 0; i < 4; i++)
-			st->block[i] = out.v[i];
-		st->next_block++;
-		st->next_word = 0;
-	}
+	if (st->next_word == PRSM_RNG_WORDS_PER_BLOCK)
+		rng_refill(st);
 	unsigned int w = st->next_word++;
 	uint64_t v = st->block[w / 2];
 	return (uint32_t)((w % 2 == 0) ? v : (v >> 32));
@@ -109,6 +114,10 @@ void prsm_rng_fill_uniform_pos(gsl_rng *r, double *u, size_t n)
 	prsm_rng_state *st = r->state;
 	size_t i = 0;
 	while (i < n) {
+		/* a spent block is refilled here, as rng_next_word would, without the library's
+		 * dispatch for every fourth number */
+		if (st->next_word == PRSM_RNG_WORDS_PER_BLOCK)
+			rng_refill(st);
 		/* fast path: two unread words of the current block, in the order rng_next_u64 reads
 		 * them (low half first, as the high bits) */
 		if (st->next_word % 2 == 0 && st->next_word < PRSM_RNG_WORDS_PER_BLOCK) {
