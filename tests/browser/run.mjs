@@ -5,9 +5,11 @@
 // plots and numbers are there and agree with the API's JSON fetched directly, checks the export,
 // cancel and that an invalid field shows the API's message next to that field; then, when the
 // service's openapi lists them, the optimisation view (a Pareto sweep: the front's SVG points and a
-// clicked point's design against the API, the best design, cancel) and the allocation view (case A
-// and LS-1: the tables and charts against the API, cancel), or prints "SKIPPED ..." for a view the
-// service does not serve. Throughout: Tab order and focus rings, Chromium's accessibility tree (every
+// clicked point's design against the API, the best design, cancel), the allocation view (case A
+// and LS-1: the tables and charts against the API, cancel) and the simulation view (seed 000's
+// two-stage start-up: both carriers' curves, the settled table and the checks against the API, the
+// CSV download against `prsm simulate --csv` and samples.csv, the JSON download, a refused request's
+// problem at its field, cancel), or prints "SKIPPED ..." for a view the service does not serve. Throughout: Tab order and focus rings, Chromium's accessibility tree (every
 // control, link, chart and progress bar named, every chart described), text contrast computed in
 // the page, nothing wider than a 1366 x 768 laptop screen (viewport screenshots of the form and the
 // results). Then a second server with --token-file: the 401 points at the page's API token field,
@@ -570,11 +572,12 @@ async function run(page) {
 
   // ---- the optimisation and allocation views, when the service has them --------------------
   const openapi = (await apiJson('GET', '/v1/openapi.json')).json;
-  for (const [collection, section, fn] of [['optimizations', '#optimization', optimisationView], ['allocations', '#allocation', allocationView]]) {
+  for (const [collection, section, fn] of [['optimizations', '#optimization', optimisationView], ['allocations', '#allocation', allocationView],
+    ['simulations', '#simulation', simulationView]]) {
     const served = !!openapi.paths[`/v1/${collection}`];
     check(`the ${section.slice(1)} view is shown exactly when openapi lists /v1/${collection}`, served === await page.isVisible(section));
     if (served) await fn(page, shot);
-    else console.log(`SKIPPED ${section === '#optimization' ? 'optimisation' : 'allocation'} view: /v1/${collection} not served`);
+    else console.log(`SKIPPED ${{ '#optimization': 'optimisation', '#allocation': 'allocation', '#simulation': 'simulation' }[section]} view: /v1/${collection} not served`);
   }
 }
 
@@ -694,7 +697,7 @@ async function tokenRun(page, token) {
 async function loadExample(page, view, file) {
   await page.focus(`${view} button[data-example="${file}"]`);
   await page.keyboard.press('Enter');
-  const prefix = view === '#optimization' ? 'opt' : 'alloc';
+  const prefix = { '#optimization': 'opt', '#allocation': 'alloc', '#simulation': 'sim' }[view];
   await page.waitForFunction(([id, f]) => document.getElementById(id).textContent.includes(f), [`${prefix}-note`, file]);
   const want = JSON.parse(fs.readFileSync(path.join(source, 'studies', file), 'utf8'));
   const got = JSON.parse(await page.inputValue(`#${prefix}-request`));
@@ -920,6 +923,170 @@ async function allocationView(page, shot) {
   if (cancelled.result) await page.waitForSelector('#alloc-cancelled');
   check('cancel: the page says so (with the best allocation so far when there is one)', (await page.textContent('#job-status')).includes('Cancelled')
     && (!cancelled.result || await page.isVisible('#alloc-cancelled')));
+}
+
+// ---- simulation: seed 000's two-stage start-up against the API, the downloads, a refused request, cancel ----
+async function simulationView(page, shot) {
+  log('simulation view');
+  check('the simulation view is in the navigation', await page.isVisible('#nav-simulation'));
+  const file = 'dynamics-seed000-row1.json';
+  const example = await loadExample(page, '#simulation', file);
+  check('the settings show the example\'s end time and output step', await page.inputValue('#sim-f-dynamics-time-end_s') === String(example.dynamics.time.end_s)
+    && Number(await page.inputValue('#sim-f-dynamics-time-output_step_s')) === example.dynamics.time.output_step_s);
+
+  // a refused request: a negative end time, the API's problem next to the end-time field with its pointer
+  await page.fill('#sim-f-dynamics-time-end_s', '-1');
+  const bad = JSON.parse(await page.inputValue('#sim-request'));
+  check('the end-time field writes its member into the request', bad.dynamics.time.end_s === -1);
+  const refused = await apiJson('POST', '/v1/simulations', bad);
+  const badMsg = refused.status === 422 && refused.json.errors.find(e => e.pointer === '/dynamics/time/end_s');
+  await page.click('#sim-submit');
+  await page.waitForSelector('#sim-problems:not([hidden])');
+  check('a negative end time is refused (422) and the API\'s message shows next to the end-time field', !!badMsg
+    && await page.$eval('#sim-f-dynamics-time-end_s ~ .problem-msg', e => e.dataset.text) === badMsg.message
+    && await page.$eval('#sim-f-dynamics-time-end_s', e => e.getAttribute('aria-invalid') === 'true'), badMsg ? badMsg.message : `${refused.status}`);
+  const problems = await page.textContent('#sim-problems');
+  check('the problem summary names the pointer /dynamics/time/end_s and says 422', problems.includes(`/dynamics/time/end_s: ${badMsg && badMsg.message}`) && problems.includes('(422)'), problems);
+  check('focus moves to the problem summary', await page.evaluate(() => document.activeElement && document.activeElement.id === 'sim-problems'));
+  await (await page.$('#simulation')).screenshot({ path: path.join(artifacts, '07a-simulation-invalid.png') });
+  await page.fill('#sim-f-dynamics-time-end_s', String(example.dynamics.time.end_s));
+  check('putting the end time back gives the example again', canonical(JSON.parse(await page.inputValue('#sim-request'))) === canonical(example));
+
+  // the run
+  await page.click('#sim-submit');
+  const { jobPath, job } = await waitJob(page, 'simulations', 'done', '#sim-carrier-plot', 60000);
+  const r = job.result, d = r.dynamics, tr = d.transient, st = d.settled;
+  log(`simulation done: ${tr.points} output times, ${d.stages} stages`);
+  check('the page shows the job at #/v1/simulations/ID', /^\/v1\/simulations\/[0-9a-f]{32}$/.test(jobPath), jobPath);
+  check('the example is the two-stage screw', d.stages === 2 && tr.stages.length === 2 && st.stages.length === 2);
+  check('progress counts simulated time, in s', await page.textContent('#job-unit') === 'Simulated time'
+    && (await page.textContent('#job-samples')).startsWith(`${example.dynamics.time.end_s} s of ${example.dynamics.time.end_s} s`), await page.textContent('#job-samples'));
+  check('the job view sits below the simulation request', await page.evaluate(() => document.querySelector('#simulation').nextElementSibling.id === 'job'));
+
+  // plots: both carriers, with the settled ratios dashed; efficiency, torque, speed and the forces
+  const curves = async sel => page.$$eval(`${sel} path.series`, ps => ps.map(p => ({ key: p.dataset.series, n: Number(p.dataset.points), d: p.getAttribute('d').length })));
+  const refLines = async sel => page.$$eval(`${sel} line.ref-line`, ls => ls.map(l => ({ key: l.dataset.series, v: Number(l.dataset.value) })));
+  const carrier = await curves('#sim-carrier-plot');
+  check('the carrier plot has both carriers\' curves, each with every output time', carrier.length === 2 && carrier[0].key === 'stage1' && carrier[1].key === 'stage2'
+    && carrier.every(c => c.n === tr.points && c.d > 100), JSON.stringify(carrier));
+  const carrierRefs = await refLines('#sim-carrier-plot');
+  check('the settled carrier ratios are dashed lines at the API\'s values', carrierRefs.length === 2 && st.stages.every((s, k) => carrierRefs[k].key === `stage${k + 1}` && carrierRefs[k].v === s.carrier_ratio),
+    JSON.stringify(carrierRefs));
+  const legend = await page.$$eval('#sim-carrier-plot g.legend text', ts => ts.map(t => t.textContent));
+  check('the carrier plot has a legend naming both carriers and the settled lines', legend.includes('stage 1 carrier') && legend.includes('stage 2 carrier') && legend.includes('settled'), legend.join(', '));
+  const axisLabels = await page.$$eval('#sim-carrier-plot text.label', ts => ts.map(t => t.textContent));
+  check('the carrier plot\'s axes are labelled with their units', axisLabels.includes('time (ms)') && axisLabels.some(t => t.startsWith('carrier ratio')), axisLabels.join(', '));
+  for (const [id, key, value] of [['#sim-efficiency-plot', 'efficiency', st.efficiency], ['#sim-torque-plot', 'input_torque_Nm', st.input_torque_Nm], ['#sim-speed-plot', 'screw_speed_rad_s', st.screw_speed_rad_s]]) {
+    const c = await curves(id), refs = await refLines(id);
+    check(`${id.slice(1)}: the curve of ${key} with its settled value ${value} dashed`, c.length >= 1 && c[0].key === key && c[0].n === tr.points && refs.length === 1 && refs[0].v === value,
+      JSON.stringify([c, refs]));
+  }
+  for (const [key, stages] of [['contact_normal_force_N', [1, 2]], ['nut_contact_force_N', [1, 2]], ['gear_tooth_force_N', [1, 2]], ['cage_force_N', [1, 2]], ['spline_force_N', [2]]]) {
+    const id = `#sim-force-plot-${key}`;
+    const c = await curves(id), refs = await refLines(id);
+    check(`${key}: a curve per stage (${stages.join(', ')}) and the settled values dashed`, JSON.stringify(c.map(x => x.key)) === JSON.stringify(stages.map(k => `stage${k}`))
+      && stages.every((k, i) => refs[i] && refs[i].v === st.stages[k - 1][key]), JSON.stringify([c, refs]));
+  }
+
+  // the plotted window: the first 0.5 ms, the start-up, the whole run again
+  await page.fill('#sim-window', '0.5');
+  await page.press('#sim-window', 'Tab');
+  const first = tr.time_s.filter(t => t * 1e3 <= 0.5 * (1 + 1e-12)).length;
+  await page.waitForSelector(`#sim-plots[data-points="${first}"]`);
+  const windowed = await curves('#sim-carrier-plot');
+  const forcesWindowed = await curves('#sim-force-plot-cage_force_N');
+  check(`plotting the first 0.5 ms draws its ${first} output times in every plot, the forces too`, windowed.length === 2 && windowed.every(c => c.n === first)
+    && forcesWindowed.every(c => c.n === first) && (await page.textContent('#sim-window-hint')).includes(`first ${first} of ${tr.points}`), JSON.stringify(windowed));
+  await page.click('#sim-window-all');
+  await page.waitForSelector(`#sim-plots[data-points="${tr.points}"]`);
+  check('"Whole run" draws every output time again', (await curves('#sim-carrier-plot')).every(c => c.n === tr.points) && await page.inputValue('#sim-window') === String(Number((1e3 * tr.time_s[tr.points - 1]).toPrecision(6))));
+
+  // the settled table against the API (the text as shown, the value in data-value)
+  const settled = await page.$$eval('#sim-settled td[data-key]', tds => Object.fromEntries(tds.map(t => [t.dataset.key, { v: t.dataset.value, text: t.textContent }])));
+  const eff = settled.efficiency;
+  check(`the settled table shows the API's settled efficiency ${st.efficiency}`, eff && Number(eff.v) === st.efficiency && eff.text === String(Number(st.efficiency.toPrecision(6))), JSON.stringify(eff));
+  check('the settled table shows the statics engine\'s efficiency and the input torque', Number(settled.efficiency_statics.v) === st.efficiency_statics
+    && settled.efficiency_statics.text === String(Number(st.efficiency_statics.toPrecision(6))) && Number(settled.input_torque_Nm.v) === st.input_torque_Nm
+    && settled.input_torque_Nm.text === `${Number(st.input_torque_Nm.toPrecision(6))} N m`, JSON.stringify([settled.efficiency_statics, settled.input_torque_Nm]));
+  check('per stage: settled ratio, k*, statics ratio and the 90 % and 99 % times as the API says', st.stages.every(s => ['carrier_ratio', 'carrier_ratio_min_slip', 'carrier_ratio_statics',
+    'time_to_90_percent_s', 'time_to_99_percent_s'].every(k => settled[`stage${s.stage}.${k}`] && Number(settled[`stage${s.stage}.${k}`].v) === s[k])),
+    JSON.stringify(Object.keys(settled)));
+  check('stage 2\'s k* shown as the API gives it', settled['stage2.carrier_ratio_min_slip'].text === String(Number(st.stages[1].carrier_ratio_min_slip.toPrecision(6))), settled['stage2.carrier_ratio_min_slip'].text);
+  const checks = await page.$$eval('#sim-checks td[data-key]', tds => Object.fromEntries(tds.map(t => [t.dataset.key, t.dataset.value === undefined ? t.textContent : Number(t.dataset.value)])));
+  check('the checks: power balance and Newton–Euler maxima with their limits as the API says', checks.max_power_balance_relative === d.checks.max_power_balance_relative
+    && checks.max_power_balance_relative_limit === d.checks.power_balance_limit && checks.max_newton_euler_residual === d.checks.max_newton_euler_residual
+    && checks.max_newton_euler_residual_limit === d.checks.newton_euler_limit && checks.max_power_balance_relative_ok === 'passed' && d.checks.passed, JSON.stringify(checks));
+
+  // "Download CSV": the columns and header of `prsm simulate --csv` (and of the service's samples.csv),
+  // a row per output time, every number the service's to the JSON's precision
+  const [csvDownload] = await Promise.all([page.waitForEvent('download'), page.click('#sim-csv-download')]);
+  const csvText = fs.readFileSync(await csvDownload.path(), 'utf8');
+  const cliCsv = path.join(fs.mkdtempSync(path.join(os.tmpdir(), 'prsm-sim-')), 'series.csv');
+  const cli = spawnSync(path.resolve(args.prsm), ['simulate', path.join(source, 'studies', file), '--csv', cliCsv], { encoding: 'utf8', maxBuffer: 1 << 28 });
+  const cliLines = cli.status === 0 ? fs.readFileSync(cliCsv, 'utf8').trimEnd().split('\n') : [];
+  fs.rmSync(path.dirname(cliCsv), { recursive: true, force: true });
+  const server = await apiJson('GET', job.links.samples_csv);
+  const serverLines = server.text.trimEnd().split('\n');
+  const lines = csvText.trimEnd().split('\n');
+  check('the CSV download is named after the job', csvDownload.suggestedFilename() === `simulation-${job.id}.csv`, csvDownload.suggestedFilename());
+  check('the CSV has the header of `prsm simulate --csv` (both carriers\' columns)', cli.status === 0 && lines[0] === cliLines[0] && lines[0] === serverLines[0]
+    && lines[0].includes('stage2_carrier_ratio'), `${lines[0].slice(0, 120)} | ${cli.stderr}`);
+  check(`the CSV has a row per output time (${tr.points})`, lines.length === tr.points + 1 && cliLines.length === lines.length && serverLines.length === lines.length, `${lines.length} ${cliLines.length} ${serverLines.length}`);
+  let cells = 0, identical = 0;
+  const apart = [];
+  lines.slice(1).forEach((line, i) => {
+    const a = line.split(','), b = serverLines[i + 1].split(',');
+    if (a.length !== b.length) { apart.push(`row ${i + 1}: ${a.length} cells against ${b.length}`); return; }
+    a.forEach((x, j) => {
+      cells++;
+      if (x === b[j]) { identical++; return; }
+      const p = Number(x), q = Number(b[j]);
+      // the JSON carries a number to within one part in 2^52 (cJSON prints 15 digits when they read back that close)
+      if (x === '' || b[j] === '' || !(Math.abs(p - q) <= 2.3e-16 * Math.max(Math.abs(p), Math.abs(q)))) apart.push(`row ${i + 1} ${lines[0].split(',')[j]}: ${x} against ${b[j]}`);
+    });
+  });
+  check(`every CSV cell is the service's value, empty where it is empty (${identical} of ${cells} character for character, the rest within the JSON's precision)`, cells > 0 && apart.length === 0, apart.slice(0, 5).join('; '));
+  await page.waitForFunction(() => document.querySelector('#sim-download-status').textContent.includes('.csv'));
+
+  // "Download JSON": the result document
+  const [jsonDownload] = await Promise.all([page.waitForEvent('download'), page.click('#sim-json-download')]);
+  const downloaded = JSON.parse(fs.readFileSync(await jsonDownload.path(), 'utf8'));
+  check('the JSON download is the API\'s result', jsonDownload.suggestedFilename() === `simulation-${job.id}.json` && canonical(downloaded) === canonical(r));
+
+  await shot('07-simulation.png');
+  await (await page.$('#results')).screenshot({ path: path.join(artifacts, '07b-simulation-results.png') });
+  await a11yAudit(page, 'simulation');
+  await contrastAudit(page, 'simulation');
+  await layoutAudit(page, 'simulation');
+  await laptopShot(page, '17-laptop-simulation.png', '#sim-carrier-card');
+
+  // cancel: the same screw simulated for 500 s (50001 output times), cancelled once it has started
+  await loadExample(page, '#simulation', file);
+  await page.fill('#sim-f-dynamics-time-end_s', '500');
+  await page.fill('#sim-f-dynamics-time-output_step_s', '0.01');
+  await page.click('#sim-submit');
+  await page.waitForFunction(p => location.hash.startsWith('#/v1/simulations/') && location.hash !== `#${p}` && document.querySelector('#job-state').dataset.state === 'running'
+    && document.querySelector('#job-progress').value > 0, jobPath, { timeout: 30000 });
+  const runPath = await page.evaluate(() => location.hash.slice(1));
+  check('a running simulation shows its progress in simulated time', await page.textContent('#job-unit') === 'Simulated time'
+    && /^[\d.e−+]+ s of 500 s \(\d+\.\d %\)$/.test(await page.textContent('#job-samples')), await page.textContent('#job-samples'));
+  await (await page.$('#job')).screenshot({ path: path.join(artifacts, '07c-simulation-running.png') });
+  await page.click('#job-cancel');
+  await page.waitForSelector('#job-state[data-state=cancelled]');
+  const cancelled = (await apiJson('GET', runPath)).json;
+  check('cancel: the API says the simulation is cancelled', cancelled.state === 'cancelled' && !cancelled.result, cancelled.state);
+  check('cancel: the page says so and the button is disabled', (await page.textContent('#job-status')).includes('Cancelled') && await page.isDisabled('#job-cancel')
+    && await page.isHidden('#results'));
+
+  // a run that does not converge (validation case V1 allowed 5 steps): the job fails, and its problem shows with its pointer
+  await loadExample(page, '#simulation', 'dynamics-case-a-v1.json');
+  await editRequest(page, '#sim-request', doc => { doc.dynamics.time.max_steps = 5; });
+  await page.click('#sim-submit');
+  const { job: failed } = await waitJob(page, 'simulations', 'failed', '#job-problem:not([hidden])', 30000, runPath);
+  const failure = failed.problem && failed.problem.errors && failed.problem.errors[0];
+  check('a simulation that does not converge: the page shows the job\'s problem with its pointer', !!failure && failure.pointer === '/dynamics/time'
+    && (await page.textContent('#job-problem')).includes(`${failure.pointer}: ${failure.message}`) && (await page.textContent('#job-status')).includes('failed'),
+    await page.textContent('#job-problem'));
 }
 
 main().then(() => {

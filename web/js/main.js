@@ -1,7 +1,7 @@
 // The page: examples, the study form with live derived values, submit, the job view with progress
-// and cancel, and the results; the optimisation and allocation views when the service has them
-// (optimization.js, allocation.js), run through the same job view. Uses only prsm serve's API
-// (same origin).
+// and cancel, and the results; the optimisation, allocation and simulation views when the service
+// has them (optimization.js, allocation.js, simulation.js), run through the same job view. Uses only
+// prsm serve's API (same origin).
 
 import { api, ApiError, describe, getToken, setToken } from './api.js';
 import { StudyForm, schemaInfo } from './form.js';
@@ -9,6 +9,7 @@ import { renderStudyResult } from './results.js';
 import { fmt } from './plots.js';
 import { setupOptimization } from './optimization.js';
 import { setupAllocation } from './allocation.js';
+import { setupSimulation } from './simulation.js';
 
 const $ = sel => document.querySelector(sel);
 const REQUESTS_KEY = 'prsm.requests';
@@ -34,6 +35,7 @@ function duration(s) {
   return m < 60 ? `${m} min ${Math.round(s - 60 * m)} s` : `${Math.floor(m / 60)} h ${m % 60} min`;
 }
 const count = n => (typeof n === 'number' ? n.toLocaleString('en-US') : '—');
+const simulated = ns => (typeof ns === 'number' && ns > 0 ? `${fmt(ns * 1e-9, 6)} s` : typeof ns === 'number' ? '0 s' : '—');
 
 // ---- derived values (POST /v1/designs/analyze, debounced) ---------------------------------
 function derivedView(form) {
@@ -182,7 +184,7 @@ class JobView {
     this.lastAnnounced = '';
     this.renderers = {}; // collection -> (container, job) for the kinds other than studies
     // the job and results sections follow the view whose request they run
-    this.anchors = { studies: $('#study-layout'), optimizations: $('#optimization'), allocations: $('#allocation') };
+    this.anchors = { studies: $('#study-layout'), optimizations: $('#optimization'), allocations: $('#allocation'), simulations: $('#simulation') };
     $('#job-cancel').addEventListener('click', () => this.cancel());
   }
 
@@ -233,10 +235,11 @@ class JobView {
   }
 
   // A cancelled optimisation or allocation hands back its best result so far once its worker has
-  // stopped, a moment after the DELETE: look again a few times.
+  // stopped, a moment after the DELETE: look again a few times. (A cancelled study or simulation
+  // has none.)
   awaitBestSoFar(job, tries = 20) {
     const path = this.path;
-    if (job.state !== 'cancelled' || job.result || this.collection === 'studies' || tries <= 0) return;
+    if (job.state !== 'cancelled' || job.result || this.collection === 'studies' || this.collection === 'simulations' || tries <= 0) return;
     this.timer = setTimeout(async () => {
       let again;
       try { again = await api.job(path); } catch { return; }
@@ -255,8 +258,11 @@ class JobView {
     const unit = p.unit || 'samples';
     $('#job-state').textContent = job.state;
     $('#job-state').dataset.state = job.state;
-    $('#job-unit').textContent = unit === 'evaluations' ? 'Evaluations' : 'Samples';
-    $('#job-samples').textContent = `${count(p.samples_done)} of ${count(p.samples_planned)}${pct ? ` (${pct})` : ''}`;
+    $('#job-unit').textContent = unit === 'evaluations' ? 'Evaluations' : unit === 'simulated_ns' ? 'Simulated time' : 'Samples';
+    $('#job-samples').textContent = unit === 'simulated_ns' // nanoseconds of simulated time, shown in s
+      ? `${simulated(p.samples_done)} of ${simulated(p.samples_planned)}${pct ? ` (${pct})` : ''}`
+      : `${count(p.samples_done)} of ${count(p.samples_planned)}${pct ? ` (${pct})` : ''}`;
+    $('#job-interval').parentElement.hidden = unit === 'simulated_ns'; // no stop targets
     const w = p.interval_width, goal = p.interval_goal;
     const iv = $('#job-interval');
     iv.textContent = typeof w === 'number' ? `${fmt(w)}${typeof goal === 'number' ? ` (goal ${fmt(goal)})` : ''}` : job.state === 'running' ? '— (no target, or too few samples yet)' : '—';
@@ -366,7 +372,7 @@ function showExport(kind, doc, collection = 'studies') {
 }
 
 // ---- recent jobs (every collection the service has) ----------------------------------------------
-const KIND_NAMES = { studies: 'study', optimizations: 'optimisation', allocations: 'allocation' };
+const KIND_NAMES = { studies: 'study', optimizations: 'optimisation', allocations: 'allocation', simulations: 'simulation' };
 let recentCollections = ['studies'];
 async function refreshRecent() {
   const ul = $('#recent-list');
@@ -465,6 +471,7 @@ async function main() {
   const ctx = { jobs, form, examples: examples.examples, submitted: (r, doc, c) => jobs.submitted(r, doc, c) };
   if (setupOptimization(openapi, ctx)) recentCollections.push('optimizations');
   if (setupAllocation(openapi, ctx)) recentCollections.push('allocations');
+  if (setupSimulation(openapi, ctx)) recentCollections.push('simulations');
   api.version().then(v => { $('#version').textContent = `prsm ${v.prsm || v.version || ''}`.trim(); }).catch(() => {});
   refreshRecent();
 

@@ -318,3 +318,94 @@ export function intervalChart({ points, target, targetLabel, xLabel, yLabel, tit
   });
   return svg;
 }
+
+// Keeps the shape of a long run of points for a plot `px` pixels wide: per pixel column its first,
+// lowest, highest and last point (in order), so that no peak is lost. idx: the run's indices.
+function envelope(idx, x, y, x0, x1, px) {
+  if (idx.length <= 4 * px) return idx;
+  const out = [];
+  let col = -1, first, lo, hi, last;
+  const flush = () => { if (col >= 0) for (const i of [...new Set([first, lo, hi, last])].sort((a, b) => a - b)) out.push(i); };
+  for (const i of idx) {
+    const c = Math.min(px - 1, Math.floor(((x[i] - x0) / (x1 - x0 || 1)) * px));
+    if (c !== col) { flush(); col = c; first = lo = hi = last = i; continue; }
+    if (y[i] < y[lo]) lo = i;
+    if (y[i] > y[hi]) hi = i;
+    last = i;
+  }
+  flush();
+  return out;
+}
+
+// Curves y(x) over a shared x axis (a time series): one per series, broken where a value is null
+// (not defined then), each series' settled value as a dashed line of its colour labelled in the
+// right margin, optional marks (small circles with a tooltip) and a legend above the plot.
+// series: [{key, label, y, cls}] with cls one of s0..s5 (the colours of app.css); refs: [{key, value,
+// label, cls}]; marks: [{x, y, cls, label}]. Each curve is a <path class="series"> with data-series
+// (its key) and data-points (how many values it has); each reference line a <line class="ref-line">
+// with data-series and data-value. Long series are thinned to their envelope per pixel column.
+export function seriesChart({ x, series, refs = [], marks = [], xLabel, yLabel, title, desc, refNote = 'settled' }) {
+  const w = 600, h = 290, m = { l: 66, r: 70, t: 30, b: 40 };
+  const svg = frame(w, h, title, desc, 'series-chart');
+  const finite = v => typeof v === 'number' && Number.isFinite(v);
+  const n = x.length;
+  const x0 = n ? x[0] : 0, x1 = n > 1 ? x[n - 1] : x0 + 1;
+  let ylo = Infinity, yhi = -Infinity; // a loop: a spread of 10^5 values would overflow the call stack
+  for (const v of series.flatMap(s => s.y).concat(refs.map(r => r.value))) if (finite(v)) { if (v < ylo) ylo = v; if (v > yhi) yhi = v; }
+  if (ylo > yhi) { ylo = 0; yhi = 1; }
+  if (yhi - ylo < 1e-9 * Math.max(1, Math.abs(yhi))) { const d = Math.max(Math.abs(yhi) * 0.05, 1e-9); ylo -= d; yhi += d; }
+  const pad = 0.08 * (yhi - ylo);
+  ylo -= pad; yhi += pad;
+  const xs = scale(x0, x1, m.l, w - m.r), ys = scale(ylo, yhi, h - m.b, m.t);
+  axes(svg, m, w, h, xs, ys, ticks(x0, x1, 6), ticks(ylo, yhi, 5), xLabel, yLabel);
+  if (ylo < 0 && yhi > 0) el('line', { x1: m.l, x2: w - m.r, y1: ys(0), y2: ys(0), class: 'zero' }, svg);
+
+  // legend: one entry per series, then the reference lines' meaning
+  const lg = el('g', { class: 'legend' }, svg);
+  let lx = m.l;
+  for (const s of series) {
+    el('line', { x1: lx, x2: lx + 18, y1: 12, y2: 12, class: `swatch ${s.cls}` }, lg);
+    text(lg, lx + 22, 16, s.label);
+    lx += 30 + 6.2 * s.label.length;
+  }
+  if (refs.length) {
+    el('line', { x1: lx, x2: lx + 18, y1: 12, y2: 12, class: 'swatch ref-swatch' }, lg);
+    text(lg, lx + 22, 16, refNote);
+  }
+
+  const curves = el('g', { class: 'curves' }, svg);
+  const px = Math.round(w - m.l - m.r);
+  for (const s of series) {
+    // runs of defined values, each thinned to its envelope
+    let d = '', run = [];
+    const draw = () => {
+      if (!run.length) return;
+      const keep = envelope(run, x, s.y, x0, x1, px);
+      d += keep.map((i, j) => `${j ? 'L' : 'M'}${xs(x[i]).toFixed(2)},${ys(s.y[i]).toFixed(2)}`).join('');
+      if (keep.length === 1) d += `h0.01`; // a lone point still shows (round caps)
+      run = [];
+    };
+    for (let i = 0; i < n; i++) { if (finite(s.y[i])) run.push(i); else draw(); }
+    draw();
+    el('path', { d, class: `series ${s.cls}`, 'data-series': s.key, 'data-points': s.y.length, 'data-label': s.label }, curves);
+  }
+
+  // reference lines; their labels in the right margin, nudged apart when they would overlap
+  const rg = el('g', { class: 'refs' }, svg);
+  const placed = refs.filter(r => finite(r.value)).map(r => ({ r, y: ys(r.value) }));
+  const byHeight = placed.slice().sort((a, b) => a.y - b.y);
+  byHeight.forEach((p, i) => { p.ly = i ? Math.max(p.y, byHeight[i - 1].ly + 12) : p.y; });
+  for (const p of placed) { // in the caller's order
+    const line = el('line', { x1: m.l, x2: w - m.r, y1: p.y, y2: p.y, class: `ref-line ${p.r.cls}`, 'data-series': p.r.key, 'data-value': p.r.value }, rg);
+    el('title', {}, line).textContent = p.r.label;
+    const t = text(rg, w - m.r + 4, p.ly + 4, fmt(p.r.value), { class: `ref-text ${p.r.cls}` });
+    el('title', {}, t).textContent = p.r.label;
+  }
+  const mg = el('g', { class: 'marks' }, svg);
+  for (const k of marks) {
+    if (!finite(k.x) || !finite(k.y)) continue;
+    const c = el('circle', { cx: xs(k.x), cy: ys(k.y), r: 3.5, class: `mark-dot ${k.cls}` }, mg);
+    el('title', {}, c).textContent = k.label;
+  }
+  return svg;
+}
