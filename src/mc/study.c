@@ -263,14 +263,22 @@ static int sobol(prsm_study_result *r, const prsm_study *s, double deadline_s, p
 	const int qmc = s->sens.sobol_sampler == PRSM_SAMPLER_SOBOL;
 	size_t R = qmc ? N / SOBOL_REPLICATE_MIN_ROWS : 1;
 	R = R < 1 ? 1 : R > SOBOL_REPLICATES ? SOBOL_REPLICATES : R;
-	prsm_mc_result *sr = calloc(R, sizeof *sr);
+	/* The outputs of the kept rows, gathered as each replicate finishes (whose own arrays are
+	 * then freed, so the next replicate reuses their memory): output o's K columns at
+	 * buf + o K N, column k at + k N (rows in replicate order), compacted to a column length
+	 * of nk once every replicate has run. Holding every replicate until the end and copying
+	 * then touched twice the memory, a page fault per 4 KiB. */
+	double *buf = malloc((m * K * N > 0 ? m * K * N : 1) * sizeof *buf);
 	size_t *kept_end = calloc(R, sizeof *kept_end);
-	double *buf = NULL;
 	prsm_sobol_index *idx = malloc(G * sizeof *idx);
 	gsl_rng *rng = prsm_rng_alloc(s->mc.seed, SALTELLI_STREAM_OFFSET - 1);
+	prsm_mc_result sr;
+	memset(&sr, 0, sizeof sr);
+	prsm_sampler_kind sampler = s->sens.sobol_sampler;
+	char warning0[sizeof sr.warning] = "";
 	int rc = 0;
 	size_t ran = 0, complete = 0, n = 0, nk = 0;
-	if (!sr || !kept_end || !idx || !rng) {
+	if (!buf || !kept_end || !idx || !rng) {
 		rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
 		goto cleanup;
 	}
@@ -289,30 +297,42 @@ static int sobol(prsm_study_result *r, const prsm_study *s, double deadline_s, p
 		mo.max_failed_fraction = 1.0;
 		if (deadline_s > 0.0)
 			mo.time_cap_s = fmax(deadline_s - prsm_clock_seconds(), 1e-9);
-		rc = prsm_mc_run_saltelli(&sr[q], &s->model, s->vars, s->d, s->n_groups, s->corr, s->n_corr,
-		                          &mo, err);
+		rc = prsm_mc_run_saltelli(&sr, &s->model, s->vars, s->d, s->n_groups, s->corr, s->n_corr, &mo, err);
 		if (rc)
 			goto cleanup;
 		ran++;
+		if (q == 0) {
+			sampler = sr.sampler;
+			memcpy(warning0, sr.warning, sizeof warning0);
+		}
 		size_t kq = 0;
-		for (size_t j = 0; j < sr[q].n; j++)
-			kq += prsm_mc_sample_kept(&s->mc, sr[q].status[j]) ? 1 : 0;
-		n += sr[q].n;
+		for (size_t o = 0; o < m; o++)
+			for (size_t k = 0; k < K; k++) {
+				double *col = buf + (o * K + k) * N + nk;
+				size_t p = 0;
+				for (size_t j = 0; j < sr.n; j++)
+					if (prsm_mc_sample_kept(&s->mc, sr.status[j]))
+						col[p++] = sr.ys[(o * K + k) * sr.n + j];
+				kq = p;
+			}
+		const size_t run_n = sr.n;
+		prsm_mc_result_free(&sr);
+		n += run_n;
 		nk += kq;
 		kept_end[q] = nk;
-		if (sr[q].n == mo.samples && kq >= 2)
+		if (run_n == mo.samples && kq >= 2)
 			complete++;
-		if (sr[q].n < mo.samples)
+		if (run_n < mo.samples)
 			break; /* the time cap or cancel stopped it */
 	}
 	r->has_sobol = 1;
 	r->sobol_rows = n;
 	r->sobol_rows_ok = nk;
 	r->sobol_evaluations = n * K;
-	r->sobol_sampler = sr[0].sampler;
+	r->sobol_sampler = sampler;
 	r->sobol_replicates = qmc ? ran : 0;
-	if (sr[0].warning[0])
-		warn(r, "Sobol indices: %s", sr[0].warning);
+	if (warning0[0])
+		warn(r, "Sobol indices: %s", warning0);
 	if (s->n_corr)
 		warn(r, "Sobol indices assume independent inputs; the study's correlations are kept inside A "
 		        "and B but broken in the mixed rows");
@@ -326,28 +346,20 @@ static int sobol(prsm_study_result *r, const prsm_study *s, double deadline_s, p
 		        "randomised-QMC replicates of %d rows or more)",
 		     ran < R ? "the time cap or cancel stopped the replicates" : "too few base samples",
 		     SOBOL_REPLICATE_MIN_ROWS);
-	buf = malloc(K * nk * sizeof *buf);
-	if (!buf) {
-		rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
-		goto cleanup;
-	}
 	for (size_t o = 0; o < m; o++) {
-		for (size_t k = 0; k < K; k++) {
-			size_t p = 0;
-			for (size_t q = 0; q < ran; q++)
-				for (size_t j = 0; j < sr[q].n; j++)
-					if (prsm_mc_sample_kept(&s->mc, sr[q].status[j]))
-						buf[k * nk + p++] = sr[q].ys[(o * K + k) * sr[q].n + j];
-		}
+		/* output o's columns to length nk, in place (each moves down, never over one not yet moved) */
+		double *y = buf + o * K * N;
+		for (size_t k = 1; k < K; k++)
+			memmove(y + k * nk, y + k * N, nk * sizeof *y);
 		double V;
 		if (replicated) {
-			rc = prsm_sens_sobol_replicated(idx, &V, buf, buf + nk, buf + 2 * nk, nk, G, kept_end, ran, err);
+			rc = prsm_sens_sobol_replicated(idx, &V, y, y + nk, y + 2 * nk, nk, G, kept_end, ran, err);
 		} else {
 			/* every output's bootstrap draws the same resamples */
 			prsm_rng_set_stream(rng, s->mc.seed, SALTELLI_STREAM_OFFSET - 1);
 			size_t done = 0;
 			const size_t nboot = qmc ? 0 : s->sens.bootstrap;
-			rc = prsm_sens_sobol_until(idx, &V, buf, buf + nk, buf + 2 * nk, nk, G, nboot, rng,
+			rc = prsm_sens_sobol_until(idx, &V, y, y + nk, y + 2 * nk, nk, G, nboot, rng,
 			                           s->mc.cancel, deadline_s, &done, err);
 			if (rc == 0 && done < nboot)
 				warn(r, "Sobol indices of %s: the bootstrap stopped (%s) after %zu of %zu resamples: no "
@@ -368,9 +380,7 @@ cleanup:
 	free(kept_end);
 	if (rng)
 		gsl_rng_free(rng);
-	for (size_t q = 0; sr && q < R; q++)
-		prsm_mc_result_free(&sr[q]);
-	free(sr);
+	prsm_mc_result_free(&sr);
 	return rc;
 }
 
