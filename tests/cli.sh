@@ -421,6 +421,8 @@ for b in d["benchmarks"]:
 assert {"load_distribution_case_a", "operating_point_analysis_case_a"} <= names, names
 # the rigid-body start-ups (issue 15): a rate, never a time asserted
 assert {"startup_coulomb_case_a_5ms", "startup_two_stage_seed000_5ms"} <= names, names
+# the vibration analyses (issue 16): seconds of a gear-pair sweep and of case A's 1 s response
+assert {"vibration_sweep_gear_pair_91_points_s", "vibration_case_a_response_1s_s"} <= names, names
 PY
 
 # allocate: the analytic LS-1 example (closed form), the case-A example with its Monte Carlo
@@ -588,7 +590,7 @@ assert [w["code"] for w in d["warnings"] if w["pointer"] == "/dynamics"] == ["no
 "$prsm" validate "$src/studies/dynamics-seed000-row1.json" > /dev/null; check "validate a simulation request" 0 $?
 $py -c 'import json, sys
 d = json.load(open(sys.argv[1]))
-d["dynamics"]["analysis"] = "vibration"
+d["dynamics"]["analysis"] = "calibrate"
 d["dynamics"]["time"] = {"end_s": 0, "output_step_s": 1e-10}
 d["dynamics"]["inertia"] = {"roller_mass_kg": -1, "carrier_inertia_kg_mm2": -2}
 d["dynamics"]["input"] = {"kind": "torque", "value_rad_s": 100}
@@ -609,6 +611,71 @@ ok "not converging: said, no curve" sh -c 'grep -q "did not converge" "$1" && te
 "$prsm" simulate > /dev/null 2>&1; check "simulate without a file" 64 $?
 "$prsm" simulate "$src/studies/dynamics-case-a-v1.json" --format xml > /dev/null 2>&1; check "simulate --format xml" 64 $?
 "$prsm" simulate "$tmp/does-not-exist.json" > /dev/null 2>&1; check "simulate missing file" 64 $?
+
+# simulate, the vibration analyses (issue 16, docs/vibration.md): every vibration example (its
+# analysis' result, converged), V4a's open numbers, the chaotic setting, the sweep's CSV and its
+# threads, the jumps, the basins, case A's TE response and linear analysis, problems at their
+# pointers (1: a sweep of 10^7 points, zero damping), validate
+for f in "$src"/studies/vibration-*.json; do
+  "$prsm" simulate "$f" --quiet --threads 2 > "$tmp/vib-$(basename "$f")" 2> "$tmp/err"; check "simulate $(basename "$f")" 0 $?
+  ok "simulate $(basename "$f"): the analysis' result, converged" $py - "$tmp/vib-$(basename "$f")" "$f" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))["dynamics"]
+a = json.load(open(sys.argv[2]))["dynamics"]["analysis"]
+assert d["analysis"] == a and a in d and d["convergence"]["converged"], (a, list(d))
+assert d["parameters"]["analysis"] == a and d["model"]["kind"] in ("gear_pair", "reduced")
+PY
+done
+ok "vibration examples: V4a, chaos, sweep, jumps, basins, case A (docs/vibration.md)" $py - "$tmp" <<'PY'
+import json, sys
+r = lambda n: json.load(open(f"{sys.argv[1]}/vib-vibration-{n}.json"))["dynamics"]
+v = r("gear-pair-v4a")["vibration"]
+x = v["extremes"][0]
+assert v["classification"] == "periodic" and v["period"] == 1, v["classification"]
+assert abs(x["amplitude"] / 0.05 - 1) < 1e-6 and abs(x["mean"] - 1.1) < 1e-8, x
+assert all(abs(l + 0.05) < 2e-4 for l in v["lyapunov"]["exponents_per_tau"]), v["lyapunov"]
+c = r("gear-pair-chaotic")["vibration"]
+assert c["classification"] == "chaotic" and c["lyapunov"]["exponents_per_tau"][0] > 1e-3, c["lyapunov"]
+assert abs(sum(c["lyapunov"]["exponents_per_tau"]) + 0.1) < 1e-6, c["lyapunov"]
+s = r("gear-pair-sweep")["sweep"]
+assert len(s["up"]) == len(s["down"]) == 101 and s["failed_points"] == 0
+kinds = {p["classification"] for p in s["up"] + s["down"]}
+assert "periodic" in kinds and "non_periodic" in kinds, kinds
+assert {p["period"] for p in s["up"] if p["classification"] == "periodic"} >= {1, 2}
+f = r("gear-pair-jumps")["frequency_response"]
+assert len(f["harmonic_balance"]["folds"]) == 2 and len(f["jumps"]) == 2, f["jumps"]
+for j in f["jumps"]:
+    lo, hi = sorted((j["from_frequency_ratio"], j["to_frequency_ratio"]))
+    assert j["exact_fold"]["found"] and lo <= j["exact_fold"]["frequency_ratio"] <= hi, j
+b = r("gear-pair-basins")["basins"]
+assert len(b["attractors"]) >= 2 and abs(sum(a["fraction"] for a in b["attractors"]) + b["other"]["fraction"] - 1) < 1e-12
+a = r("case-a-330")
+assert abs(a["model"]["axial"]["stiffness_N_per_um"] - 611.40) < 0.01 and a["model"]["te_period_rev"] == 8
+v = a["vibration"]
+assert v["classification"] == "periodic" and v["period"] == 1 and v["clock"] == "te", v["classification"]
+th = [e for e in v["extremes"] if e["observable"] == "thread_force"][0]
+assert abs(th["mean"] - 7000) < 0.5 and 5000 < th["min"] < th["max"] < 9000, th
+hp = r("case-a-linear")["linear"]["half_power"]
+assert hp["defined"] and abs(hp["damping_ratio"] - hp["modal_damping_ratio"]) < 0.002 and 25e3 < hp["peak_frequency_Hz"] < 45e3, hp
+PY
+"$prsm" simulate "$src/studies/vibration-gear-pair-sweep.json" --quiet --threads 1 --csv "$tmp/sweep.csv" > "$tmp/sweep1.json"; check "simulate sweep --csv" 0 $?
+ok "sweep: bit-identical for 1 and 2 threads" cmp -s "$tmp/sweep1.json" "$tmp/vib-vibration-gear-pair-sweep.json"
+ok "sweep CSV: a row per Poincare point of every point, both directions" $py - "$tmp/sweep.csv" <<'PY'
+import sys
+rows = open(sys.argv[1]).read().splitlines()
+assert rows[0].startswith("direction,frequency_ratio,classification,period,") and len(rows) == 1 + 2 * 101 * 64, len(rows)
+PY
+"$prsm" simulate "$src/studies/vibration-gear-pair-v4a.json" --format text > "$tmp/v4a.txt"; check "simulate V4a --format text" 0 $?
+ok "V4a text: period 1 and the amplitude" grep -q "period 1 (mesh clock)" "$tmp/v4a.txt"
+ok "V4a text: the Lyapunov exponents" grep -q "Lyapunov exponents per unit tau: -0.05 -0.05" "$tmp/v4a.txt"
+printf '{"dynamics": {"analysis": "sweep", "gear_pair": {"damping_ratio": 0}, "sweep": {"from": 0.5, "to": 2.5, "step": 1e-7}}}' > "$tmp/vib-bad.json"
+"$prsm" simulate "$tmp/vib-bad.json" > "$tmp/out" 2> "$tmp/err"; check "simulate an invalid sweep" 1 $?
+ok "invalid sweep: nothing on stdout" test ! -s "$tmp/out"
+for ptr in /dynamics/gear_pair/damping_ratio /dynamics/sweep/step; do
+  ok "invalid sweep: $ptr" grep -q ": $ptr: " "$tmp/err"
+done
+"$prsm" validate "$tmp/vib-bad.json" > /dev/null; check "validate an invalid sweep" 1 $?
+"$prsm" validate "$src/studies/vibration-case-a-330.json" > /dev/null; check "validate a vibration request" 0 $?
 
 echo "cli: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -2233,7 +2233,7 @@ if simulation_documents:
         ("negative inertia", dyn_variant(inertia__carrier_inertia_kg_mm2=-1), "/dynamics/inertia/carrier_inertia_kg_mm2"),
         ("negative mass", dyn_variant(inertia__roller_mass_kg=-0.1), "/dynamics/inertia/roller_mass_kg"),
         ("output step finer than 1e-9 s", dyn_variant(time__output_step_s=1e-10), "/dynamics/time/output_step_s"),
-        ("a later analysis", dyn_variant(analysis="vibration"), "/dynamics/analysis"),
+        ("a later analysis", dyn_variant(analysis="calibrate"), "/dynamics/analysis"),
         ("an unknown stepper", dyn_variant(time__stepper="euler"), "/dynamics/time/stepper"),
         ("an unknown member", dyn_variant(time__end=1), "/dynamics/time/end"),
         ("friction above 1", dyn_variant(friction__mu=1.5), "/dynamics/friction/mu"),

@@ -3,7 +3,8 @@
  * generated table and hooks (io/dynamics_json.c): the schema's defaults against
  * prsm_dyn_options_init, every field into its member with its unit, the default output step,
  * the single-stage and chain forms of the masses, and every invalid case at its JSON pointer
- * (the table's limits, the hooks' rules and the model's cross-field rules, each once).
+ * (the table's limits, the hooks' rules and the model's cross-field rules, each once). The
+ * sections of the vibration analyses: tests/test_io_vibration.c.
  */
 #include "test_support.h"
 #include "test_problems.h"
@@ -224,7 +225,9 @@ static void test_every_invalid_case_at_its_pointer(void **state)
 	(void)state;
 	static const bad_case cases[] = {
 		{"[]", 1, "/dynamics"},
-		{"{\"analysis\": \"vibration\"}", 1, "/dynamics/analysis"},
+		{"{\"analysis\": \"vibration\"}", 2, "/dynamics/analysis"},
+		{"{\"analysis\": \"vibration\", \"gear_pair\": {}}", 1, "/dynamics/gear_pair"},
+		{"{\"analysis\": \"vibration\", \"input\": {}}", 1, "/dynamics/input"},
 		{"{\"analysis\": \"calibrate\"}", 1, "/dynamics/analysis"},
 		{"{\"analysis\": \"transiant\"}", 1, "/dynamics/analysis"},
 		{"{\"analysis\": 3}", 1, "/dynamics/analysis"},
@@ -321,7 +324,7 @@ static void test_problems_all_at_once(void **state)
 	(void)state;
 	prsm_dyn_options o;
 	prsm_problems p;
-	const char *doc = "{\"analysis\": \"sweep\", \"input\": {\"kind\": \"torque\", \"value_Nm\": 15},"
+	const char *doc = "{\"analysis\": \"calibrate\", \"input\": {\"kind\": \"torque\", \"value_Nm\": 15},"
 	                  " \"inertia\": {\"roller_mass_kg\": -1}, \"time\": {\"end_s\": 0, \"stepper\": \"rk8pd\"}}";
 	assert_int_equal(read_text(&o, doc, 1, &p), PRSM_EINVAL);
 	assert_true(find(&p, "/dynamics/analysis", "not_available") >= 0);

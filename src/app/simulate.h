@@ -3,7 +3,11 @@
  * layer between the callers (cli/simulate.c, job/kind_simulation.c) and the reader and writer of
  * io/ (io/analyze_request.h reads the design or the chain with its statics and the `dynamics`
  * object, io/dynamics_json.h writes the result) and the rigid-body transient of dyn/.
- * Issue 15; docs/dynamics.md.
+ * Issue 15; docs/dynamics.md. The vibration analyses of the same document (an analysis other
+ * than transient: linear, vibration, sweep, frequency_response, basins; docs/vibration.md) run
+ * through app/vibrate.h behind the same handle: on the reduced elastic model of a single-stage
+ * design, or on the 1-DOF gear pair of a request without a design,
+ * {"dynamics": {"analysis": ..., "gear_pair": {...}}}.
  *
  * A run is read -> model -> simulate -> write:
  *
@@ -24,6 +28,7 @@
 
 #include <cJSON.h>
 
+#include "app/vibrate.h"
 #include "dyn/dyn.h"
 #include "util/cancel.h"
 #include "util/error.h"
@@ -44,14 +49,31 @@ typedef struct prsm_app_simulation prsm_app_simulation;
 int prsm_app_simulation_load(prsm_app_simulation **out, const cJSON *doc, prsm_problems *warnings,
                              prsm_problems *problems);
 
-/* Output times the loaded request asks for (end_s / output_step_s, the end included). */
+/* Output times the loaded request asks for (end_s / output_step_s, the end included; 0 for the
+ * vibration analyses). */
 size_t prsm_app_simulation_points(const prsm_app_simulation *s);
+
+/* The loaded request's analysis (io/dynamics_json.h, PRSM_IO_DYN_*). */
+int prsm_app_simulation_analysis(const prsm_app_simulation *s);
+
+/* The progress a run plans and its unit (*unit may be NULL): simulated nanoseconds
+ * ("simulated_ns", the transient), sweep points ("sweep_points"), basin cells ("basin_cells"),
+ * or 1 ("analyses"). */
+size_t prsm_app_simulation_work(const prsm_app_simulation *s, const char **unit);
+
+/* The engine threads of the vibration analyses' sweeps and grids (1 to 256; the default 1). The
+ * result does not depend on them. */
+void prsm_app_simulation_set_threads(prsm_app_simulation *s, int threads);
+
+/* The vibration analysis of the loaded request (NULL for the transient). */
+const prsm_app_vibration *prsm_app_simulation_vibration(const prsm_app_simulation *s);
 
 /*
  * Integrate the loaded request. cancel (may be NULL) stops it; progress (may be NULL) is called
- * with done / planned in simulated nanoseconds; max_time_s > 0 caps the wall-clock time (then
- * cancel and the cap are looked at with each progress report, every 1/200 of the simulated
- * time or output time, whichever is later). Returns 0; PRSM_ECANCELLED (err says whether the
+ * with done / planned in simulated nanoseconds (vibration analyses: prsm_app_simulation_work's
+ * unit); max_time_s > 0 caps the wall-clock time (then cancel and the cap are looked at with
+ * each progress report, every 1/200 of the simulated time or output time, whichever is later;
+ * for the vibration analyses by a watchdog thread every 20 ms). Returns 0; PRSM_ECANCELLED (err says whether the
  * flag or the time cap stopped it); PRSM_ENOCONVERGE (err says when and why); PRSM_ENOMEM.
  */
 int prsm_app_simulation_run(prsm_app_simulation *s, const prsm_cancel_flag *cancel, prsm_progress_fn progress,

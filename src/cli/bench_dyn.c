@@ -8,12 +8,24 @@
  * Each entry times prsm_dyn_simulate alone: the request is read and its model (kinematic
  * structure, masses, statics references, settled state) built once, as a sweep over input
  * values would reuse it; the checks at every output time are part of what is timed.
+ *
+ * The vibration entries (issue 16; docs/vibration.md), each the seconds of one run on one core
+ * (the fastest of the runs that fit the budget, at least one):
+ *   - vibration_sweep_gear_pair_91_points_s: a 1-DOF gear-pair sweep with impacts (zeta 0.05,
+ *     f_m 0.1, epsilon 0.2) of 91 points (Omega 0.5 to 2.3, up, continuation), each 300 transient
+ *     and 64 recorded periods, the steady state of every point (Poincare points, extremes,
+ *     spectrum) as `prsm simulate` runs it; target < 2 s;
+ *   - vibration_case_a_response_1s_s: case A's reduced model, both branches, V5's TE lines and a
+ *     0.1 um mesh error, 1 s of response at 330 rad/s from the static state with 1e4 output
+ *     times (prsm_vib_time_response); target < 1 s.
+ * The models are built once, outside the timing.
  */
 #include <cJSON.h>
 #include <math.h>
 #include <stdio.h>
 
 #include "app/simulate.h"
+#include "dyn/vib.h"
 #include "cli/commands.h"
 #include "util/clock.h"
 
@@ -48,7 +60,92 @@ static const char two_stage_seed000[] =
 	"    \"nut_mass_kg\": 20, \"screw_mass_kg\": 0.761, \"screw_inertia_kg_mm2\": 172.3}]},"
 	"  \"time\": {\"end_s\": 0.005, \"output_step_s\": 1e-05}}}";
 
+static const char gear_pair_sweep[] =
+	"{\"dynamics\": {\"analysis\": \"sweep\","
+	"  \"gear_pair\": {\"damping_ratio\": 0.05, \"mean_load\": 0.1, \"error_amplitude\": 0.2},"
+	"  \"sweep\": {\"parameter\": \"frequency_ratio\", \"from\": 0.5, \"to\": 2.3, \"step\": 0.02,"
+	"   \"directions\": [\"up\"], \"transient_periods\": 300, \"recorded_periods\": 64}}}";
+
+static const char case_a_330[] =
+	"{\"design\": {\"geometry\": {\"starts\": 5, \"hand\": \"right\", \"pitch_mm\": 2, \"flank_angle_deg\": 45,"
+	" \"roller_radius_mm\": 3.25, \"rollers\": 10, \"engaged_threads\": 10, \"running_clearance_mm\": 0.1},"
+	" \"target_axial_clearance_um\": 20, \"friction\": {\"screw_roller\": 0.05, \"nut_roller\": 0.05}},"
+	" \"dynamics\": {\"analysis\": \"vibration\", \"load\": {\"axial_load_N\": 7000}, \"inertia\": {\"payload_kg\": 400},"
+	"  \"vibration\": {\"screw_speed_rad_s\": 330, \"gear_backlash_um\": 5, \"mesh_error_um\": 0.1, \"te_lines\": ["
+	"   {\"order_per_rev\": 1, \"amplitude_um\": 1.84}, {\"order_per_rev\": 1.875, \"amplitude_um\": 0.443},"
+	"   {\"order_per_rev\": 0.625, \"amplitude_um\": 0.26}, {\"order_per_rev\": 3.75, \"amplitude_um\": 0.181},"
+	"   {\"order_per_rev\": 0.375, \"amplitude_um\": 0.141}]}}}";
+
 static volatile double sink;
+
+/* A loaded request (NULL, said on stderr, when invalid). */
+static prsm_app_simulation *load(const char *text)
+{
+	cJSON *doc = cJSON_Parse(text);
+	prsm_problems w, pr;
+	prsm_problems_init(&w);
+	prsm_problems_init(&pr);
+	prsm_app_simulation *s = NULL;
+	if (doc == NULL || prsm_app_simulation_load(&s, doc, &w, &pr)) {
+		fprintf(stderr, "prsm bench: built-in request invalid: %s %s\n", pr.count ? pr.items[0].pointer : "",
+		        pr.count ? pr.items[0].message : "?");
+		s = NULL;
+	}
+	cJSON_Delete(doc);
+	return s;
+}
+
+/* Seconds of the fastest sweep run (one thread) within the budget; NAN when it fails. */
+static double bench_vibration_sweep(double budget_s)
+{
+	prsm_app_simulation *s = load(gear_pair_sweep);
+	if (s == NULL)
+		return NAN;
+	prsm_app_simulation_set_threads(s, 1);
+	double best = NAN, t0 = prsm_clock_seconds();
+	do {
+		prsm_error err = PRSM_ERROR_INIT;
+		const double a = prsm_clock_seconds();
+		if (prsm_app_simulation_run(s, NULL, NULL, NULL, 0.0, &err)) {
+			fprintf(stderr, "prsm bench: sweep failed: %s\n", err.message);
+			best = NAN;
+			break;
+		}
+		const double t = prsm_clock_seconds() - a;
+		best = isnan(best) || t < best ? t : best;
+	} while (prsm_clock_seconds() - t0 + best < budget_s);
+	prsm_app_simulation_free(s);
+	return best;
+}
+
+/* Seconds of the fastest 1 s response of case A's reduced model within the budget. */
+static double bench_vibration_response(double budget_s)
+{
+	prsm_app_simulation *s = load(case_a_330);
+	if (s == NULL)
+		return NAN;
+	const prsm_vib_model *m = prsm_app_vibration_model(prsm_app_simulation_vibration(s));
+	const prsm_vib_integration integ = PRSM_VIB_INTEGRATION_INIT;
+	double best = NAN, t0 = prsm_clock_seconds();
+	do {
+		prsm_vib_response r;
+		prsm_error err = PRSM_ERROR_INIT;
+		const double a = prsm_clock_seconds();
+		const int rc = prsm_vib_time_response(&r, m, NULL, 1.0, 1e-4, &integ, NULL, &err);
+		const double t = prsm_clock_seconds() - a;
+		if (rc) {
+			fprintf(stderr, "prsm bench: response failed: %s\n", err.message);
+			prsm_vib_response_free(&r);
+			best = NAN;
+			break;
+		}
+		sink = (double)r.points;
+		prsm_vib_response_free(&r);
+		best = isnan(best) || t < best ? t : best;
+	} while (prsm_clock_seconds() - t0 + best < budget_s);
+	prsm_app_simulation_free(s);
+	return best;
+}
 
 /* Simulations per second of the request text (NAN when it does not load or run). */
 static double bench_simulation(const char *text, double budget_s)
@@ -94,4 +191,6 @@ void prsm_cli_bench_dyn(cJSON *list, double budget_s)
 	                   "simulations/s", 1, 0);
 	prsm_cli_bench_add(list, "startup_two_stage_seed000_5ms", bench_simulation(two_stage_seed000, budget_s),
 	                   "simulations/s", 1, 0);
+	prsm_cli_bench_add(list, "vibration_sweep_gear_pair_91_points_s", bench_vibration_sweep(budget_s), "s", 1, 3);
+	prsm_cli_bench_add(list, "vibration_case_a_response_1s_s", bench_vibration_response(budget_s), "s", 1, 3);
 }

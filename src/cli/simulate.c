@@ -1,12 +1,18 @@
 /*
  * simulate.c: `prsm simulate FILE|-`: the start-up transient of a design or a chain (issue 15,
- * docs/dynamics.md). Reads the simulation request (schemas/simulation.schema.json), reports
- * every problem with its pointer (exit 1), runs the integration with a progress line on stderr
- * when stderr is a terminal (simulated time), and prints the result as JSON
+ * docs/dynamics.md), or a vibration analysis of the reduced model of a design or of a 1-DOF gear
+ * pair (issue 16, docs/vibration.md: linear, vibration, sweep, frequency_response, basins).
+ * Reads the simulation request (schemas/simulation.schema.json), reports every problem with its
+ * pointer (exit 1), runs it with a progress line on stderr when stderr is a terminal (simulated
+ * time, sweep points or basin cells), and prints the result as JSON
  * (schemas/dynamics-result.schema.json) or, with --format text, a summary, on stdout or --out;
- * --csv FILE writes the time series. A simulation that does not converge prints why and exits 2.
+ * --csv FILE writes the time series (transient; vibration: the recorded window), the
+ * bifurcation points (sweep, frequency_response), the basin grid or the FRF (linear); --threads N
+ * runs sweep points and basin cells on N threads (the result does not depend on N). A run that
+ * does not converge prints why and exits 2.
  */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -20,9 +26,17 @@ static void progress(void *ctx, const prsm_progress *p)
 	fflush(stderr);
 }
 
+/* The vibration analyses: sweep points, basin cells, or one analysis. */
+static void progress_count(void *ctx, const prsm_progress *p)
+{
+	const char *const *unit = ctx;
+	fprintf(stderr, "\r%zu of %zu %s   ", p->done, p->planned, *unit);
+	fflush(stderr);
+}
+
 typedef struct {
 	const char *path, *out_path, *csv_path;
-	int text, quiet;
+	int text, quiet, threads;
 } options;
 
 static int parse(options *o, int argc, char **argv)
@@ -44,6 +58,14 @@ static int parse(options *o, int argc, char **argv)
 			o->csv_path = argv[++i];
 		} else if (strcmp(a, "--quiet") == 0) {
 			o->quiet = 1;
+		} else if (strcmp(a, "--threads") == 0 && has_value) {
+			char *end;
+			const long t = strtol(argv[++i], &end, 10);
+			if (*end != '\0' || t < 1 || t > 256) {
+				fprintf(stderr, "prsm simulate: --threads must be 1 to 256 (got '%s')\n", argv[i]);
+				return -1;
+			}
+			o->threads = (int)t;
 		} else if (a[0] == '-' && a[1] != '\0') {
 			fprintf(stderr, "prsm simulate: unknown option '%s'\n", a);
 			return -1;
@@ -55,7 +77,7 @@ static int parse(options *o, int argc, char **argv)
 		}
 	}
 	if (!o->path) {
-		fprintf(stderr, "usage: prsm simulate FILE|- [--format json|text] [--out FILE] [--csv FILE] [--quiet]\n");
+		fprintf(stderr, "usage: prsm simulate FILE|- [--format json|text] [--out FILE] [--csv FILE] [--threads N] [--quiet]\n");
 		return -1;
 	}
 	return 0;
@@ -110,7 +132,13 @@ int prsm_cli_simulate(int argc, char **argv)
 	}
 	const int bar = !o.quiet && isatty(STDERR_FILENO);
 	prsm_error err = PRSM_ERROR_INIT;
-	int src = prsm_app_simulation_run(s, NULL, bar ? progress : NULL, NULL, 0.0, &err);
+	if (o.threads)
+		prsm_app_simulation_set_threads(s, o.threads);
+	const char *unit = "simulated_ns";
+	prsm_app_simulation_work(s, &unit);
+	const int transient = strcmp(unit, "simulated_ns") == 0;
+	int src = prsm_app_simulation_run(s, NULL, bar ? (transient ? progress : progress_count) : NULL,
+	                                  transient ? NULL : &unit, 0.0, &err);
 	if (bar)
 		fputc('\n', stderr);
 	if (src) {

@@ -1,12 +1,21 @@
 /*
- * kind_simulation.c: the "simulation" job kind (/v1/simulations): a start-up transient
- * (schemas/simulation.schema.json in, schemas/dynamics-result.schema.json out, the time series
- * as CSV at /v1/simulations/{id}/samples.csv), run exactly as `prsm simulate` runs it
- * (app/simulate.h) with the service's per-job time cap and cancel. Progress counts simulated
- * nanoseconds. Normalising builds the model (masses, statics references, the settled state),
- * so every problem a run could find before integrating is a 422 at submission; the service also
- * caps the output grid (PRSM_JOB_SIMULATION_POINTS_MAX points), which bounds the stored result.
- * Nothing in the request is irrelevant to the result: the cache key is the whole request.
+ * kind_simulation.c: the "simulation" job kind (/v1/simulations): a start-up transient or a
+ * vibration analysis (linear, vibration, sweep, frequency_response, basins of the reduced model
+ * or of a gear pair; docs/vibration.md) (schemas/simulation.schema.json in,
+ * schemas/dynamics-result.schema.json out, the series as CSV at /v1/simulations/{id}/samples.csv:
+ * the transient's time series, or the CSV of `prsm simulate --csv` for the analysis), run exactly
+ * as `prsm simulate` runs it (app/simulate.h) with the service's per-job time cap, threads and
+ * cancel. Progress counts simulated nanoseconds (transient), sweep points (sweep,
+ * frequency_response), basin cells (basins) or 1 (linear, vibration); the job's progress.unit is
+ * the kind's, "simulated_ns", whatever the analysis (a per-job unit is a change of the job
+ * machinery). Normalising builds the model (masses, statics references, the settled state, the
+ * vibration model), so every problem a run could find before integrating is a 422 at submission;
+ * the service also caps what bounds the stored result: the transient's output grid
+ * (PRSM_JOB_SIMULATION_POINTS_MAX points), the recorded values of a sweep
+ * (PRSM_JOB_SWEEP_VALUES_MAX) and the samples of a steady state's window
+ * (PRSM_JOB_STEADY_SAMPLES_MAX). Nothing in the request is irrelevant to the result (the engine
+ * threads are the service's, and the results do not depend on them): the cache key is the whole
+ * request.
  */
 #include "job/kind.h"
 
@@ -22,6 +31,10 @@
 
 /* Output times a service job may ask for (about 0.7 kB of JSON each for one stage). */
 #define PRSM_JOB_SIMULATION_POINTS_MAX 100001
+/* Sweep points x recorded periods of a sweep or frequency-response job (about 20 bytes each). */
+#define PRSM_JOB_SWEEP_VALUES_MAX 1000000
+/* Recorded periods x samples per period of a steady state (the phase portrait, two numbers each). */
+#define PRSM_JOB_STEADY_SAMPLES_MAX 500000
 
 static char simulation_version_text[512];
 static pthread_once_t simulation_version_once = PTHREAD_ONCE_INIT;
@@ -29,8 +42,8 @@ static pthread_once_t simulation_version_once = PTHREAD_ONCE_INIT;
 /* The versions a simulation result names (its "engine" object), from the same constants. */
 static void simulation_version_init(void)
 {
-	snprintf(simulation_version_text, sizeof simulation_version_text, "prsm %s; build %s; %s", PRSM_VERSION,
-	         prsm_engine_build(), PRSM_DYN_MODEL_VERSION);
+	snprintf(simulation_version_text, sizeof simulation_version_text, "prsm %s; build %s; %s; %s", PRSM_VERSION,
+	         prsm_engine_build(), PRSM_DYN_MODEL_VERSION, PRSM_VIB_MODEL_VERSION);
 }
 
 static const char *simulation_version(void)
@@ -48,6 +61,36 @@ static int simulation_normalise(cJSON **out, const cJSON *doc, const prsm_job_li
 	if (rc)
 		return rc;
 	const size_t points = prsm_app_simulation_points(s);
+	const prsm_app_vibration *vib = prsm_app_simulation_vibration(s);
+	if (vib != NULL) {
+		const prsm_io_vib_request *q = prsm_app_vibration_request(vib);
+		const int analysis = prsm_app_simulation_analysis(s);
+		const size_t work = prsm_app_vibration_work(vib);
+		double values = 0.0;
+		if (analysis == PRSM_IO_DYN_SWEEP || analysis == PRSM_IO_DYN_FREQUENCY_RESPONSE)
+			values = (double)work * q->sweep.recorded_periods;
+		const double samples = analysis == PRSM_IO_DYN_VIBRATION
+		                           ? (double)q->steady_state.recorded_periods * q->steady_state.samples_per_period
+		                           : 0.0;
+		const int recorded = q->sweep.recorded_periods;
+		prsm_app_simulation_free(s); /* q with it */
+		if (values > PRSM_JOB_SWEEP_VALUES_MAX) {
+			prsm_problems_add(problems, "/dynamics/sweep/step", "service_cap",
+			                  "%.0f sweep points x %d recorded periods: this service keeps at most %d recorded values "
+			                  "per sweep (the command line more): raise the step or record fewer periods",
+			                  (double)work, recorded, PRSM_JOB_SWEEP_VALUES_MAX);
+			return PRSM_EINVAL;
+		}
+		if (samples > PRSM_JOB_STEADY_SAMPLES_MAX) {
+			prsm_problems_add(problems, "/dynamics/steady_state/samples_per_period", "service_cap",
+			                  "%.0f samples of the recorded window: this service keeps at most %d (the command line "
+			                  "more): fewer samples per period or recorded periods",
+			                  samples, PRSM_JOB_STEADY_SAMPLES_MAX);
+			return PRSM_EINVAL;
+		}
+		*out = cJSON_Duplicate(doc, 1); /* handed to the caller */
+		return *out ? 0 : PRSM_ENOMEM;
+	}
 	prsm_app_simulation_free(s);
 	if (points > PRSM_JOB_SIMULATION_POINTS_MAX) {
 		prsm_problems_add(problems, "/dynamics/time/output_step_s", "service_cap",
@@ -83,6 +126,7 @@ static int simulation_run(prsm_job_output *out, const char *request, const prsm_
 		                    problems.count ? problems.items[0].message : "the stored request is invalid");
 		goto done;
 	}
+	prsm_app_simulation_set_threads(s, ctx->limits.threads);
 	rc = prsm_app_simulation_run(s, ctx->cancel, ctx->progress, ctx->progress_ctx, ctx->limits.max_time_s, err);
 	if (rc)
 		goto done; /* not converged, cancelled or out of time: err says which, and no curve */
@@ -95,8 +139,7 @@ static int simulation_run(prsm_job_output *out, const char *request, const prsm_
 		goto done;
 	}
 	out->result_len = strlen(out->result);
-	const prsm_dyn_options *o = prsm_dyn_model_options(prsm_app_simulation_model(s));
-	out->samples_done = out->samples_planned = (long long)(o->time.end_s * 1e9 + 0.5);
+	out->samples_done = out->samples_planned = (long long)prsm_app_simulation_work(s, NULL);
 	if ((rc = prsm_job_text(&out->csv, &out->csv_len, series_csv, s)))
 		rc = prsm_error_set(err, rc, NULL, "cannot write the time series CSV");
 done:

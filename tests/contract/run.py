@@ -636,7 +636,11 @@ def suite_design_jobs(client, contract, source):
 def suite_simulations(client, contract, source):
     """/v1/simulations: a start-up transient as a job (progress in simulated nanoseconds, the cache,
     the time series as CSV, cancel, 422 with pointers, the service's cap on output times); and
-    POST /v1/designs/analyze with a dynamics object: the statics, saying the transient is not run."""
+    POST /v1/designs/analyze with a dynamics object: the statics, saying the transient is not run.
+    The vibration analyses (issue 16, docs/vibration.md): a gear-pair sweep as a job (progress in
+    sweep points, the result against dynamics-result.schema.json, the bifurcation points as CSV,
+    the cache), a bad request refused by the schema and by the service at every pointer, the
+    service's cap on recorded values, a long sweep cancelled while it runs."""
     v1 = load_json(os.path.join(source, "studies", "dynamics-case-a-v1.json"))
     r = client.post("/v1/designs/analyze", v1)
     check("analyze a request with dynamics: 200, the statics", r.status == 200 and "efficiency" in r.json(),
@@ -687,7 +691,7 @@ def suite_simulations(client, contract, source):
     bad = copy.deepcopy(v1)
     bad["dynamics"]["time"] = {"end_s": 0, "stepper": "rk8pd"}
     bad["dynamics"]["inertia"] = {"roller_mass_kg": -1}
-    bad["dynamics"]["analysis"] = "vibration"
+    bad["dynamics"]["analysis"] = "calibrate"
     r = client.post("/v1/simulations", bad)
     check("invalid simulation: 422", r.status == 422, str(r.status))
     if r.status == 422:
@@ -721,6 +725,87 @@ def suite_simulations(client, contract, source):
               str(r.status))
         gone = wait_job(client, loc, states=("cancelled",), timeout=60)
         check("a cancelled simulation has no result", gone is not None and "result" not in gone, str(gone and gone.get("state")))
+    suite_vibration(client, contract, source)
+
+
+def suite_vibration(client, contract, source):
+    """The vibration analyses on /v1/simulations (docs/vibration.md)."""
+    result_schema = contract.schemas["dynamics-result.schema.json"]
+    request_schema = contract.schemas["simulation.schema.json"]
+    sweep = load_json(os.path.join(source, "studies", "vibration-gear-pair-sweep.json"))
+    sweep["dynamics"]["sweep"].update({"from": 0.6, "to": 1.4, "step": 0.1, "transient_periods": 100,
+                                       "recorded_periods": 16})
+    check("vibration sweep request matches simulation.schema.json", contract.validate(request_schema, sweep) == "",
+          contract.validate(request_schema, sweep))
+    r = client.post("/v1/simulations", sweep)
+    check("submit a gear-pair sweep: 202 or 200", r.status in (200, 202), f"{r.status} {r.body[:300]!r}")
+    if r.status not in (200, 202):
+        return
+    job = r.json()
+    loc = f"/v1/simulations/{job['id']}"
+    done = wait_job(client, loc, timeout=60)
+    check("sweep: the job finishes", done is not None and done["state"] == "done",
+          str(done and (done["state"], done.get("problem"))))
+    if done and done["state"] == "done":
+        p = done["progress"]
+        check("sweep: progress in sweep points, all of them (9 points, up and down)",
+              p["samples_done"] == p["samples_planned"] == 18, str(p))
+        e = contract.validate(result_schema, done["result"])
+        check("sweep: the result matches dynamics-result.schema.json", e == "", e)
+        d = done["result"]["dynamics"]
+        sw = d.get("sweep", {})
+        check("sweep: both directions, every point with its frequency ratio, class and 16 Poincare values",
+              d["analysis"] == "sweep" and len(sw.get("up", [])) == len(sw.get("down", [])) == 9
+              and [round(x["frequency_ratio"], 9) for x in sw["up"]] == [round(0.6 + 0.1 * i, 9) for i in range(9)]
+              and all(len(x["poincare"]) == 16 for x in sw["up"] + sw["down"] if x["converged"]), json.dumps(sw)[:300])
+        check("sweep: the parameters echoed with their defaults, the convergence flags",
+              d["parameters"]["gear_pair"]["contact_ratio"] == 1.5 and d["parameters"]["sweep"]["continuation"] is True
+              and d["convergence"]["converged"] is True and d["model"]["kind"] == "gear_pair", json.dumps(d["parameters"]))
+        r = client.get(loc + "/samples.csv")
+        lines = r.body.decode("utf-8").splitlines() if r.status == 200 else []
+        check("sweep: the bifurcation points as CSV (a row per Poincare point)", r.status == 200
+              and lines[0].startswith("direction,frequency_ratio,classification") and len(lines) == 1 + 18 * 16,
+              f"{r.status} {len(lines)}")
+        again = json.loads(json.dumps(sweep), object_pairs_hook=lambda kv: dict(reversed(kv)))
+        r = client.post("/v1/simulations", again)
+        check("sweep: identical request answered from the cache", r.status == 200 and r.json()["id"] == job["id"]
+              and r.json()["cache_hit"] is True, str(r.status))
+    bad = {"dynamics": {"analysis": "sweep", "gear_pair": {"damping_ratio": 0, "mean_lod": 0.1},
+                        "sweep": {"from": 0, "to": 10, "step": 1e-6, "parameter": "screw_speed_rad_s"},
+                        "input": {"value_rad_s": 100}}}
+    check("bad vibration request: simulation.schema.json refuses it", contract.validate(request_schema, bad) != "")
+    r = client.post("/v1/simulations", bad)
+    check("bad vibration request: 422", r.status == 422, f"{r.status} {r.body[:300]!r}")
+    if r.status == 422:
+        ptrs = {e["pointer"] for e in r.json()["errors"]}
+        check("bad vibration request: every problem at its pointer", {"/dynamics/gear_pair/damping_ratio",
+              "/dynamics/gear_pair/mean_lod", "/dynamics/sweep/step", "/dynamics/sweep/parameter",
+              "/dynamics/input"} <= ptrs, str(ptrs))
+    r = client.post("/v1/simulations", {"design": load_json(os.path.join(source, "studies", "case-a.json")),
+                                        "dynamics": {"analysis": "vibration", "gear_pair": {}}})
+    check("a gear pair with a design: 422 at /dynamics/gear_pair", r.status == 422
+          and "/dynamics/gear_pair" in [e["pointer"] for e in r.json()["errors"]], f"{r.status} {r.body[:300]!r}")
+    big = copy.deepcopy(sweep)
+    big["dynamics"]["sweep"].update({"from": 0.1, "to": 900, "step": 0.05, "recorded_periods": 64, "transient_periods": 10})
+    r = client.post("/v1/simulations", big)
+    check("more recorded values than the service keeps: 422 at sweep/step", r.status == 422
+          and [(e["pointer"], e["code"]) for e in r.json()["errors"]] == [("/dynamics/sweep/step", "service_cap")],
+          f"{r.status} {r.body[:300]!r}")
+    # a long sweep, cancelled while it runs: no result
+    long = copy.deepcopy(sweep)
+    long["dynamics"]["sweep"].update({"from": 0.5, "to": 2.5, "step": 0.0005 + random.randrange(1000) * 1e-9,
+                                      "transient_periods": 300, "recorded_periods": 16})
+    r = client.post("/v1/simulations", long)
+    check("long sweep: 202", r.status == 202, f"{r.status} {r.body[:300]!r}")
+    if r.status == 202:
+        loc = r.headers["location"]
+        running = wait_job(client, loc, states=("running",), timeout=60, pred=lambda d: d["progress"]["samples_done"] > 0)
+        check("a running sweep reports sweep points", running is not None
+              and 0 < running["progress"]["samples_done"] < running["progress"]["samples_planned"], str(running and running["progress"]))
+        r = client.delete(loc)
+        check("DELETE a running sweep: 200 cancelled", r.status == 200 and r.json()["state"] == "cancelled", str(r.status))
+        gone = wait_job(client, loc, states=("cancelled",), timeout=60)
+        check("a cancelled sweep has no result", gone is not None and "result" not in gone, str(gone and gone.get("state")))
 
 
 def suite_slow_client(client, server_timeout_s):
