@@ -90,6 +90,11 @@ static void test_v4a_amplitudes(void **state)
 		assert_string_equal(s.line[0].name, "forcing");
 		assert_close(s.line[0].amplitude, amp, 1e-5 * amp);
 		assert_true(s.line[1].amplitude < 1e-6 * amp); /* no second harmonic in the linear regime */
+		/* a period-1 response has no subharmonic lines: each is evaluated over whole cycles of
+		 * itself with the mean removed, so neither the forcing line nor the mean leaks in */
+		for (int l = 0; l < s.lines; l++)
+			if (strncmp(s.line[l].name, "subharmonic_", 12) == 0)
+				assert_true(s.line[l].amplitude < 1e-9 * amp);
 		assert_false(s.spectrum_window_hann);
 		/* never out of contact, a phase portrait of >= 100 samples per period */
 		assert_close(s.loss_share[0], 0.0, 0.0);

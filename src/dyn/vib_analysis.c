@@ -452,16 +452,54 @@ void prsm_vib_steady_free(prsm_vib_steady *s)
 	memset(s, 0, sizeof *s);
 }
 
-/* one-sided amplitude of x[0..n) (window w, sum of w) at f cycles per sample */
-static double line_amplitude(const double *x, const double *w, size_t n, double wsum, double f)
+/* One-sided amplitude of the line at f cycles per sample in x[0..n) (§8.4 "Spectra").
+ * f = 0: the window-weighted mean. Otherwise the mean is removed first (it would leak into every
+ * line that does not fall on a bin), and:
+ *   - a Hann record (w given as Hann: a non-periodic response) is used as it is;
+ *   - a rectangular record is cut to the longest tail holding a whole number of the line's
+ *     cycles when the line's period is a whole number of samples (the forcing clock's
+ *     subharmonics: k sps samples); over whole cycles of both the line and the response's
+ *     period the transform is exact: a period-1 response has no subharmonic lines, not the
+ *     leakage of the forcing line and the mean into them;
+ *   - a line whose period is not a whole number of samples (a mechanism or TE order) gets a
+ *     Hann window over the whole record, whose leakage falls off as the cube of the distance. */
+static double line_amplitude(const double *x, const double *w, size_t n, double wsum, double f, int hann)
 {
-	double re = 0.0, im = 0.0;
-	for (size_t i = 0; i < n; i++) {
-		const double ph = 2.0 * M_PI * f * (double)i;
-		re += w[i] * x[i] * cos(ph);
-		im -= w[i] * x[i] * sin(ph);
+	if (n == 0)
+		return NAN;
+	if (f == 0.0) {
+		double acc = 0.0;
+		for (size_t i = 0; i < n; i++)
+			acc += w[i] * x[i];
+		return fabs(acc) / wsum;
 	}
-	return (f == 0.0 ? 1.0 : 2.0) * hypot(re, im) / wsum;
+	size_t first = 0, len = n;
+	int use_hann = hann;
+	if (!hann) {
+		const double P = 1.0 / f, Pr = round(P);
+		if (Pr >= 2.0 && fabs(P - Pr) <= 1e-9 * Pr && (size_t)Pr <= n) {
+			len = n / (size_t)Pr * (size_t)Pr;
+			first = n - len;
+		} else {
+			use_hann = 1;
+		}
+	}
+	double mean = 0.0, ws = 0.0;
+	for (size_t i = 0; i < len; i++) {
+		const double wi = hann ? w[first + i] : use_hann ? 0.5 - 0.5 * cos(2.0 * M_PI * ((double)i + 0.5) / (double)len) : 1.0;
+		mean += wi * x[first + i];
+		ws += wi;
+	}
+	mean /= ws;
+	double re = 0.0, im = 0.0;
+	for (size_t i = 0; i < len; i++) {
+		const double wi = hann ? w[first + i] : use_hann ? 0.5 - 0.5 * cos(2.0 * M_PI * ((double)i + 0.5) / (double)len) : 1.0;
+		const double ph = 2.0 * M_PI * f * (double)(first + i);
+		const double v = wi * (x[first + i] - mean);
+		re += v * cos(ph);
+		im -= v * sin(ph);
+	}
+	return 2.0 * hypot(re, im) / ws;
 }
 
 static void add_line(prsm_vib_steady *s, const char *name, double order, double freq, double amp)
@@ -535,15 +573,15 @@ static int spectrum(prsm_vib_steady *s, const prsm_vib_model *m, const double *s
 	if (pair) {
 		for (int i = 1; i <= 4; i++) {
 			snprintf(name, sizeof name, i == 1 ? "forcing" : "harmonic_%d", i);
-			add_line(s, name, NAN, i * m->c.Omega, line_amplitude(x, w, n, wsum, i * f_forcing));
+			add_line(s, name, NAN, i * m->c.Omega, line_amplitude(x, w, n, wsum, i * f_forcing, s->spectrum_window_hann));
 		}
 		for (int k = 2; k <= 8; k++) {
 			snprintf(name, sizeof name, "subharmonic_%d", k);
-			add_line(s, name, NAN, m->c.Omega / k, line_amplitude(x, w, n, wsum, f_forcing / k));
+			add_line(s, name, NAN, m->c.Omega / k, line_amplitude(x, w, n, wsum, f_forcing / k, s->spectrum_window_hann));
 		}
 		const double fn = 1.0 / (2.0 * M_PI) * dt_tau; /* natural frequency 1 rad per tau */
-		add_line(s, "natural", NAN, 1.0, fn < 0.5 ? line_amplitude(x, w, n, wsum, fn) : NAN);
-		add_line(s, "mean", NAN, 0.0, line_amplitude(x, w, n, wsum, 0.0));
+		add_line(s, "natural", NAN, 1.0, fn < 0.5 ? line_amplitude(x, w, n, wsum, fn, s->spectrum_window_hann) : NAN);
+		add_line(s, "mean", NAN, 0.0, line_amplitude(x, w, n, wsum, 0.0, s->spectrum_window_hann));
 	} else {
 		const prsm_vib_params *P = &m->par;
 		const double ws_rev = P->screw_speed_rad_s / (2.0 * M_PI); /* screw rev per s */
@@ -564,23 +602,23 @@ static int spectrum(prsm_vib_steady *s, const prsm_vib_model *m, const double *s
 		for (size_t i = 0; i < sizeof mech / sizeof mech[0]; i++) {
 			const double fHz = mech[i].order * ws_rev;
 			const double fs = fHz * dt_s;
-			add_line(s, mech[i].name, mech[i].order, fHz, fs < 0.5 ? line_amplitude(x, w, n, wsum, fs) : NAN);
+			add_line(s, mech[i].name, mech[i].order, fHz, fs < 0.5 ? line_amplitude(x, w, n, wsum, fs, s->spectrum_window_hann) : NAN);
 		}
 		if (s->clock == PRSM_VIB_CLOCK_MESH)
 			for (int kk = 2; kk <= 8; kk++) {
 				snprintf(name, sizeof name, "mesh_subharmonic_%d", kk);
 				const double order = P->teeth_ring * k / kk;
-				add_line(s, name, order, order * ws_rev, line_amplitude(x, w, n, wsum, f_forcing / kk));
+				add_line(s, name, order, order * ws_rev, line_amplitude(x, w, n, wsum, f_forcing / kk, s->spectrum_window_hann));
 			}
 		for (int l = 0; l < P->te_lines; l++) {
 			snprintf(name, sizeof name, "te_line_%d", l);
 			const double fHz = P->te_line[l].order_per_rev * ws_rev, fs = fHz * dt_s;
-			add_line(s, name, P->te_line[l].order_per_rev, fHz, fs < 0.5 ? line_amplitude(x, w, n, wsum, fs) : NAN);
+			add_line(s, name, P->te_line[l].order_per_rev, fHz, fs < 0.5 ? line_amplitude(x, w, n, wsum, fs, s->spectrum_window_hann) : NAN);
 		}
 		const double fr = P->reference_frequency_rad_s / (2.0 * M_PI), fa = P->axial_frequency_rad_s / (2.0 * M_PI);
-		add_line(s, "natural_roller", fr / ws_rev, fr, fr * dt_s < 0.5 ? line_amplitude(x, w, n, wsum, fr * dt_s) : NAN);
-		add_line(s, "natural_axial", fa / ws_rev, fa, fa * dt_s < 0.5 ? line_amplitude(x, w, n, wsum, fa * dt_s) : NAN);
-		add_line(s, "mean", 0.0, 0.0, line_amplitude(x, w, n, wsum, 0.0));
+		add_line(s, "natural_roller", fr / ws_rev, fr, fr * dt_s < 0.5 ? line_amplitude(x, w, n, wsum, fr * dt_s, s->spectrum_window_hann) : NAN);
+		add_line(s, "natural_axial", fa / ws_rev, fa, fa * dt_s < 0.5 ? line_amplitude(x, w, n, wsum, fa * dt_s, s->spectrum_window_hann) : NAN);
+		add_line(s, "mean", 0.0, 0.0, line_amplitude(x, w, n, wsum, 0.0, s->spectrum_window_hann));
 	}
 done:
 	if (wt != NULL)
