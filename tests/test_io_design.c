@@ -678,6 +678,12 @@ static void studies_load_without_problems(void **state)
 		 * file is the design */
 		const cJSON *design = cJSON_GetObjectItemCaseSensitive(doc, "design");
 		const char *base = design ? "/design" : "";
+		/* a simulation of the bare gear pair has no design (test_io_vibration reads it) */
+		if (!design && cJSON_GetObjectItemCaseSensitive(doc, "dynamics") &&
+		    !cJSON_GetObjectItemCaseSensitive(doc, "geometry")) {
+			cJSON_Delete(doc);
+			continue;
+		}
 		if (cJSON_GetObjectItemCaseSensitive(doc, "allocate")) {
 			design = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(doc, "study"), "design");
 			base = "/study/design";
