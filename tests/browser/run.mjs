@@ -1087,6 +1087,51 @@ async function simulationView(page, shot) {
   check('a simulation that does not converge: the page shows the job\'s problem with its pointer', !!failure && failure.pointer === '/dynamics/time'
     && (await page.textContent('#job-problem')).includes(`${failure.pointer}: ${failure.message}`) && (await page.textContent('#job-status')).includes('failed'),
     await page.textContent('#job-problem'));
+  await vibrationViews(page);
+}
+
+// ---- the vibration analyses (studies/vibration-*.json): a sweep's bifurcation diagram, V4a's steady state ----
+async function vibrationViews(page) {
+  log('vibration views');
+  const before = await page.evaluate(() => location.hash.slice(1));
+  await loadExample(page, '#simulation', 'vibration-gear-pair-sweep.json');
+  await page.click('#sim-submit');
+  const { jobPath, job } = await waitJob(page, 'simulations', 'done', '#vib-bifurcation-plot', 60000, before);
+  const s = job.result.dynamics.sweep;
+  log(`sweep done: ${s.up.length} points up, ${s.down.length} down`);
+  const want = dir => { const ok = s[dir].filter(q => q.converged); return { points: ok.length, values: ok.reduce((n, q) => n + q.poincare.length, 0) }; };
+  const got = await page.$$eval('#vib-bifurcation-plot path.xy-points', ps => Object.fromEntries(ps.map(q => [q.dataset.series,
+    { points: Number(q.dataset.sweepPoints), values: Number(q.dataset.points), drawn: Number(q.dataset.drawn), fill: q.getAttribute('fill'), stroke: q.getAttribute('stroke') }])));
+  check('sweep: the bifurcation diagram draws both directions, with the API result\'s points and Poincaré values', ['up', 'down'].every(d => got[d] && got[d].points === want(d).points
+    && got[d].values === want(d).values && got[d].drawn > 0), JSON.stringify({ got, up: want('up'), down: want('down') }));
+  check('sweep: the two directions look different (filled against open markers)', got.up && got.down && got.up.fill !== 'none' && got.down.fill === 'none' && !!got.down.stroke);
+  const legend = await page.$$eval('#vib-bifurcation-plot g.legend text', ts => ts.map(t => t.textContent));
+  const axes = await page.$$eval('#vib-bifurcation-plot text.label', ts => ts.map(t => t.textContent));
+  check('sweep: the legend names both directions and the axes say what and in which unit', legend.some(t => t.startsWith('sweep up')) && legend.some(t => t.startsWith('sweep down'))
+    && axes.some(t => t.startsWith('frequency ratio') && t.includes('(–)')) && axes.some(t => t.includes('half backlashes')), JSON.stringify([legend, axes]));
+  check('sweep: the failed points are counted, not drawn', Number(await page.getAttribute('#vib-failed', 'data-failed')) === s.failed_points);
+  await (await page.$('#results')).screenshot({ path: path.join(artifacts, '07d-vibration-sweep.png') });
+
+  await loadExample(page, '#simulation', 'vibration-gear-pair-v4a.json');
+  await page.click('#sim-submit');
+  const { job: v4a } = await waitJob(page, 'simulations', 'done', '#vib-spectrum-plot', 60000, jobPath);
+  const v = v4a.result.dynamics.vibration;
+  const cls = await page.textContent('#vib-classification');
+  check('V4a: the page says period 1, as the API does', v.classification === 'periodic' && v.period === 1 && cls.includes('Periodic, period 1')
+    && await page.getAttribute('#vib-classification', 'data-period') === '1', cls);
+  check('V4a: the Lyapunov exponents are shown', (await page.textContent('#vib-lyapunov')).includes(v.lyapunov.exponents_per_tau.map(x => String(Number(x.toPrecision(4))).replace('-', '−'))[0]));
+  const labels = await page.$$eval('#vib-spectrum-plot text.stem-label', ts => ts.map(t => ({ text: t.textContent, names: t.dataset.names.split(' ') })));
+  const forcing = v.spectrum.find(l => l.name === 'forcing');
+  const stem = await page.$eval('#vib-spectrum-plot line.stem[data-name="forcing"]', l => Number(l.dataset.value)).catch(() => null);
+  check('V4a: the spectrum plot marks the forcing line with its label and amplitude', labels.some(l => l.names.includes('forcing') && l.text.includes('forcing')) && stem === forcing.amplitude,
+    JSON.stringify(labels));
+  check('V4a: the Poincaré section and the phase portrait are drawn', Number(await page.getAttribute('#vib-poincare-plot path.xy-points', 'data-points')) === v.poincare.points
+    && Number(await page.getAttribute('#vib-phase-plot path.xy-line', 'data-points')) === v.phase_portrait.points);
+  check('V4a: the extremes table has every observable', (await page.$$('#vib-extremes tbody tr')).length === v.extremes.length);
+  await (await page.$('#results')).screenshot({ path: path.join(artifacts, '07e-vibration-v4a.png') });
+  await a11yAudit(page, 'vibration');
+  await contrastAudit(page, 'vibration');
+  await layoutAudit(page, 'vibration');
 }
 
 main().then(() => {

@@ -409,3 +409,160 @@ export function seriesChart({ x, series, refs = [], marks = [], xLabel, yLabel, 
   }
   return svg;
 }
+
+// ---- x-y charts of the vibration analyses (bifurcation diagrams, Poincaré sections, phase
+// portraits, spectra, frequency responses) and a cell map (basins of attraction) ----------------
+// The colours of app.css's s0..s5, for filled markers.
+export const PALETTE = ['#1f5fbf', '#b4470f', '#1b7a3a', '#6b3fa0', '#0e7c86', '#7a5a00'];
+const MARKERS = {
+  circle: (x, y, r) => `M${(x - r).toFixed(1)},${y.toFixed(1)}a${r},${r} 0 1,0 ${2 * r},0a${r},${r} 0 1,0 ${-2 * r},0`,
+  square: (x, y, r) => `M${(x - r).toFixed(1)},${(y - r).toFixed(1)}h${2 * r}v${2 * r}h${-2 * r}z`,
+  triangle: (x, y, r) => `M${x.toFixed(1)},${(y - 1.2 * r).toFixed(1)}l${1.1 * r},${2 * r}h${-2.2 * r}z`,
+  diamond: (x, y, r) => `M${x.toFixed(1)},${(y - 1.3 * r).toFixed(1)}l${1.3 * r},${1.3 * r}l${-1.3 * r},${1.3 * r}l${-1.3 * r},${-1.3 * r}z`,
+};
+
+// a marker series' fill (or, hollow, its outline) in its colour
+const paint = s => { const c = PALETTE[Number((s.cls || 's0').slice(1)) % 6]; return s.hollow ? { fill: 'none', stroke: c, 'stroke-width': 1.2 } : { fill: c, stroke: 'none' }; };
+
+// series: [{key, label, cls (s0..s5), kind: 'line' | 'points', x, y, marker?, size?, dash?, data?}]:
+// a line is broken at non-finite values and thinned to distinct half pixels; points are drawn once
+// per distinct pixel as one <path class="xy-points"> with data-points (the values given) and
+// data-drawn (the distinct pixels). stems: [{x, y, label, cls?}] vertical lines from the axis to y
+// with a label above (labels of stems within 6 px merged). marks: [{x, y, label, cls, marker}]
+// single labelled markers. logX, logY: log axes (non-positive values left out).
+export function xyChart({ series = [], stems = [], marks = [], xLabel, yLabel, title, desc, logX = false, logY = false,
+  xRange, yRange, w = 600, h = 320, legend = true, cls = 'xy-chart' }) {
+  const m = { l: 66, r: 20, t: legend ? 34 : 16, b: 40 };
+  const short = s => (s.length > 30 ? `${s.slice(0, 29)}…` : s);
+  const stemText = g => short([...new Set(g.map(s => s.label))].join(', '));
+  if (stems.length) { m.t += 14 + 6.8 * Math.max(...stems.map(s => Math.min(30, s.label.length))); h += m.t - 34; }
+  const svg = frame(w, h, title, desc, cls);
+  const ok = (v, log) => typeof v === 'number' && Number.isFinite(v) && (!log || v > 0);
+  const range = (vals, log, given) => {
+    if (given) return given.slice();
+    let lo = Infinity, hi = -Infinity;
+    for (const v of vals) if (ok(v, log)) { if (v < lo) lo = v; if (v > hi) hi = v; }
+    if (lo > hi) return log ? [1, 10] : [0, 1];
+    if (log) { if (hi / lo < 1.01) { lo /= 2; hi *= 2; } return [lo / 1.3, hi * 1.3]; }
+    if (hi - lo < 1e-12 * Math.max(1, Math.abs(hi))) { const d = Math.max(Math.abs(hi) * 0.05, 1e-9); lo -= d; hi += d; }
+    const pad = 0.06 * (hi - lo);
+    return [lo - pad, hi + pad];
+  };
+  const [x0, x1] = range(series.flatMap(s => s.x).concat(stems.map(s => s.x), marks.map(k => k.x)), logX, xRange);
+  const [y0, y1] = range(series.flatMap(s => s.y).concat(stems.map(s => s.y), marks.map(k => k.y)), logY, yRange);
+  const fx = logX ? Math.log10 : v => v, fy = logY ? Math.log10 : v => v;
+  const sx0 = scale(fx(x0), fx(x1), m.l, w - m.r), sy0 = scale(fy(y0), fy(y1), h - m.b, m.t);
+  const xs = v => sx0(fx(v)), ys = v => sy0(fy(v));
+  const inside = (x, y) => ok(x, logX) && ok(y, logY) && x >= x0 && x <= x1 && y >= y0 && y <= y1;
+  const lt = (a, b) => { const t = logTicks(a, b); if (b / a < 1e3) return t; const dec = t.filter(v => Math.abs(Math.log10(v) - Math.round(Math.log10(v))) < 1e-9); return dec.length >= 2 ? dec : t; };
+  const xt = logX ? lt(x0, x1) : ticks(x0, x1, 6), yt = logY ? lt(y0, y1) : ticks(y0, y1, 5);
+  const thin = (list, n) => (list.length > n ? list.filter((t, i) => i % Math.ceil(list.length / n) === 0) : list);
+  axes(svg, m, w, h, xs, ys, thin(xt, 9), thin(yt, 7), xLabel, yLabel);
+  if (logX || logY) svg.querySelectorAll('g.axes text:not(.label)').forEach(t => { const v = Number(t.textContent.replace('−', '-')); if (Number.isFinite(v)) t.textContent = fmt(v, 3); });
+  const clip = `clip${++uid}`;
+  el('rect', { x: m.l, y: m.t, width: w - m.l - m.r, height: h - m.t - m.b }, el('clipPath', { id: clip }, el('defs', {}, svg)));
+  const body = el('g', { 'clip-path': `url(#${clip})` }, svg);
+  if (legend) {
+    const lg = el('g', { class: 'legend' }, svg);
+    let lx = m.l;
+    for (const s of series.filter(q => q.label)) {
+      if (s.kind === 'points') el('path', { d: MARKERS[s.marker || 'circle'](lx + 9, 12, 4), ...paint(s), class: `swatch-marker${s.hollow ? ' hollow' : ''}` }, lg);
+      else el('line', { x1: lx, x2: lx + 18, y1: 12, y2: 12, class: `swatch ${s.cls}${s.dash ? ' dashed' : ''}` }, lg);
+      text(lg, lx + 22, 16, s.label);
+      lx += 30 + 6.2 * s.label.length;
+    }
+  }
+  for (const s of series) {
+    const attrs = { 'data-series': s.key, 'data-label': s.label, ...(s.data || {}) };
+    if (s.kind === 'points') {
+      const seen = new Set();
+      let d = '';
+      const r = s.size || 2.6;
+      const shape = MARKERS[s.marker || 'circle'];
+      for (let i = 0; i < s.x.length; i++) {
+        if (!inside(s.x[i], s.y[i])) continue;
+        const px = xs(s.x[i]), py = ys(s.y[i]);
+        const k = `${Math.round(px * 2)},${Math.round(py * 2)}`;
+        if (seen.has(k)) continue;
+        seen.add(k);
+        d += shape(px, py, r);
+      }
+      el('path', { d: d || 'M0,0', class: `xy-points${s.hollow ? ' hollow' : ''}`, ...paint(s), 'data-points': s.x.length, 'data-drawn': seen.size, ...attrs }, body);
+    } else {
+      let d = '', pen = false, lastK = '';
+      for (let i = 0; i < s.x.length; i++) {
+        if (!ok(s.x[i], logX) || !ok(s.y[i], logY)) { pen = false; continue; }
+        const px = xs(s.x[i]), py = ys(s.y[i]);
+        const k = `${Math.round(px * 2)},${Math.round(py * 2)}`;
+        if (pen && k === lastK) continue;
+        d += `${pen ? 'L' : 'M'}${px.toFixed(1)},${py.toFixed(1)}`;
+        pen = true; lastK = k;
+      }
+      el('path', { d: d || 'M0,0', class: `series xy-line ${s.cls}${s.dash ? ' dashed' : ''}`, 'data-points': s.x.length, ...attrs }, body);
+    }
+  }
+  // stems with their labels (merged when closer than 6 px), in a band above the plot
+  const sg = el('g', { class: 'stems' }, svg);
+  const placed = stems.filter(s => ok(s.x, logX) && s.x >= x0 && s.x <= x1).map(s => ({ ...s, px: xs(s.x) })).sort((a, b) => a.px - b.px);
+  const groups = [];
+  for (const s of placed) {
+    const g = groups[groups.length - 1];
+    if (g && s.px - g.px < 12) g.items.push(s); else groups.push({ px: s.px, items: [s] });
+  }
+  for (const g of groups) {
+    for (const s of g.items) {
+      const yTop = ok(s.y, logY) ? Math.max(m.t, Math.min(h - m.b, ys(s.y))) : h - m.b;
+      const line = el('line', { x1: s.px, x2: s.px, y1: h - m.b, y2: yTop, class: `stem ${s.cls || ''}`, 'data-name': s.name || s.label, 'data-value': s.y }, sg);
+      el('title', {}, line).textContent = s.title || s.label;
+      if (ok(s.y, logY) && s.y >= y0) el('circle', { cx: s.px, cy: yTop, r: 3, class: 'stem-head', 'data-name': s.name || s.label }, sg);
+      el('line', { x1: s.px, x2: s.px, y1: m.t, y2: yTop, class: 'stem-guide' }, sg);
+    }
+    const t = text(sg, g.px + 4, m.t - 4, stemText(g.items), { class: 'stem-label', transform: `rotate(-90 ${g.px + 4} ${m.t - 4})`, 'data-names': g.items.map(s => s.name || s.label).join(' ') });
+    el('title', {}, t).textContent = g.items.map(s => s.title || s.label).join('; ');
+  }
+  const mg = el('g', { class: 'xy-marks' }, svg);
+  for (const k of marks) {
+    if (!inside(k.x, k.y)) continue;
+    const p = el('path', { d: MARKERS[k.marker || 'diamond'](xs(k.x), ys(k.y), k.size || 5), class: `xy-mark ${k.cls || ''}`, 'data-kind': k.kind || '', 'data-x': k.x, 'data-y': k.y }, mg);
+    el('title', {}, p).textContent = k.label;
+    if (k.text) text(mg, xs(k.x) + 7, ys(k.y) - 7, k.text, { class: 'mark-text' });
+  }
+  return svg;
+}
+
+// A grid of cells coloured by label (e.g. the attractor each initial state goes to). x, y: the
+// cell centres; labels[i][j] for y[i], x[j] (or the transpose: labels[j][i] with byColumn) ; keys:
+// [{label, name, color}] in legend order, labels not listed drawn grey ("other").
+export function cellMap({ x, y, labels, byColumn = false, keys, xLabel, yLabel, title, desc, marks = [] }) {
+  const w = 640, h = 420, m = { l: 60, r: 250, t: 16, b: 42 };
+  const svg = frame(w, h, title, desc, 'cell-map');
+  const dx = x.length > 1 ? (x[x.length - 1] - x[0]) / (x.length - 1) : 1, dy = y.length > 1 ? (y[y.length - 1] - y[0]) / (y.length - 1) : 1;
+  const xa = x[0] - dx / 2, xb = x[x.length - 1] + dx / 2, ya = y[0] - dy / 2, yb = y[y.length - 1] + dy / 2;
+  const xs = scale(xa, xb, m.l, w - m.r), ys = scale(ya, yb, h - m.b, m.t);
+  const colour = new Map(keys.map(k => [k.label, k.color]));
+  const g = el('g', { class: 'cells' }, svg);
+  const counts = new Map();
+  for (let i = 0; i < y.length; i++) {
+    for (let j = 0; j < x.length; j++) {
+      const lab = byColumn ? labels[j][i] : labels[i][j];
+      counts.set(lab, (counts.get(lab) || 0) + 1);
+      el('rect', { x: xs(x[j] - dx / 2), y: ys(y[i] + dy / 2), width: xs(x[j] + dx / 2) - xs(x[j] - dx / 2) + 0.3, height: ys(y[i] - dy / 2) - ys(y[i] + dy / 2) + 0.3,
+        fill: colour.get(lab) || '#b9bec6', class: 'cell', 'data-label': lab }, g);
+    }
+  }
+  axes(svg, m, w, h, xs, ys, ticks(xa, xb, 6), ticks(ya, yb, 6), xLabel, yLabel);
+  svg.querySelectorAll('g.axes line.grid').forEach(l => l.remove());
+  const mg = el('g', { class: 'xy-marks' }, svg);
+  for (const k of marks) {
+    if (!(k.x >= xa && k.x <= xb && k.y >= ya && k.y <= yb)) continue;
+    const p = el('path', { d: MARKERS.diamond(xs(k.x), ys(k.y), 6), class: 'xy-mark attractor-mark', style: `fill: ${k.color || '#fff'}` }, mg);
+    el('title', {}, p).textContent = k.label;
+    if (k.text) text(mg, xs(k.x) + 8, ys(k.y) + 4, k.text, { class: 'attractor-text' });
+  }
+  const lg = el('g', { class: 'legend cell-legend' }, svg);
+  keys.forEach((k, i) => {
+    el('rect', { x: w - m.r + 12, y: m.t + i * 20, width: 14, height: 14, fill: k.color, class: 'cell-key', 'data-label': k.label }, lg);
+    text(lg, w - m.r + 31, m.t + i * 20 + 11, `${k.name}: ${counts.get(k.label) || 0} cells`);
+  });
+  return svg;
+}

@@ -9,7 +9,7 @@
 // with the columns and number format of `prsm simulate --csv` (seriesCsv), and the result as JSON.
 
 import { api } from './api.js';
-import { seriesChart, fmt } from './plots.js';
+import { seriesChart, xyChart, cellMap, PALETTE, fmt } from './plots.js';
 import { h, requestEditor } from './jobrequest.js';
 
 const COLLECTION = 'simulations';
@@ -270,10 +270,256 @@ function plots(d, x, tu) {
   return { main, grid, forces: h('div', { class: 'plot-grid' }, forceFigures) };
 }
 
+// ---- the vibration analyses (docs/vibration.md; dynamics-result.schema.json $defs/vibration_dynamics):
+// linear (eigenvalues, FRF, half-power band), vibration (class, Poincaré section, phase portrait,
+// spectrum with its named lines, extremes, Lyapunov exponents), sweep (the bifurcation diagram up
+// and down), frequency_response (harmonic balance with its folds, the sweeps, the jumps) and basins
+// (the grid of initial states coloured by the attractor each reaches). The gear pair's quantities
+// are dimensionless: lengths in half backlashes b_g, time τ in units of the inverse natural frequency.
+const VIBRATION = { linear: 'Linearised model', vibration: 'Steady-state vibration', sweep: 'Parameter sweep (bifurcation diagram)',
+  frequency_response: 'Frequency response (harmonic balance and sweeps)', basins: 'Basins of attraction' };
+const isGearPair = d => !!(d.model && d.model.kind === 'gear_pair');
+const cap = s => s[0].toUpperCase() + s.slice(1);
+const words = s => String(s).replace(/_/g, ' ');
+function observable(name, d) {
+  const gp = isGearPair(d);
+  const o = {
+    mesh_deflection: { label: 'mesh deflection x', unit: 'half backlashes b_g', rate: 'rate x′ = dx/dτ', rateUnit: 'b_g per unit τ' },
+    mesh_rate: { label: 'mesh deflection rate x′', unit: 'b_g per unit τ' },
+    mesh_force: { label: 'mesh force', unit: gp ? 'scaled, k b_g' : 'N' },
+    axial_deflection: { label: 'axial deflection Y = y/b_a', unit: 'half plays b_a', rate: 'axial rate W = ẏ/(b_a ω_a)', rateUnit: 'b_a ω_a' },
+    axial_rate: { label: 'axial rate W = ẏ/(b_a ω_a)', unit: 'b_a ω_a' },
+    thread_force: { label: 'thread force', unit: 'N' },
+  }[name] || { label: words(name), unit: '–' };
+  return { rate: 'its rate', rateUnit: 'scaled', ...o };
+}
+const PARAMETERS = {
+  frequency_ratio: ['frequency ratio Ω (mesh over natural frequency)', '–'], screw_speed_rad_s: ['screw speed', 'rad/s'],
+  mesh_error_um: ['mesh error', 'µm'], mesh_damping_ratio: ['mesh damping ratio', '–'], error_amplitude: ['error amplitude ε', 'half backlashes'],
+  damping_ratio: ['damping ratio ζ', '–'], mean_load: ['mean load f_m', 'scaled'], stiffness_variation: ['stiffness variation κ', '–'],
+};
+const parameterLabel = p => { const [l, u] = PARAMETERS[p] || [words(p), '–']; return `${l} (${u})`; };
+const vfigure = (svg, id, caption, wide) => { svg.id = id; return h('figure', { class: `plot-box${wide ? ' wide' : ''}` }, svg, h('figcaption', {}, caption)); };
+const card = (id, title, ...children) => h('section', { class: 'card', id, 'aria-labelledby': `${id}-h` }, h('h3', { id: `${id}-h` }, title), ...children);
+const numCell = (v, digits = 5) => h('td', { 'data-value': typeof v === 'number' ? String(v) : undefined }, typeof v === 'number' ? fmt(v, digits) : '—');
+
+function vibrationSummary(r, d, job) {
+  const m = d.model || {}, cv = d.convergence || {};
+  const gp = m.gear_pair;
+  const model = gp ? `1-DOF gear pair: ζ ${fmt(gp.damping_ratio)}, f_m ${fmt(gp.mean_load)}, ε ${fmt(gp.error_amplitude)}, κ ${fmt(gp.stiffness_variation)}, Ω ${fmt(gp.frequency_ratio)}`
+    : `reduced PRSM model: ${m.rollers} rollers, ${m.states} states, branches ${m.branches}, screw speed ${withUnit(m.screw_speed_rad_s, 'rad/s')}, mesh ${withUnit(m.mesh_frequency_Hz, 'Hz')}, axial mode ${withUnit(m.axial_frequency_Hz, 'Hz')}`;
+  return h('dl', { class: 'summary', id: 'sim-summary' },
+    [['Simulation', r.name || '—'], ['Analysis', VIBRATION[d.analysis]], ['Model', model],
+      ['Integration', `${(cv.steps || 0).toLocaleString('en-US')} steps${cv.kink_crossings ? `, ${cv.kink_crossings.toLocaleString('en-US')} contact changes` : ''}; ${cv.converged === false ? `not converged (${cv.failed_points} failed points)` : 'converged'}`],
+      ['Cached', job.cache_hit ? 'yes' : 'no'], ['Engine', r.engine ? `prsm ${r.engine.version}, ${r.engine.model.replace(/ \(.*$/, '')}` : '—']]
+      .map(([k, v]) => h('div', {}, h('dt', {}, k), h('dd', {}, v))));
+}
+
+// The steady state: its class, the Poincaré section, the phase portrait, the spectrum, the extremes.
+function vibrationView(d) {
+  const v = d.vibration, gp = isGearPair(d);
+  const ob = observable(v.observable.name, d);
+  const obName = `${ob.label}${v.observable.roller !== null && v.observable.roller !== undefined && !gp ? ` of roller ${v.observable.roller}` : ''}`;
+  const ly = v.lyapunov;
+  const perS = ly && Array.isArray(ly.exponents_per_s) && typeof ly.exponents_per_s[0] === 'number';
+  const lyText = ly ? `Lyapunov exponents (${ly.method}, ${ly.periods} periods): ${ly.exponents_per_tau.map(x => fmt(x, 4)).join(', ')} per τ${perS ? ` (${ly.exponents_per_s.map(x => fmt(x, 4)).join(', ')} 1/s)` : ''}; sum ${fmt(ly.sum_per_tau, 4)} per τ; block spread ${fmt(ly.block_min_per_tau, 3)} to ${fmt(ly.block_max_per_tau, 3)}. The largest is ${ly.exponents_per_tau[0] > 1e-3 ? 'positive: chaos' : 'not positive: no chaos'}.`
+    : 'Lyapunov exponents: not computed (steady_state.lyapunov false).';
+  const period = `${cap(words(v.classification))}${v.period > 0 ? `, period ${v.period}` : ''}`;
+  const forcing = `${v.clock === 'te' ? 'the TE’s common period' : 'the mesh period'}: ${fmt(v.forcing_period_tau)} τ${typeof v.forcing_period_s === 'number' ? ` = ${withUnit(v.forcing_period_s, 's')}` : ''}`;
+  const classBox = h('div', { class: 'vib-class', id: 'vib-classification', 'data-classification': v.classification, 'data-period': String(v.period) },
+    h('p', { class: 'total' }, h('strong', {}, period), ` (periods counted in forcing periods, ${forcing}); largest return distance ${fmt(v.max_return_distance, 3)} (tolerance ${fmt(v.period_tolerance, 3)}).`),
+    h('p', { id: 'vib-lyapunov' }, lyText));
+
+  const P = v.poincare;
+  let poincare;
+  if (P.size === 2 && Array.isArray(P.vectors) && P.vectors.length) {
+    poincare = xyChart({
+      series: [{ key: 'poincare', label: `${P.points} section points`, cls: 's0', kind: 'points', x: P.vectors.map(p => p[0]), y: P.vectors.map(p => p[1]), size: 3.2 }],
+      xLabel: `${obName} (${ob.unit})`, yLabel: `${ob.rate} (${ob.rateUnit})`, title: 'Poincaré section',
+      desc: `${P.points} points of the state at phase 0 of every recorded forcing period: ${period}.`, h: 300 });
+  } else {
+    const o = P.observable;
+    poincare = xyChart({
+      series: [{ key: 'poincare', label: `${Math.max(0, o.length - 1)} returns`, cls: 's0', kind: 'points', x: o.slice(0, -1), y: o.slice(1), size: 3.2 }],
+      xLabel: `P_i: ${obName} (${ob.unit})`, yLabel: `P_i+1 (${ob.unit})`, title: 'Poincaré return map of the observable',
+      desc: `The observable at each section point against the one before (the section vector has ${P.size} components): ${period}.`, h: 300 });
+  }
+  const pp = v.phase_portrait;
+  const hasRate = pp && Array.isArray(pp.rate) && pp.rate.some(x => typeof x === 'number');
+  const phase = pp && pp.points ? xyChart({
+    series: [{ key: 'phase', label: '', cls: 's0', kind: 'line', x: hasRate ? pp.observable : pp.observable.map((x, i) => i / pp.samples_per_period), y: hasRate ? pp.rate : pp.observable }],
+    xLabel: hasRate ? `${obName} (${ob.unit})` : 'time (forcing periods)', yLabel: hasRate ? `${ob.rate} (${ob.rateUnit})` : `${obName} (${ob.unit})`,
+    title: hasRate ? 'Phase portrait' : 'The recorded response', legend: false, h: 300,
+    desc: `${pp.points} samples, ${pp.samples_per_period} per forcing period, of the recorded steady state.` }) : null;
+
+  // the spectrum: the whole one (log amplitude) with the named lines as stems
+  const sf = v.spectrum_full || {};
+  const hz = Array.isArray(sf.frequency_Hz) && typeof sf.frequency_Hz[1] === 'number';
+  const fx = s => (hz ? s.frequency_Hz : s.frequency_ratio);
+  const fullX = (hz ? sf.frequency_Hz : sf.frequency_ratio) || [], fullY = sf.amplitude || [];
+  const lines = (v.spectrum || []).filter(s => s.name !== 'mean' && typeof fx(s) === 'number' && fx(s) > 0);
+  const peak = Math.max(1e-300, ...fullY.slice(1).filter(Number.isFinite), ...lines.map(s => s.amplitude).filter(Number.isFinite));
+  const floor = peak * 1e-7;
+  const shown = lines.filter(s => typeof s.amplitude === 'number' && s.amplitude >= floor);
+  const xmax = 1.15 * Math.max(...shown.map(fx), hz ? 1 : 1.5);
+  const fUnit = hz ? 'frequency (Hz)' : 'frequency ratio to the natural frequency (–)';
+  const spectrum = xyChart({
+    series: [{ key: 'spectrum', label: `whole spectrum (${sf.window} window, ${sf.periods} periods)`, cls: 's0', kind: 'line', x: fullX.slice(1), y: fullY.slice(1) }],
+    stems: shown.map(s => ({ x: fx(s), y: s.amplitude, name: s.name, label: words(s.name), cls: 's1',
+      title: `${words(s.name)}: ${hz ? `${fmt(s.frequency_Hz)} Hz, ` : ''}${s.order_per_rev !== null ? `${fmt(s.order_per_rev)} per rev, ` : ''}Ω ${fmt(s.frequency_ratio)}, amplitude ${fmt(s.amplitude)} ${ob.unit}` })),
+    xRange: [0, xmax], yRange: [floor, peak * 3], logY: true, h: 360,
+    xLabel: fUnit, yLabel: `amplitude (${ob.unit})`, title: `Spectrum of the ${obName}`,
+    desc: `One-sided amplitude spectrum of the recorded steady state on a log scale, down to 10^-7 of its peak; the named lines above that: ${shown.map(s => `${words(s.name)} ${fmt(s.amplitude)}`).join(', ')}. Every named line is in the table below.` });
+  const specTable = h('table', { class: 'numbers', id: 'vib-spectrum' }, h('caption', {}, `Named lines of the spectrum (amplitude in ${ob.unit}; — not resolved by the record)`),
+    h('thead', {}, h('tr', {}, ['line', 'order per rev', 'frequency (Hz)', 'Ω (–)', 'amplitude'].map(x => h('th', { scope: 'col' }, x)))),
+    h('tbody', {}, (v.spectrum || []).map(s => h('tr', { 'data-name': s.name }, h('th', { scope: 'row' }, words(s.name)), numCell(s.order_per_rev), numCell(s.frequency_Hz), numCell(s.frequency_ratio), numCell(s.amplitude, 4)))));
+  const extremes = h('table', { class: 'numbers', id: 'vib-extremes' }, h('caption', {}, 'Extremes of every observable over the recorded periods'),
+    h('thead', {}, h('tr', {}, ['observable', 'unit', 'min', 'max', 'mean', 'RMS', 'amplitude'].map(x => h('th', { scope: 'col' }, x)))),
+    h('tbody', {}, (v.extremes || []).map(e => { const o = observable(e.observable, d); return h('tr', { 'data-observable': e.observable },
+      h('th', { scope: 'row' }, `${o.label}${e.roller !== null && !gp ? `, roller ${e.roller}` : ''}`), h('td', {}, o.unit), numCell(e.min), numCell(e.max), numCell(e.mean), numCell(e.rms), numCell(e.amplitude)); })));
+  const contacts = (v.contacts || []).length ? h('table', { class: 'numbers', id: 'vib-contacts' }, h('caption', {}, 'Share of the recorded time each contact is open or on its back flank'),
+    h('thead', {}, h('tr', {}, ['contact', 'open', 'back flank'].map(x => h('th', { scope: 'col' }, x)))),
+    h('tbody', {}, v.contacts.map(c => h('tr', {}, h('th', { scope: 'row' }, words(c.contact)), h('td', {}, `${fmt(100 * c.open_share, 3)} %`), h('td', {}, `${fmt(100 * c.back_flank_share, 3)} %`))))) : null;
+  return card('vib-vibration-card', `Steady-state vibration of the ${obName}`, classBox,
+    h('div', { class: 'plot-grid' }, vfigure(poincare, 'vib-poincare-plot', 'Poincaré section: the state once per forcing period (a period-m orbit shows m points).'),
+      phase ? vfigure(phase, 'vib-phase-plot', 'Phase portrait of the recorded steady state.') : null),
+    vfigure(spectrum, 'vib-spectrum-plot', 'Amplitude spectrum (log scale) with the named lines marked and labelled above the plot.', true),
+    h('div', { class: 'tables vib-tables' }, extremes, contacts, specTable));
+}
+
+// A sweep direction's points as markers: every Poincaré value at its parameter value.
+function sweepSeries(points, param, key, label, cls, marker, hollow) {
+  const ok = (points || []).filter(p => p.converged && Array.isArray(p.poincare));
+  const x = [], y = [];
+  for (const p of ok) for (const q of p.poincare) { x.push(p[param]); y.push(q); }
+  return { key, label: `${label} (${ok.length} points)`, cls, kind: 'points', marker, hollow, size: hollow ? 3.4 : 2.4, x, y, data: { 'data-sweep-points': ok.length } };
+}
+const failedList = (dirs, param) => {
+  const failed = dirs.flatMap(([name, pts]) => (pts || []).filter(p => !p.converged).map(p => `${name}: ${parameterLabel(param).replace(/ \(.*/, '')} ${fmt(p[param])}: ${p.error || 'did not converge'}`));
+  return h('div', { id: 'vib-failed', 'data-failed': String(failed.length) }, failed.length ? [h('p', {}, `${failed.length} points failed and are not drawn:`), h('ul', { class: 'warnings' }, failed.map(f => h('li', {}, f)))]
+    : h('p', { class: 'hint' }, 'Every point converged.'));
+};
+const classCounts = pts => {
+  const c = {};
+  for (const p of pts || []) { if (!p.converged) continue; const k = p.classification === 'periodic' ? `period ${p.period}` : words(p.classification); c[k] = (c[k] || 0) + 1; }
+  return Object.entries(c).map(([k, n]) => `${n} ${k}`).join(', ') || 'none';
+};
+
+function sweepView(d) {
+  const s = d.sweep, param = s.parameter;
+  const ob = observable(s.observable.name, d);
+  const dirs = [['up', s.up], ['down', s.down]].filter(([, p]) => Array.isArray(p) && p.length);
+  const series = dirs.map(([name, pts]) => (name === 'up' ? sweepSeries(pts, param, 'up', 'sweep up', 's0', 'circle', false) : sweepSeries(pts, param, 'down', 'sweep down', 's1', 'square', true)));
+  const chart = xyChart({ series, xLabel: parameterLabel(param), yLabel: `Poincaré values: ${ob.label} (${ob.unit})`, title: 'Bifurcation diagram', h: 380,
+    desc: `The ${s.recorded_periods} Poincaré values of the ${ob.label} at each value of the ${parameterLabel(param)}, ${dirs.map(([n]) => `sweeping ${n}`).join(' and ')} (${s.continuation ? 'each point from the previous one’s end state' : 'every point from one state'}). ${dirs.map(([n, p]) => `${n}: ${classCounts(p)}`).join('; ')}.` });
+  return card('vib-sweep-card', 'Bifurcation diagram',
+    vfigure(chart, 'vib-bifurcation-plot', 'Filled circles: sweeping up; open squares: sweeping down. One mark per Poincaré value; a period-m orbit shows m marks, a non-periodic one a spread.', true),
+    h('p', { id: 'vib-sweep-classes' }, dirs.map(([n, p]) => `Sweeping ${n}: ${classCounts(p)}.`).join(' ')),
+    failedList(dirs, param));
+}
+
+function frequencyResponseView(d) {
+  const f = d.frequency_response, hb = f.harmonic_balance || { points: 0, frequency_ratio: [], amplitude: [], stable: [], folds: [] };
+  const part = want => hb.amplitude.map((a, i) => (hb.stable[i] === want || hb.stable[i + 1] === want || hb.stable[i - 1] === want) && (i === 0 || hb.segment[i] === hb.segment[i - 1] || hb.stable[i] === want) ? a : null);
+  const amp = pts => (pts || []).filter(p => p.converged);
+  const up = amp(f.sweep_up), down = amp(f.sweep_down);
+  const jumpAt = j => (j.exact_fold && j.exact_fold.found ? { x: j.exact_fold.frequency_ratio, y: j.exact_fold.amplitude } : null);
+  const sweepAmp = (pts, x) => { const p = (pts || []).find(q => Math.abs(q.frequency_ratio - x) < 1e-9); return p ? p.amplitude : null; };
+  const chart = xyChart({
+    series: [
+      { key: 'hb-stable', label: 'harmonic balance, stable', cls: 's2', kind: 'line', x: hb.frequency_ratio, y: part(true) },
+      { key: 'hb-unstable', label: 'unstable', cls: 's2', kind: 'line', dash: true, x: hb.frequency_ratio, y: part(false) },
+      { key: 'sweep-up', label: `sweep up (${up.length})`, cls: 's0', kind: 'points', marker: 'circle', size: 2.8, x: up.map(p => p.frequency_ratio), y: up.map(p => p.amplitude) },
+      { key: 'sweep-down', label: `sweep down (${down.length})`, cls: 's1', kind: 'points', marker: 'square', hollow: true, size: 3.6, x: down.map(p => p.frequency_ratio), y: down.map(p => p.amplitude) },
+    ],
+    marks: (hb.folds || []).map(k => ({ x: k.frequency_ratio, y: k.amplitude, kind: 'fold', marker: 'diamond', cls: 'fold', text: 'fold', label: `fold (${k.kind}) at Ω ${fmt(k.frequency_ratio, 5)}, amplitude ${fmt(k.amplitude)}` }))
+      .concat((f.jumps || []).flatMap(j => {
+        const a = sweepAmp(j.direction === 'up' ? f.sweep_up : f.sweep_down, j.from_frequency_ratio), b = sweepAmp(j.direction === 'up' ? f.sweep_up : f.sweep_down, j.to_frequency_ratio);
+        const e = jumpAt(j);
+        return [{ x: (j.from_frequency_ratio + j.to_frequency_ratio) / 2, y: typeof a === 'number' && typeof b === 'number' ? (a + b) / 2 : a, kind: 'jump', marker: 'triangle', cls: `jump ${j.direction}`, size: 6,
+          text: `jump ${j.direction}`, label: `jump sweeping ${j.direction} between Ω ${fmt(j.from_frequency_ratio)} and ${fmt(j.to_frequency_ratio)}${e ? `; exact fold at Ω ${fmt(e.x, 6)}` : ''}` }];
+      })),
+    xLabel: parameterLabel('frequency_ratio'), yLabel: 'amplitude (max − min)/2 (half backlashes b_g)', title: 'Frequency response: harmonic balance and the sweeps', h: 380,
+    desc: `Harmonic balance over ${hb.points} points (dashed where unstable) with ${(hb.folds || []).length} folds; ${up.length} points sweeping up, ${down.length} sweeping down; ${(f.jumps || []).length} jumps.` });
+  const jumps = h('table', { class: 'numbers', id: 'vib-jumps' }, h('caption', {}, 'Jumps between neighbouring sweep points'),
+    h('thead', {}, h('tr', {}, ['direction', 'from Ω', 'to Ω', 'exact fold Ω', 'amplitude there'].map(x => h('th', { scope: 'col' }, x)))),
+    h('tbody', {}, (f.jumps || []).map(j => h('tr', {}, h('th', { scope: 'row' }, j.direction), numCell(j.from_frequency_ratio), numCell(j.to_frequency_ratio),
+      numCell(j.exact_fold && j.exact_fold.found ? j.exact_fold.frequency_ratio : null, 6), numCell(j.exact_fold && j.exact_fold.found ? j.exact_fold.amplitude : null)))));
+  return card('vib-fr-card', 'Frequency response',
+    vfigure(chart, 'vib-fr-plot', 'Green: harmonic balance (dashed: unstable); diamonds: its folds; filled circles: sweeping up; open squares: sweeping down; triangles: the jumps.', true),
+    h('div', { class: 'tables vib-tables' }, jumps), failedList([['up', f.sweep_up], ['down', f.sweep_down]], 'frequency_ratio'));
+}
+
+function linearView(d) {
+  const l = d.linear, f = l.frf, hp = l.half_power || {};
+  const gp = isGearPair(d);
+  const eig = (l.eigenvalues || []).filter(e => !(e.imag_per_tau < 0));
+  const table = h('table', { class: 'numbers', id: 'vib-eigenvalues' }, h('caption', {}, `Eigenvalues of the linearised model (${l.dofs} degrees of freedom; one row per complex-conjugate pair)`),
+    h('thead', {}, h('tr', {}, ['kind', ...(gp ? [] : ['Re λ (1/s)', 'Im λ (rad/s)', 'f (Hz)']), 'Re λ (per τ)', 'Im λ (per τ)', 'ζ (–)'].map(x => h('th', { scope: 'col' }, x)))),
+    h('tbody', {}, eig.map(e => h('tr', { 'data-kind': e.kind }, h('th', { scope: 'row' }, e.kind),
+      ...(gp ? [] : [numCell(e.real_per_s), numCell(e.imag_rad_s), numCell(e.frequency_Hz, 6)]), numCell(e.real_per_tau), numCell(e.imag_per_tau), numCell(e.damping_ratio)))));
+  const hz = Array.isArray(f.frequency_Hz) && typeof f.frequency_Hz[0] === 'number';
+  const fx = hz ? f.frequency_Hz : f.frequency_ratio;
+  const mags = f.magnitude.filter(x => x > 0);
+  const logY = mags.length && Math.max(...mags) / Math.min(...mags) > 20;
+  const hpx = k => (hz ? hp[`${k}_frequency_Hz`] : hp[`${k}_frequency_ratio`]);
+  const stems = hp.defined ? [['lower', 'f₁'], ['peak', 'peak'], ['upper', 'f₂']].map(([k, lab]) => ({ x: hpx(k), y: k === 'peak' ? hp.peak_magnitude : hp.peak_magnitude / Math.SQRT2, name: k, label: lab, cls: 's1',
+    title: `${k === 'peak' ? 'peak' : `${k} half-power frequency`}: ${fmt(hpx(k), 6)} ${hz ? 'Hz' : ''}` })) : [];
+  const xl = hz ? 'frequency (Hz)' : 'frequency ratio Ω (–)';
+  const io = `${words(f.output)}${gp ? '' : ` ${f.output_roller}`} / ${words(f.input)}${gp ? '' : ` ${f.input_roller}`}`;
+  const mag = xyChart({ series: [{ key: 'frf', label: `|H| (${f.points} points)`, cls: 's0', kind: 'line', x: fx, y: f.magnitude }], stems, logY, h: 340,
+    xLabel: xl, yLabel: `|H|: ${io} (${f.unit || '–'})`, title: 'Frequency response function, magnitude',
+    desc: `|H| of ${io} over ${fmt(fx[0])} to ${fmt(fx[fx.length - 1])} ${hz ? 'Hz' : ''}${logY ? ' on a log scale' : ''}; ${hp.defined ? `peak ${fmt(hp.peak_magnitude)} at ${fmt(hpx('peak'), 6)}, half-power band ${fmt(hpx('lower'), 6)} to ${fmt(hpx('upper'), 6)}` : 'no half-power band'}.` });
+  const phase = Array.isArray(f.phase_deg) ? xyChart({ series: [{ key: 'phase', label: '', cls: 's0', kind: 'line', x: fx, y: f.phase_deg }], legend: false, h: 240,
+    xLabel: xl, yLabel: 'phase (°)', title: 'Frequency response function, phase', desc: `Phase of ${io} in degrees.` }) : null;
+  const hpText = hp.defined ? `Half-power band: ${fmt(hpx('lower'), 6)} to ${fmt(hpx('upper'), 6)} ${hz ? 'Hz' : '(Ω)'} around the peak ${fmt(hp.peak_magnitude)} at ${fmt(hpx('peak'), 6)} ${hz ? 'Hz' : ''}: damping ratio ${fmt(hp.damping_ratio, 4)} from the band, ${fmt(hp.modal_damping_ratio, 4)} of the nearest mode (${hz ? `${fmt(hp.modal_frequency_Hz, 6)} Hz` : `Ω ${fmt(hp.modal_frequency_ratio, 6)}`}).`
+    : `Half-power band: not defined${hp.reason ? ` (${hp.reason})` : ''}.`;
+  return card('vib-linear-card', 'Linearised model: eigenvalues and frequency response',
+    h('div', { class: 'figure-row' }, vfigure(mag, 'vib-frf-plot', 'Magnitude of the FRF; stems: the peak and the half-power frequencies f₁, f₂.'), h('div', { class: 'table-box' }, h('p', { id: 'vib-half-power' }, hpText))),
+    phase ? h('div', { class: 'plot-grid' }, vfigure(phase, 'vib-frf-phase-plot', 'Phase of the FRF.')) : null,
+    h('div', { class: 'table-wrap' }, table));
+}
+
+function basinsView(d) {
+  const b = d.basins;
+  const keys = (b.attractors || []).map((a, i) => ({ label: a.label, color: PALETTE[i % 6], name: `attractor ${a.label} (period ${a.period}), ${fmt(100 * a.fraction, 3)} %` }))
+    .concat([{ label: -1, color: '#b9bec6', name: `other, ${fmt(100 * b.other.fraction, 3)} %` }, { label: -2, color: '#222222', name: `failed, ${fmt(100 * b.failed.fraction, 3)} %` }]);
+  const ob = observable('mesh_deflection', d);
+  const map = cellMap({ x: b.deflection, y: b.rate, labels: b.labels, byColumn: true, keys,
+    marks: (b.attractors || []).flatMap((a, i) => (a.poincare || []).map(p => ({ x: p[0], y: p[1], color: PALETTE[i % 6], text: String(a.label), label: `attractor ${a.label}: section point (${fmt(p[0])}, ${fmt(p[1])})` }))),
+    xLabel: `initial ${ob.label} (${ob.unit})`, yLabel: `initial ${ob.rate} (${ob.rateUnit})`, title: 'Basins of attraction',
+    desc: `${b.deflection_cells} × ${b.rate_cells} initial states, each coloured by the attractor it reaches: ${keys.map(k => k.name).join('; ')}.` });
+  return card('vib-basins-card', 'Basins of attraction',
+    h('div', { class: 'figure-row' }, vfigure(map, 'vib-basins-plot', 'Each cell: an initial state, coloured by the attractor it reaches (legend: share of the cells); diamonds: the attractors’ Poincaré points.')));
+}
+
+function renderVibration(container, job, r, d) {
+  container.append(vibrationSummary(r, d, job));
+  const status = h('span', { id: 'sim-download-status', role: 'status', 'aria-live': 'polite', class: 'hint' });
+  const jsonButton = h('button', { type: 'button', id: 'sim-json-download' }, 'Download JSON');
+  jsonButton.addEventListener('click', () => {
+    download(`simulation-${job.id}.json`, 'application/json', `${JSON.stringify(r, null, 2)}\n`);
+    status.textContent = `Saved simulation-${job.id}.json: the result (dynamics-result.schema.json).`;
+  });
+  container.append(h('div', { class: 'actions downloads' }, jsonButton, h('a', { href: job.links.self, id: 'sim-json-link' }, 'Job as JSON (API)'), status));
+  const warnings = r.warnings || [];
+  if (warnings.length) container.append(h('ul', { class: 'warnings', id: 'sim-warnings', 'aria-label': 'Warnings' }, warnings.map(w => h('li', {}, `${w.pointer ? `${w.pointer}: ` : ''}${w.message}`))));
+  const view = { linear: linearView, vibration: vibrationView, sweep: sweepView, frequency_response: frequencyResponseView, basins: basinsView }[d.analysis];
+  try {
+    container.append(view(d));
+  } catch (e) {
+    container.append(h('p', { class: 'hint' }, `This ${d.analysis} result could not be drawn (${e.message}): see it as JSON at ${job.links.self}.`));
+  }
+}
+
 export function renderSimulationResult(container, job) {
   container.textContent = '';
   const r = job.result || {};
   const d = r.dynamics;
+  if (d && VIBRATION[d.analysis] && d[d.analysis]) {
+    renderVibration(container, job, r, d);
+    return;
+  }
   if (!d || !d.transient || !d.settled) {
     container.append(h('p', { class: 'hint' }, `No time series in this result: see it as JSON at ${job.links.self}.`));
     return;
