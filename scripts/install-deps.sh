@@ -6,7 +6,8 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   libgsl-dev libnlopt-dev libmicrohttpd-dev libcjson-dev libsqlite3-dev nettle-dev
-  librandom123-dev libcmocka-dev
+  librandom123-dev libcmocka-dev libmuparser-dev
+  libopenmpi-dev openmpi-bin
   python3 python3-jsonschema python3-yaml python3-numpy python3-scipy
   chromium nodejs
 )

@@ -18,8 +18,20 @@
  *
  * Exit: 0 when every line is done, 1 when some line was invalid, 2 when some job failed (or the
  * database failed), 64 usage, 130 when stopped by a signal (run again to resume).
+ *
+ * Under MPI with more than one rank (mpirun, srun: docs/mpi.md) rank 0 is the batch above, its
+ * database and its output file, with one job worker of its own (--workers to change it), and a
+ * dispatcher on its main thread: every other rank asks nothing and runs what it is sent. The
+ * dispatcher claims queued jobs from the same database (its own connection, the same claim as
+ * the workers': the oldest queued job) for each idle rank, sends the stored canonical request,
+ * and records what comes back as a worker would (done, failed with its problem document, or
+ * queued again when the batch stops), so the cache, the output and the resume are the plain
+ * batch's. A rank that dies ends the job (mpirun/srun); its jobs stay `running` in the database
+ * and are queued again when the batch is run again.
  */
+#include <pthread.h>
 #include <signal.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -29,7 +41,10 @@
 #include "cli/commands.h"
 #include "io/global.h"
 #include "io/analysis_json.h"
+#include "io/json_util.h"
 #include "job/jobs.h"
+#include "par/par.h"
+#include "util/clock.h"
 #include "util/file.h"
 
 #define BATCH_MAX_FILE_BYTES (512u * 1024u * 1024u)
@@ -38,6 +53,7 @@
 typedef struct {
 	const char *path, *out_path, *db_path;
 	int workers, threads, quiet;
+	int workers_given;
 } batch_options;
 
 typedef struct {
@@ -50,11 +66,14 @@ typedef struct {
 } batch_line;
 
 static volatile sig_atomic_t batch_stop;
+/* a follower's running job (MPI): raised with batch_stop */
+static prsm_cancel_flag follower_cancel;
 
 static void on_signal(int sig)
 {
 	(void)sig;
 	batch_stop = 1;
+	prsm_cancel_set(&follower_cancel, 1);
 }
 
 static void batch_usage(FILE *f)
@@ -69,7 +88,7 @@ static void batch_usage(FILE *f)
 static int parse_options(batch_options *o, int argc, char **argv)
 {
 	long cores = sysconf(_SC_NPROCESSORS_ONLN);
-	*o = (batch_options){NULL, NULL, "prsm.db", cores > 0 && cores < 64 ? (int)cores : 2, 1, 0};
+	*o = (batch_options){NULL, NULL, "prsm.db", cores > 0 && cores < 64 ? (int)cores : 2, 1, 0, 0};
 	for (int i = 1; i < argc; i++) {
 		const char *a = argv[i];
 		const char *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -89,6 +108,7 @@ static int parse_options(batch_options *o, int argc, char **argv)
 			if (prsm_cli_int_option(&n, "batch", a, v, 1, PRSM_JOBS_MAX_WORKERS))
 				return -1;
 			o->workers = (int)n;
+			o->workers_given = 1;
 			i++;
 		} else if (strcmp(a, "--threads") == 0) {
 			if (prsm_cli_int_option(&n, "batch", a, v, 1, 256))
@@ -186,11 +206,296 @@ done:
 	return rc;
 }
 
+/* ---- MPI: rank 0's dispatcher and the other ranks (see the top of the file) -------------- */
+
+enum { TAG_JOB = 1, TAG_RESULT = 2, TAG_STOP = 3 };
+
+/* A job sent to a rank: this header, then the canonical request. */
+typedef struct {
+	char id[PRSM_STORE_ID_MAX];
+	char kind[PRSM_STORE_KIND_MAX];
+} job_head;
+
+/* What a rank sends back: this header, then the result and the CSV (their lengths here). */
+typedef struct {
+	char id[PRSM_STORE_ID_MAX];
+	int32_t rc, cancelled;
+	prsm_error err;
+	int64_t samples_done, samples_planned;
+	uint64_t has_result, result_len, csv_len;
+} result_head;
+
+typedef struct {
+	prsm_store *store;
+	int size;
+	char (*busy)[PRSM_STORE_ID_MAX];    /* per rank, the job it runs ("" idle; rank 0: unused) */
+	int in_flight;
+	double next_claim_s;                /* nothing was queued: claim again from then on */
+} dispatcher;
+
+/* The problem document of a failed run, as text (malloc'd; NULL when out of memory): what the
+ * job workers store (job/jobs.c, failure_problem), for the jobs other ranks ran. */
+static char *failure_problem(const prsm_error *err)
+{
+	prsm_problems p;
+	prsm_problems_init(&p);
+	prsm_problems_add(&p, err->pointer, "computation", "%s", err->message[0] ? err->message : prsm_error_name(err->code));
+	int status = prsm_error_http_status(err->code);
+	const unsigned long mark = prsm_json_alloc_failures();
+	cJSON *doc = prsm_io_problem_document(status, status == 422 ? "Unprocessable Content" : "Computation failed", &p);
+	char *text = prsm_json_print_whole(doc, mark, 0);
+	cJSON_Delete(doc);
+	return text;
+}
+
+/* A rank's answer recorded in the store, as a job worker records its own (job/jobs.c, run_one). */
+static void record_result(dispatcher *D, int from, const char *buf, size_t len)
+{
+	result_head h;
+	if (len < sizeof h)
+		prsm_par_abort(PRSM_EXIT_FAILED, "rank %d sent %zu bytes for a job's result", from, len);
+	memcpy(&h, buf, sizeof h);
+	h.id[sizeof h.id - 1] = '\0';
+	if (len != sizeof h + h.result_len + h.csv_len || strcmp(h.id, D->busy[from]))
+		prsm_par_abort(PRSM_EXIT_FAILED, "rank %d sent a result that does not match job %s", from, D->busy[from]);
+	/* the result and the CSV, each NUL-terminated */
+	char *result = h.has_result ? malloc(h.result_len + 1) : NULL, *csv = h.csv_len ? malloc(h.csv_len + 1) : NULL;
+	if ((h.has_result && !result) || (h.csv_len && !csv))
+		prsm_par_abort(PRSM_EXIT_FAILED, "out of memory for the result of job %s", h.id);
+	if (result) {
+		memcpy(result, buf + sizeof h, h.result_len);
+		result[h.result_len] = '\0';
+	}
+	if (csv) {
+		memcpy(csv, buf + sizeof h + h.result_len, h.csv_len);
+		csv[h.csv_len] = '\0';
+	}
+	prsm_error serr = PRSM_ERROR_INIT;
+	int src = 0;
+	if (h.rc == 0) {
+		src = prsm_store_finish(D->store, h.id, PRSM_JOB_DONE, result, NULL, csv, h.csv_len, h.samples_done,
+		                        h.samples_planned, NULL, &serr);
+	} else if (h.cancelled || h.rc == PRSM_ECANCELLED) {
+		if (batch_stop)
+			src = prsm_store_requeue(D->store, h.id, &serr);
+		else if (result)
+			src = prsm_store_finish(D->store, h.id, PRSM_JOB_CANCELLED, result, NULL, NULL, 0, h.samples_done,
+			                        h.samples_planned, NULL, &serr);
+	} else {
+		char *problem = failure_problem(&h.err);
+		src = prsm_store_finish(D->store, h.id, PRSM_JOB_FAILED, NULL, problem ? problem : "{}", NULL, 0, 0, 0, NULL,
+		                        &serr);
+		free(problem);
+	}
+	if (src)
+		fprintf(stderr, "prsm batch: job %s (rank %d): %s\n", h.id, from, serr.message);
+	free(result);
+	free(csv);
+	D->busy[from][0] = '\0';
+	D->in_flight--;
+}
+
+/* Receive what the ranks sent back, and hand queued jobs to idle ranks (unless draining). */
+static void dispatch_pump(dispatcher *D, int draining)
+{
+	prsm_error err = PRSM_ERROR_INIT;
+	while (prsm_par_probe()) {
+		int from, tag;
+		char *buf;
+		size_t len;
+		if (prsm_par_recv(-1, -1, &from, &tag, &buf, &len, NULL, &err))
+			prsm_par_abort(PRSM_EXIT_FAILED, "%s", err.message);
+		if (tag != TAG_RESULT || from <= 0 || from >= D->size || !D->busy[from][0])
+			prsm_par_abort(PRSM_EXIT_FAILED, "unexpected message (tag %d) from rank %d", tag, from);
+		record_result(D, from, buf, len);
+		free(buf);
+	}
+	if (draining || batch_stop || prsm_clock_seconds() < D->next_claim_s)
+		return;
+	for (int r = 1; r < D->size; r++) {
+		if (D->busy[r][0])
+			continue;
+		prsm_store_job job;
+		int rc = prsm_store_claim(D->store, &job, &err);
+		if (rc) {
+			if (rc != PRSM_ENOTFOUND)
+				fprintf(stderr, "prsm batch: %s\n", err.message);
+			D->next_claim_s = prsm_clock_seconds() + 0.1;
+			return;
+		}
+		const size_t rlen = job.request ? strlen(job.request) : 0;
+		job_head h;
+		memset(&h, 0, sizeof h);
+		snprintf(h.id, sizeof h.id, "%s", job.id);
+		snprintf(h.kind, sizeof h.kind, "%s", job.kind);
+		char *msg = malloc(sizeof h + rlen);
+		if (!msg)
+			prsm_par_abort(PRSM_EXIT_FAILED, "out of memory for job %s", job.id);
+		memcpy(msg, &h, sizeof h);
+		if (rlen)
+			memcpy(msg + sizeof h, job.request, rlen);
+		if (prsm_par_send(r, TAG_JOB, msg, sizeof h + rlen, &err))
+			prsm_par_abort(PRSM_EXIT_FAILED, "%s", err.message);
+		free(msg);
+		snprintf(D->busy[r], sizeof D->busy[r], "%s", job.id);
+		D->in_flight++;
+		prsm_store_job_clear(&job);
+	}
+}
+
+/* The end of the batch for the other ranks: the jobs they run finish (or, stopping, come back
+ * cancelled and are queued again), then each is told to exit with code. */
+static void dispatch_end(dispatcher *D, int code)
+{
+	prsm_error err = PRSM_ERROR_INIT;
+	int32_t c = code;
+	if (batch_stop)
+		for (int r = 1; r < D->size; r++)
+			if (prsm_par_send(r, TAG_STOP, &c, sizeof c, &err))
+				prsm_par_abort(PRSM_EXIT_FAILED, "%s", err.message);
+	const double give_up = prsm_clock_seconds() + 30.0;
+	while (D->in_flight > 0) {
+		dispatch_pump(D, 1);
+		if (batch_stop && prsm_clock_seconds() > give_up)
+			break;
+		struct timespec ts = {0, 5000000L};
+		nanosleep(&ts, NULL);
+	}
+	for (int r = 1; r < D->size; r++) {
+		if (D->busy[r][0] && D->store) /* a rank that did not answer in time: its job runs again next time */
+			prsm_store_requeue(D->store, D->busy[r], &err);
+		if (!batch_stop && prsm_par_send(r, TAG_STOP, &c, sizeof c, &err))
+			prsm_par_abort(PRSM_EXIT_FAILED, "%s", err.message);
+	}
+}
+
+typedef struct {
+	job_head head;
+	const char *request;
+	prsm_job_limits limits;
+	prsm_job_output out;
+	prsm_error err;
+	int rc;
+	atomic_int done;
+} follower_job;
+
+static void *follower_run(void *arg)
+{
+	follower_job *j = arg;
+	const prsm_job_kind *k = prsm_job_kind_by_name(j->head.kind);
+	if (!k) {
+		j->rc = prsm_error_set(&j->err, PRSM_EINVAL, NULL, "this prsm has no job kind '%s'", j->head.kind);
+	} else {
+		prsm_job_run_ctx ctx = {&follower_cancel, NULL, NULL, j->limits};
+		j->rc = k->run(&j->out, j->request, &ctx, &j->err);
+	}
+	atomic_store(&j->done, 1);
+	return NULL;
+}
+
+/* A rank other than 0: run the jobs rank 0 sends, one at a time, on a thread of their own so
+ * that this one keeps listening (a stop from rank 0 cancels the running job); until told to stop.
+ * Returns the exit code rank 0 gives, or 130 on a signal. */
+static int follow(const batch_options *o)
+{
+	prsm_error err = PRSM_ERROR_INIT;
+	const prsm_job_limits limits = {0, 0.0, o->threads};
+	int stop_code = -1;
+	while (stop_code < 0) {
+		int from, tag;
+		char *buf;
+		size_t len;
+		int rc = prsm_par_recv(0, -1, &from, &tag, &buf, &len, &batch_stop, &err);
+		if (rc == PRSM_ECANCELLED)
+			return 130;
+		if (rc)
+			prsm_par_abort(PRSM_EXIT_FAILED, "%s", err.message);
+		if (tag == TAG_STOP) {
+			int32_t c = 0;
+			memcpy(&c, buf, len < sizeof c ? len : sizeof c);
+			free(buf);
+			return c;
+		}
+		if (tag != TAG_JOB || len < sizeof(job_head))
+			prsm_par_abort(PRSM_EXIT_FAILED, "unexpected message (tag %d, %zu bytes) from rank 0", tag, len);
+		follower_job *j = calloc(1, sizeof *j);
+		if (!j)
+			prsm_par_abort(PRSM_EXIT_FAILED, "out of memory");
+		memcpy(&j->head, buf, sizeof j->head);
+		j->head.id[sizeof j->head.id - 1] = '\0';
+		j->head.kind[sizeof j->head.kind - 1] = '\0';
+		j->request = buf + sizeof j->head; /* NUL-terminated by prsm_par_recv */
+		j->limits = limits;
+		atomic_init(&j->done, 0);
+		pthread_t th;
+		if (prsm_par_fault()) {
+			j->rc = prsm_error_set(&j->err, PRSM_EIO, NULL, "rank %d failed: injected failure (PRSM_PAR_FAULT)",
+			                       prsm_par_rank());
+			atomic_store(&j->done, 1);
+		} else if (pthread_create(&th, NULL, follower_run, j)) {
+			prsm_par_abort(PRSM_EXIT_FAILED, "cannot start a thread for job %s", j->head.id);
+		} else {
+			long ns = 50000;
+			while (!atomic_load(&j->done)) {
+				if (stop_code < 0 && prsm_par_probe()) {
+					/* only a stop comes while a job runs */
+					char *sbuf;
+					size_t slen;
+					if (prsm_par_recv(0, TAG_STOP, &from, &tag, &sbuf, &slen, NULL, &err))
+						prsm_par_abort(PRSM_EXIT_FAILED, "%s", err.message);
+					int32_t c = 0;
+					memcpy(&c, sbuf, slen < sizeof c ? slen : sizeof c);
+					free(sbuf);
+					stop_code = c;
+					prsm_cancel_set(&follower_cancel, 1);
+				}
+				struct timespec ts = {0, ns};
+				nanosleep(&ts, NULL);
+				if (ns < 5000000)
+					ns *= 2;
+			}
+			pthread_join(th, NULL);
+		}
+		/* the answer */
+		result_head h;
+		memset(&h, 0, sizeof h);
+		memcpy(h.id, j->head.id, sizeof h.id);
+		h.rc = j->rc;
+		h.cancelled = prsm_cancel_requested(&follower_cancel);
+		h.err = j->err;
+		h.samples_done = j->out.samples_done;
+		h.samples_planned = j->out.samples_planned;
+		h.has_result = j->out.result != NULL;
+		h.result_len = j->out.result ? (j->out.result_len ? j->out.result_len : strlen(j->out.result)) : 0;
+		h.csv_len = j->out.csv ? j->out.csv_len : 0;
+		char *msg = malloc(sizeof h + h.result_len + h.csv_len);
+		if (!msg)
+			prsm_par_abort(PRSM_EXIT_FAILED, "out of memory for the result of job %s", h.id);
+		memcpy(msg, &h, sizeof h);
+		if (h.result_len)
+			memcpy(msg + sizeof h, j->out.result, h.result_len);
+		if (h.csv_len)
+			memcpy(msg + sizeof h + h.result_len, j->out.csv, h.csv_len);
+		if (prsm_par_send(0, TAG_RESULT, msg, sizeof h + h.result_len + h.csv_len, &err))
+			prsm_par_abort(PRSM_EXIT_FAILED, "%s", err.message);
+		free(msg);
+		prsm_job_output_free(&j->out);
+		free(j);
+		free(buf);
+		if (batch_stop && stop_code < 0)
+			return 130;
+	}
+	return stop_code;
+}
+
+
 /* Wait until the line's job has finished (or a stop); *view gets it with its result.
  * Returns 0, PRSM_ECANCELLED on a stop, or the store's code. */
-static int wait_line(prsm_jobs *jobs, const batch_line *l, prsm_job_view *view, prsm_error *err)
+static int wait_line(prsm_jobs *jobs, const batch_line *l, prsm_job_view *view, dispatcher *D, prsm_error *err)
 {
 	for (;;) {
+		if (D)
+			dispatch_pump(D, 0);
 		int rc = prsm_jobs_get(jobs, view, l->kind, l->job_id, PRSM_STORE_WITH_RESULT, err);
 		if (rc)
 			return rc;
@@ -238,17 +543,37 @@ static cJSON *result_line(size_t n, const batch_line *l, const prsm_job_view *vi
 	return o;
 }
 
+
 int prsm_cli_batch(int argc, char **argv)
 {
 	batch_options o;
 	int prc = parse_options(&o, argc, argv);
 	if (prc)
 		return prc > 0 ? PRSM_EXIT_OK : PRSM_EXIT_USAGE;
+	/* MPI with other ranks: they run what rank 0 sends; rank 0 keeps one job worker of its own */
+	const int par = prsm_par_active() && prsm_par_size() > 1;
+	dispatcher D = {NULL, prsm_par_size(), NULL, 0, 0.0};
+	if (par) {
+		if (prsm_par_rank() != 0) {
+			signal(SIGINT, on_signal);
+			signal(SIGTERM, on_signal);
+			return follow(&o);
+		}
+		D.busy = calloc((size_t)D.size, sizeof *D.busy);
+		if (!D.busy)
+			prsm_par_abort(PRSM_EXIT_FAILED, "out of memory");
+		if (!o.workers_given)
+			o.workers = 1;
+	}
 	prsm_error err = PRSM_ERROR_INIT;
 	char *text = NULL;
 	size_t len = 0;
 	if (prsm_file_read(&text, &len, o.path, BATCH_MAX_FILE_BYTES, &err)) {
 		fprintf(stderr, "prsm batch: %s: %s\n", o.path, err.message);
+		if (par) {
+			dispatch_end(&D, PRSM_EXIT_INVALID);
+			free(D.busy);
+		}
 		return PRSM_EXIT_INVALID;
 	}
 	/* the lines, in place: every '\n' becomes a terminator */
@@ -303,6 +628,11 @@ int prsm_cli_batch(int argc, char **argv)
 		exit_code = PRSM_EXIT_FAILED;
 		goto cleanup;
 	}
+	if (par && prsm_store_open(&D.store, o.db_path, 1, &err)) {
+		fprintf(stderr, "prsm batch: %s\n", err.message);
+		exit_code = PRSM_EXIT_FAILED;
+		goto cleanup;
+	}
 	signal(SIGINT, on_signal);
 	signal(SIGTERM, on_signal);
 	if (!o.quiet && recovered)
@@ -325,7 +655,7 @@ int prsm_cli_batch(int argc, char **argv)
 				exit_code = PRSM_EXIT_INVALID;
 		} else {
 			prsm_job_view v;
-			int rc = wait_line(jobs, l, &v, &err);
+			int rc = wait_line(jobs, l, &v, par ? &D : NULL, &err);
 			if (rc == PRSM_ECANCELLED)
 				break;
 			if (rc) {
@@ -362,6 +692,11 @@ int prsm_cli_batch(int argc, char **argv)
 	}
 
 cleanup:
+	if (par) {
+		dispatch_end(&D, exit_code);
+		prsm_store_close(D.store);
+		free(D.busy);
+	}
 	prsm_jobs_close(jobs);
 	if (out && out != stdout)
 		fclose(out);

@@ -10,6 +10,7 @@
 
 #include "cli/commands.h"
 #include "io/global.h"
+#include "par/par.h"
 
 static void usage(FILE *out)
 {
@@ -40,11 +41,49 @@ static void usage(FILE *out)
 	        "                   --seconds S (per kernel, default 0.5)\n"
 	        "  version          engine and model versions\n"
 	        "\n"
+	        "MPI: under mpirun or srun, study and batch run over every rank (rank 0 writes) and the\n"
+	        "other commands once, on rank 0; --mpi runs study or batch through MPI without a launcher,\n"
+	        "--no-mpi never (docs/mpi.md)\n"
+	        "\n"
 	        "exit codes: 0 ok, 1 invalid request, 2 computation failed, 64 usage\n");
+}
+
+/* `prsm study` and `prsm batch` over the ranks of an MPI job: MPI loaded and initialised (only
+ * here: every other process starts without it), the command, MPI finalised. */
+static int run_par(int (*command)(int, char **), int argc, char **argv, int rank)
+{
+	const char *cmd = argv[0];
+	if (!prsm_par_built()) {
+		if (rank == 0)
+			fprintf(stderr, "prsm %s: this prsm was built without MPI (the CMake feature PRSM_MPI found none): "
+			        "install libopenmpi-dev and openmpi-bin and rebuild, or run it without mpirun, srun and "
+			        "--mpi\n", cmd);
+		return PRSM_EXIT_USAGE;
+	}
+	prsm_error err = PRSM_ERROR_INIT;
+	if (prsm_par_init(&err)) {
+		fprintf(stderr, "prsm %s: %s\n", cmd, err.message);
+		return PRSM_EXIT_FAILED;
+	}
+	int rc = command(argc, argv);
+	prsm_par_finalize();
+	return rc;
 }
 
 int main(int argc, char **argv)
 {
+	/* --mpi / --no-mpi, anywhere after the program name, are main's */
+	int mpi = -1, kept = 1;
+	for (int i = 1; i < argc; i++) {
+		if (strcmp(argv[i], "--mpi") == 0)
+			mpi = 1;
+		else if (strcmp(argv[i], "--no-mpi") == 0)
+			mpi = 0;
+		else
+			argv[kept++] = argv[i];
+	}
+	argc = kept;
+	argv[argc] = NULL;
 	if (argc < 2) {
 		usage(stderr);
 		return PRSM_EXIT_USAGE;
@@ -52,6 +91,20 @@ int main(int argc, char **argv)
 	/* GSL's error handler off, cJSON's allocation hooks (io/global.h) */
 	prsm_global_init();
 	const char *cmd = argv[1];
+	/* (version and help never look: they start as they always did) */
+	const int quick = strcmp(cmd, "version") == 0 || strcmp(cmd, "--version") == 0 || strcmp(cmd, "help") == 0 ||
+	                  strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0;
+	int rank = 0, size = 1;
+	const int launched = mpi != 0 && !quick && prsm_par_launched(&rank, &size);
+	const int par_command = strcmp(cmd, "study") == 0 || strcmp(cmd, "batch") == 0;
+	if (par_command && (mpi == 1 || (launched && size > 1) || (launched && prsm_par_built())))
+		return run_par(strcmp(cmd, "study") == 0 ? prsm_cli_study : prsm_cli_batch, argc - 1, argv + 1, rank);
+	if (mpi == 1) {
+		fprintf(stderr, "prsm: --mpi: only study and batch run over MPI\n");
+		return PRSM_EXIT_USAGE;
+	}
+	if (launched && rank != 0)
+		return 0; /* a command that does not spread over ranks runs once, on rank 0 */
 	if (strcmp(cmd, "analyze") == 0)
 		return prsm_cli_analyze(argc - 1, argv + 1);
 	if (strcmp(cmd, "validate") == 0)

@@ -3,7 +3,13 @@
  * Reads the study document, reports every problem with its pointer (exit 1), runs the engine
  * with a progress bar on stderr when stderr is a terminal, and prints the result as JSON on
  * stdout or --out; --csv writes every sample.
+ *
+ * Under MPI (mpirun, srun, --mpi: src/par, docs/mpi.md) every rank runs this: rank 0 reads the
+ * document (the launcher gives standard input to rank 0 only) and broadcasts its bytes, every
+ * rank loads it, the study runs over the ranks (par/study.h), and rank 0 alone reports, prints
+ * the progress and writes; the others exit with rank 0's code.
  */
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -11,7 +17,12 @@
 
 #include "cli/commands.h"
 #include "io/analysis_json.h"
+#include "io/json_util.h"
 #include "io/study_json.h"
+#include "par/par.h"
+#include "par/study.h"
+#include "util/clock.h"
+#include "util/file.h"
 
 static void progress(void *ctx, const prsm_progress *p)
 {
@@ -24,6 +35,43 @@ static void progress(void *ctx, const prsm_progress *p)
 	if (!isnan(p->interval_width))
 		fprintf(stderr, ", interval %.4g (goal %.4g)", p->interval_width, p->interval_goal);
 	fflush(stderr);
+}
+
+/* Progress of a run under MPI when stderr is not a terminal (a launcher's pipe, a Slurm log):
+ * a line every 10 s and at the end of each run. */
+static void progress_lines(void *ctx, const prsm_progress *p)
+{
+	double *last = ctx, now = prsm_clock_seconds();
+	if (p->done < p->planned && now - *last < 10.0)
+		return;
+	*last = now;
+	fprintf(stderr, "prsm study: %zu / %zu samples on %d ranks", p->done, p->planned, prsm_par_size());
+	if (!isnan(p->interval_width))
+		fprintf(stderr, ", interval %.4g (goal %.4g)", p->interval_width, p->interval_goal);
+	fputc('\n', stderr);
+	fflush(stderr);
+}
+
+/* The document under MPI: rank 0 reads the bytes, every rank parses them (problems are rank
+ * 0's to print). Returns 0 or the exit code, the same on every rank. */
+static int read_document_par(cJSON **doc, const char *path, prsm_problems *problems)
+{
+	*doc = NULL;
+	char *text = NULL;
+	size_t len = 0;
+	int32_t status = 0;
+	prsm_error err = PRSM_ERROR_INIT;
+	if (prsm_par_rank() == 0 && prsm_file_read(&text, &len, path, PRSM_CLI_MAX_REQUEST_BYTES, &err)) {
+		prsm_problems_add(problems, "", err.code == PRSM_EIO ? "unreadable" : "too_large", "%s", err.message);
+		status = err.code == PRSM_EIO ? PRSM_EXIT_USAGE : PRSM_EXIT_INVALID;
+	}
+	if (prsm_par_bcast(&status, sizeof status, &err) || (status == 0 && prsm_par_bcast_blob(&text, &len, &err)))
+		prsm_par_abort(PRSM_EXIT_FAILED, "%s", err.message);
+	if (status)
+		return status;
+	*doc = prsm_json_parse(text, len, problems);
+	free(text);
+	return *doc ? 0 : PRSM_EXIT_INVALID;
 }
 
 int prsm_cli_study_check(const cJSON *doc, prsm_problems *warnings, prsm_problems *problems)
@@ -44,10 +92,12 @@ int prsm_cli_study(int argc, char **argv)
 	prsm_problems warnings, problems;
 	prsm_problems_init(&warnings);
 	prsm_problems_init(&problems);
+	const int par = prsm_par_active(), leader = prsm_par_rank() == 0;
 	cJSON *doc;
-	int rc = prsm_cli_read_document(&doc, o.path, &problems);
+	int rc = par ? read_document_par(&doc, o.path, &problems) : prsm_cli_read_document(&doc, o.path, &problems);
 	if (rc) {
-		prsm_cli_print_problems(stderr, o.path, &problems);
+		if (leader)
+			prsm_cli_print_problems(stderr, o.path, &problems);
 		return rc;
 	}
 	prsm_io_study *s = calloc(1, sizeof *s);
@@ -60,20 +110,39 @@ int prsm_cli_study(int argc, char **argv)
 	}
 	int lrc = prsm_io_study_load(s, doc, &warnings, &problems);
 	cJSON_Delete(doc);
+	if (par) {
+		/* every rank loaded the same bytes: the same outcome, or something is badly wrong */
+		int32_t lead_rc = lrc;
+		prsm_error berr = PRSM_ERROR_INIT;
+		if (prsm_par_bcast(&lead_rc, sizeof lead_rc, &berr))
+			prsm_par_abort(PRSM_EXIT_FAILED, "%s", berr.message);
+		if (lead_rc != lrc)
+			prsm_par_abort(PRSM_EXIT_FAILED, "loaded the study with code %d where rank 0 had %d", lrc, (int)lead_rc);
+	}
 	if (lrc) {
-		prsm_cli_print_problems(stderr, o.path, &problems);
+		if (leader)
+			prsm_cli_print_problems(stderr, o.path, &problems);
 		rc = prsm_error_exit_code(lrc);
 		goto done;
 	}
 	if (o.threads)
 		s->study.mc.threads = o.threads;
-	if (!o.quiet && isatty(STDERR_FILENO)) {
+	double last_line = -1e9;
+	if (leader && !o.quiet && isatty(STDERR_FILENO)) {
 		s->study.mc.progress = progress;
 		s->study.mc.progress_ctx = NULL;
+	} else if (leader && par && !o.quiet) {
+		s->study.mc.progress = progress_lines;
+		s->study.mc.progress_ctx = &last_line;
 	}
 	prsm_error err = PRSM_ERROR_INIT;
-	int src = prsm_study_run(r, &s->study, &err);
-	if (s->study.mc.progress)
+	int src = par ? prsm_par_study_run(r, &s->study, &err) : prsm_study_run(r, &s->study, &err);
+	if (!leader) {
+		/* a follower: rank 0 reports and writes */
+		rc = prsm_error_exit_code(src);
+		goto done;
+	}
+	if (s->study.mc.progress == progress)
 		fputc('\n', stderr);
 	if (src) {
 		fprintf(stderr, "%s: %s\n", o.path, err.message);

@@ -524,14 +524,126 @@ static void report_progress(const prsm_mc_options *o, size_t done, size_t cap, c
 	o->progress(o->progress_ctx, &p);
 }
 
-/* Shared body of the two runs. */
-static int run(prsm_mc_result *out, const prsm_mc_model *model, const prsm_mc_variable *vars,
-               size_t d, size_t n_groups, int saltelli, const prsm_mc_correlation *corr,
-               size_t n_corr, const prsm_mc_options *o, prsm_error *err)
+void prsm_mc_prefix_init(prsm_mc_prefix *p)
 {
-	double t0 = prsm_clock_seconds();
+	memset(p, 0, sizeof *p);
+	for (size_t t = 0; t < PRSM_MC_MAX_TARGETS; t++)
+		prsm_moments_init(&p->mom[t]);
+}
+
+/* Merge one block into the prefix: its targets' moments and in-spec counts (bmom, bin), its
+ * failed and edge samples (status, fail_code: nb rows, the first at global row first_row); then
+ * the failure policy and, when check_targets, the targets on the prefix. Returns 0 to go on, or
+ * 1 with *stop and *code (the abort policy's error, with err) when the run stops here. The one
+ * statement of the stop rules: the run's merge loop and prsm_mc_prefix_add both call it. */
+static int prefix_merge(prsm_mc_prefix *p, const prsm_mc_options *o, const prsm_moments *bmom, const size_t *bin,
+                        const unsigned char *status, const int *fail_code, size_t nb, size_t first_row,
+                        int check_targets, prsm_stop_reason *stop, int *code, prsm_error *err)
+{
+	const size_t nt = (size_t)o->n_targets;
+	*code = 0;
+	for (size_t t = 0; t < nt; t++) {
+		prsm_moments_merge(&p->mom[t], &bmom[t]);
+		p->in[t] += bin[t];
+	}
+	size_t first_bad = SIZE_MAX;
+	for (size_t i = 0; i < nb; i++) {
+		int st = status[i];
+		if (st == PRSM_SAMPLE_FAILED) {
+			p->failed++;
+			if (first_bad == SIZE_MAX)
+				first_bad = i;
+		} else if (st == PRSM_SAMPLE_EDGE) {
+			p->edge++;
+			if (o->edge == PRSM_EDGE_EXCLUDE && first_bad == SIZE_MAX)
+				first_bad = i;
+		}
+	}
+	p->blocks++;
+	p->rows += nb;
+	if (o->failure == PRSM_FAILURE_ABORT && first_bad != SIZE_MAX) {
+		int st = status[first_bad];
+		int fc = fail_code[first_bad];
+		/* a computation failure (exit 2) whatever the model's own code was */
+		if (st == PRSM_SAMPLE_EDGE)
+			*code = prsm_error_set(err, PRSM_ENOCONVERGE, NULL,
+			                       "sample %zu has an edge contact (failure policy: abort)", first_row + first_bad);
+		else
+			*code = prsm_error_set(err, PRSM_ENOCONVERGE, NULL, "sample %zu failed (%s%s) (failure policy: abort)",
+			                       first_row + first_bad, prsm_error_name(fc ? fc : PRSM_ENOCONVERGE),
+			                       fc == PRSM_EINVAL ? ": the model refused the sampled values, e.g. a "
+			                                           "negative friction coefficient"
+			                       : fc == PRSM_ENOCONVERGE || !fc ? ": a solve did not converge" : "");
+		*stop = PRSM_STOP_FAILURES;
+		return 1;
+	}
+	size_t bad = p->failed + (o->edge == PRSM_EDGE_EXCLUDE ? p->edge : 0);
+	if (o->failure == PRSM_FAILURE_SKIP && (double)bad > o->max_failed_fraction * (double)p->rows) {
+		*stop = PRSM_STOP_FAILURES;
+		return 1;
+	}
+	if (check_targets && p->rows >= o->min_samples) {
+		int all = 1;
+		for (size_t t = 0; t < nt; t++)
+			all = all && target_met(&o->targets[t], &p->mom[t], p->in[t]);
+		if (all) {
+			*stop = PRSM_STOP_TARGET;
+			return 1;
+		}
+	}
+	return 0;
+}
+
+int prsm_mc_prefix_add(prsm_mc_prefix *p, const prsm_mc_options *o, size_t m, size_t total_blocks,
+                       const double *y, const unsigned char *status, const int *fail_code, size_t nb,
+                       prsm_stop_reason *stop, int *code, prsm_error *err)
+{
+	/* the block's moments as run_block accumulates them: kept samples in row order */
+	const size_t nt = (size_t)o->n_targets;
+	prsm_moments bmom[PRSM_MC_MAX_TARGETS];
+	size_t bin[PRSM_MC_MAX_TARGETS] = {0};
+	for (size_t t = 0; t < nt; t++)
+		prsm_moments_init(&bmom[t]);
+	for (size_t i = 0; i < nb; i++) {
+		if (!prsm_mc_sample_kept(o, status[i]))
+			continue;
+		for (size_t t = 0; t < nt; t++) {
+			const prsm_mc_target *tg = &o->targets[t];
+			double v = y[i * m + tg->output];
+			prsm_moments_add(&bmom[t], v);
+			if ((!tg->has_lower || v >= tg->lower) && (!tg->has_upper || v <= tg->upper))
+				bin[t]++;
+		}
+	}
+	return prefix_merge(p, o, bmom, bin, status, fail_code, nb, p->rows, nt && p->blocks + 1 < total_blocks, stop,
+	                    code, err);
+}
+
+void prsm_mc_prefix_progress(const prsm_mc_prefix *p, const prsm_mc_options *o, size_t cap)
+{
+	if (o->progress)
+		report_progress(o, p->rows, cap, p->mom, p->in, (size_t)o->n_targets);
+}
+
+void prsm_mc_prefix_finish(prsm_mc_result *out, const prsm_mc_prefix *p, const prsm_mc_options *o,
+                           prsm_stop_reason stop)
+{
+	out->n = p->rows;
+	out->n_failed = p->failed;
+	out->n_edge = p->edge;
+	out->n_ok = p->rows - p->failed - (o->edge == PRSM_EDGE_EXCLUDE ? p->edge : 0);
+	out->stop = stop;
+	out->converged = stop == PRSM_STOP_TARGET;
+}
+
+/* Check a run's settings and lay out its blocks in c (c->cop too): everything run() refuses
+ * before it samples, in its order. *stored gets the values the run stores, *split whether it is
+ * a split run. */
+static int plan(run_ctx *c, double *stored, int *split, const prsm_mc_model *model, const prsm_mc_variable *vars,
+                size_t d, size_t n_groups, int saltelli, const prsm_mc_correlation *corr, size_t n_corr,
+                const prsm_mc_options *o, prsm_error *err)
+{
 	size_t m = model->n_outputs;
-	memset(out, 0, sizeof *out);
 	int rc = check_options(o, d, m, err);
 	if (rc)
 		return rc;
@@ -544,12 +656,6 @@ static int run(prsm_mc_result *out, const prsm_mc_model *model, const prsm_mc_va
 	}
 	if (saltelli && (n_groups == 0 || n_groups > PRSM_MC_MAX_GROUPS))
 		return prsm_error_set(err, PRSM_EINVAL, NULL, "groups must be 1..%d", PRSM_MC_MAX_GROUPS);
-
-	run_ctx *c = calloc(1, sizeof *c);
-	worker *ws = NULL;
-	int nthreads = 0;
-	if (!c)
-		return prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
 	c->model = model;
 	c->vars = vars;
 	c->d = d;
@@ -561,15 +667,13 @@ static int run(prsm_mc_result *out, const prsm_mc_model *model, const prsm_mc_va
 	c->block_size = o->block_size;
 	rc = copula_init(&c->cop, corr, n_corr, d, err);
 	if (rc)
-		goto cleanup;
+		return rc;
 
 	/* blocks of this run */
 	size_t total_blocks = (o->samples + o->block_size - 1) / o->block_size;
-	if (o->first_block >= total_blocks) {
-		rc = prsm_error_set(err, PRSM_EINVAL, NULL, "first block %zu is past the last block %zu",
-		                    o->first_block, total_blocks - 1);
-		goto cleanup;
-	}
+	if (o->first_block >= total_blocks)
+		return prsm_error_set(err, PRSM_EINVAL, NULL, "first block %zu is past the last block %zu",
+		                      o->first_block, total_blocks - 1);
 	c->first_block = o->first_block;
 	c->n_blocks = total_blocks - o->first_block;
 	if (o->block_count && o->block_count < c->n_blocks)
@@ -578,29 +682,60 @@ static int run(prsm_mc_result *out, const prsm_mc_model *model, const prsm_mc_va
 	c->n_rows = c->n_blocks * o->block_size;
 	if (c->first_row + c->n_rows > o->samples)
 		c->n_rows = o->samples - c->first_row;
-	int split = o->first_block != 0 || c->n_blocks != total_blocks;
+	*split = o->first_block != 0 || c->n_blocks != total_blocks;
 
 	/* sampler: Sobol runs in any dimension the table has, else the run is refused */
-	out->sampler = o->sampler;
-	if (o->sampler == PRSM_SAMPLER_SOBOL && c->dim > PRSM_SOBOL_MAX_DIM) {
-		rc = prsm_error_set(err, PRSM_EINVAL, NULL,
-		                    "Sobol sampling has at most %d dimensions, this run needs %zu (%s%zu variables): "
-		                    "use the %s sampler", PRSM_SOBOL_MAX_DIM, c->dim, saltelli ? "2 x " : "", d,
-		                    saltelli ? "random" : "random or lhs");
+	if (o->sampler == PRSM_SAMPLER_SOBOL && c->dim > PRSM_SOBOL_MAX_DIM)
+		return prsm_error_set(err, PRSM_EINVAL, NULL,
+		                      "Sobol sampling has at most %d dimensions, this run needs %zu (%s%zu variables): "
+		                      "use the %s sampler", PRSM_SOBOL_MAX_DIM, c->dim, saltelli ? "2 x " : "", d,
+		                      saltelli ? "random" : "random or lhs");
+
+	/* storage */
+	*stored = saltelli ? (double)m * (double)(n_groups + 2) * (double)c->n_rows : (double)(d + m) * (double)c->n_rows;
+	if (*stored > PRSM_MC_MAX_STORED)
+		return prsm_error_set(err, PRSM_EINVAL, NULL,
+		                      "the run would store %.0f values, more than the limit %d: "
+		                      "fewer samples, tolerances or outputs", *stored, PRSM_MC_MAX_STORED);
+	return 0;
+}
+
+int prsm_mc_run_check(const prsm_mc_model *model, const prsm_mc_variable *vars, size_t d,
+                      const prsm_mc_correlation *corr, size_t n_corr, const prsm_mc_options *o,
+                      prsm_error *err)
+{
+	run_ctx *c = calloc(1, sizeof *c);
+	if (!c)
+		return prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
+	double stored;
+	int split;
+	int rc = plan(c, &stored, &split, model, vars, d, 0, 0, corr, n_corr, o, err);
+	free(c);
+	return rc;
+}
+
+/* Shared body of the two runs. */
+static int run(prsm_mc_result *out, const prsm_mc_model *model, const prsm_mc_variable *vars,
+               size_t d, size_t n_groups, int saltelli, const prsm_mc_correlation *corr,
+               size_t n_corr, const prsm_mc_options *o, prsm_error *err)
+{
+	double t0 = prsm_clock_seconds();
+	size_t m = model->n_outputs;
+	memset(out, 0, sizeof *out);
+	run_ctx *c = calloc(1, sizeof *c);
+	worker *ws = NULL;
+	int nthreads = 0;
+	if (!c)
+		return prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
+	double stored = 0.0;
+	int split = 0;
+	int rc = plan(c, &stored, &split, model, vars, d, n_groups, saltelli, corr, n_corr, o, err);
+	if (rc)
 		goto cleanup;
-	}
+	out->sampler = o->sampler;
 	if (saltelli && out->sampler == PRSM_SAMPLER_LHS)
 		out->sampler = PRSM_SAMPLER_RANDOM; /* A and B from one LHS row would not be independent */
 
-	/* storage */
-	double stored = saltelli ? (double)m * (double)(n_groups + 2) * (double)c->n_rows
-	                         : (double)(d + m) * (double)c->n_rows;
-	if (stored > PRSM_MC_MAX_STORED) {
-		rc = prsm_error_set(err, PRSM_EINVAL, NULL,
-		                    "the run would store %.0f values, more than the limit %d: "
-		                    "fewer samples, tolerances or outputs", stored, PRSM_MC_MAX_STORED);
-		goto cleanup;
-	}
 	out->n = c->n_rows;
 	out->d = d;
 	out->m = m;
@@ -661,70 +796,22 @@ static int run(prsm_mc_result *out, const prsm_mc_model *model, const prsm_mc_va
 	}
 
 	/* merge the completed prefix in block order; check the stop rules on it */
-	prsm_moments mom[PRSM_MC_MAX_TARGETS];
-	size_t in[PRSM_MC_MAX_TARGETS] = {0};
-	for (size_t t = 0; t < nt; t++)
-		prsm_moments_init(&mom[t]);
-	size_t prefix = 0, prefix_rows = 0, failed = 0, edge = 0;
+	prsm_mc_prefix pf;
+	prsm_mc_prefix_init(&pf);
 	out->stop = PRSM_STOP_SAMPLE_CAP;
 	double last_progress = -1.0;
-	while (prefix < c->stop_blocks) {
+	while (pf.blocks < c->stop_blocks) {
+		const size_t prefix = pf.blocks;
 		if (c->block_done[prefix]) {
 			size_t nb = block_rows(c, prefix);
 			size_t r0 = prefix * c->block_size;
-			for (size_t t = 0; t < nt; t++) {
-				prsm_moments_merge(&mom[t], &c->block_mom[prefix * nt + t]);
-				in[t] += c->block_in[prefix * nt + t];
-			}
-			size_t first_bad = SIZE_MAX;
-			for (size_t i = 0; i < nb; i++) {
-				int st = out->status[r0 + i];
-				if (st == PRSM_SAMPLE_FAILED) {
-					failed++;
-					if (first_bad == SIZE_MAX)
-						first_bad = r0 + i;
-				} else if (st == PRSM_SAMPLE_EDGE) {
-					edge++;
-					if (o->edge == PRSM_EDGE_EXCLUDE && first_bad == SIZE_MAX)
-						first_bad = r0 + i;
-				}
-			}
-			prefix++;
-			prefix_rows += nb;
-			if (o->failure == PRSM_FAILURE_ABORT && first_bad != SIZE_MAX) {
-				int st = out->status[first_bad];
-				int code = out->fail_code[first_bad];
-				/* a computation failure (exit 2) whatever the model's own code was */
-				if (st == PRSM_SAMPLE_EDGE)
-					rc = prsm_error_set(err, PRSM_ENOCONVERGE, NULL,
-					                    "sample %zu has an edge contact (failure policy: abort)",
-					                    c->first_row + first_bad);
-				else
-					rc = prsm_error_set(err, PRSM_ENOCONVERGE, NULL, "sample %zu failed (%s%s) (failure policy: abort)",
-					                    c->first_row + first_bad, prsm_error_name(code ? code : PRSM_ENOCONVERGE),
-					                    code == PRSM_EINVAL ? ": the model refused the sampled values, e.g. a "
-					                                          "negative friction coefficient"
-					                    : code == PRSM_ENOCONVERGE || !code ? ": a solve did not converge" : "");
-				c->stop_blocks = prefix;
-				out->stop = PRSM_STOP_FAILURES;
+			int code = 0;
+			if (prefix_merge(&pf, o, &c->block_mom[prefix * nt], &c->block_in[prefix * nt], out->status + r0,
+			                 out->fail_code + r0, nb, c->first_row + r0, nt && !split && prefix + 1 < c->stop_blocks,
+			                 &out->stop, &code, err)) {
+				rc = code;
+				c->stop_blocks = pf.blocks;
 				break;
-			}
-			size_t bad = failed + (o->edge == PRSM_EDGE_EXCLUDE ? edge : 0);
-			if (o->failure == PRSM_FAILURE_SKIP &&
-			    (double)bad > o->max_failed_fraction * (double)prefix_rows) {
-				c->stop_blocks = prefix;
-				out->stop = PRSM_STOP_FAILURES;
-				break;
-			}
-			if (nt && !split && prefix_rows >= o->min_samples && prefix < c->stop_blocks) {
-				int all = 1;
-				for (size_t t = 0; t < nt; t++)
-					all = all && target_met(&o->targets[t], &mom[t], in[t]);
-				if (all) {
-					c->stop_blocks = prefix;
-					out->stop = PRSM_STOP_TARGET;
-					break;
-				}
 			}
 			continue;
 		}
@@ -732,19 +819,19 @@ static int run(prsm_mc_result *out, const prsm_mc_model *model, const prsm_mc_va
 		prsm_cond_wait_for(&c->cv, &c->mu, 0.1);
 		double now = prsm_clock_seconds();
 		if (prsm_cancel_requested(o->cancel)) {
-			c->stop_blocks = prefix;
+			c->stop_blocks = pf.blocks;
 			out->stop = PRSM_STOP_CANCELLED;
 			break;
 		}
 		if (o->time_cap_s > 0.0 && now - t0 > o->time_cap_s) {
-			c->stop_blocks = prefix;
+			c->stop_blocks = pf.blocks;
 			out->stop = PRSM_STOP_TIME_CAP;
 			break;
 		}
 		if (o->progress && now - last_progress >= 0.2) {
 			last_progress = now;
 			pthread_mutex_unlock(&c->mu);
-			report_progress(o, prefix_rows, c->n_rows, mom, in, split ? 0 : nt);
+			report_progress(o, pf.rows, c->n_rows, pf.mom, pf.in, split ? 0 : nt);
 			pthread_mutex_lock(&c->mu);
 		}
 	}
@@ -753,14 +840,11 @@ static int run(prsm_mc_result *out, const prsm_mc_model *model, const prsm_mc_va
 		if (ws[t].started)
 			pthread_join(ws[t].thread, NULL);
 	if (o->progress)
-		report_progress(o, prefix_rows, c->n_rows, mom, in, split ? 0 : nt);
+		report_progress(o, pf.rows, c->n_rows, pf.mom, pf.in, split ? 0 : nt);
 
 	/* keep the prefix */
-	out->n = prefix_rows;
-	out->n_failed = failed;
-	out->n_edge = edge;
-	out->n_ok = prefix_rows - failed - (o->edge == PRSM_EDGE_EXCLUDE ? edge : 0);
-	out->converged = out->stop == PRSM_STOP_TARGET;
+	const size_t prefix_rows = pf.rows;
+	prsm_mc_prefix_finish(out, &pf, o, out->stop);
 	if (saltelli && prefix_rows < c->n_rows) {
 		/* compact [o][k][j] to the kept rows */
 		size_t K = n_groups + 2;

@@ -33,6 +33,7 @@
 #include <stdint.h>
 
 #include "mc/dist.h"
+#include "mc/stats.h"
 #include "util/cancel.h"
 #include "util/error.h"
 #include "util/progress.h"
@@ -170,6 +171,41 @@ int prsm_mc_result_concat(prsm_mc_result *out, const prsm_mc_result *a, const pr
                           prsm_error *err);
 
 void prsm_mc_result_free(prsm_mc_result *r);
+
+/* What prsm_mc_run checks before it samples (options, distributions, correlations, the Sobol
+ * dimension, the storage the run needs), with the same codes and messages: 0, PRSM_EINVAL or
+ * PRSM_ENOMEM. For a caller that assembles one run from split runs computed elsewhere. */
+int prsm_mc_run_check(const prsm_mc_model *model, const prsm_mc_variable *vars, size_t d,
+                      const prsm_mc_correlation *corr, size_t n_corr, const prsm_mc_options *o,
+                      prsm_error *err);
+
+/* The completed prefix of a plain run assembled block by block by a caller (a run split over
+ * processes: src/par): the stop rules prsm_mc_run checks on its own prefix, by the same code,
+ * so where the assembled run stops is where one prsm_mc_run of the same options stops. */
+typedef struct {
+	prsm_moments mom[PRSM_MC_MAX_TARGETS];
+	size_t in[PRSM_MC_MAX_TARGETS];
+	size_t blocks, rows, failed, edge;  /* blocks and rows merged; failed and edge samples among them */
+} prsm_mc_prefix;
+
+void prsm_mc_prefix_init(prsm_mc_prefix *p);
+
+/* Merge the next block of the full run (global block p->blocks of total_blocks; its nb rows
+ * start at global row p->rows): its outputs y (nb x m), status and fail_code. Returns 0 to go on,
+ * or 1 when the run stops after this block: *stop says why (PRSM_STOP_FAILURES or
+ * PRSM_STOP_TARGET), *code is 0 or the error the failure policy `abort` returns, err naming the
+ * sample as prsm_mc_run does. */
+int prsm_mc_prefix_add(prsm_mc_prefix *p, const prsm_mc_options *o, size_t m, size_t total_blocks,
+                       const double *y, const unsigned char *status, const int *fail_code, size_t nb,
+                       prsm_stop_reason *stop, int *code, prsm_error *err);
+
+/* o->progress (when set) with the prefix's samples of cap and the stop rule's figure. */
+void prsm_mc_prefix_progress(const prsm_mc_prefix *p, const prsm_mc_options *o, size_t cap);
+
+/* The counts of a run that kept the prefix and stopped for `stop`: out->n, n_ok, n_failed,
+ * n_edge, stop and converged, as prsm_mc_run sets them. */
+void prsm_mc_prefix_finish(prsm_mc_result *out, const prsm_mc_prefix *p, const prsm_mc_options *o,
+                           prsm_stop_reason stop);
 
 /* 1 when a sample of this status enters the statistics under o's edge policy. */
 int prsm_mc_sample_kept(const prsm_mc_options *o, int status);

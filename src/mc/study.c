@@ -257,12 +257,34 @@ static uint64_t replicate_seed(uint64_t seed, size_t r)
  * sequence of N / R rows; SOBOL_REPLICATES, fewer for small N), the indices of the pooled rows
  * with intervals from the replicates' spread (prsm_sens_sobol_replicated), since a bootstrap of
  * a low-discrepancy sample gives intervals many times too wide. */
-static int sobol(prsm_study_result *r, const prsm_study *s, double deadline_s, prsm_error *err)
+size_t prsm_study_sobol_replicates(const prsm_study *s)
+{
+	const size_t N = s->sens.sobol_samples;
+	size_t R = s->sens.sobol_sampler == PRSM_SAMPLER_SOBOL ? N / SOBOL_REPLICATE_MIN_ROWS : 1;
+	return R < 1 ? 1 : R > SOBOL_REPLICATES ? SOBOL_REPLICATES : R;
+}
+
+void prsm_study_sobol_options(prsm_mc_options *mo, const prsm_study *s, size_t q)
+{
+	const size_t N = s->sens.sobol_samples, R = prsm_study_sobol_replicates(s);
+	*mo = s->mc;
+	mo->samples = N / R + (q < N % R ? 1 : 0);
+	mo->seed = replicate_seed(s->mc.seed, q);
+	mo->sampler = s->sens.sobol_sampler;
+	mo->n_targets = 0;
+	mo->first_block = mo->block_count = 0;
+	mo->stream_offset = SALTELLI_STREAM_OFFSET;
+	mo->failure = PRSM_FAILURE_SKIP;
+	mo->max_failed_fraction = 1.0;
+	mo->time_cap_s = 0.0;
+}
+
+static int sobol(prsm_study_result *r, const prsm_study *s, const prsm_study_runner *runner, double deadline_s,
+                 prsm_error *err)
 {
 	const size_t N = s->sens.sobol_samples, G = s->n_groups, K = G + 2, m = s->m;
 	const int qmc = s->sens.sobol_sampler == PRSM_SAMPLER_SOBOL;
-	size_t R = qmc ? N / SOBOL_REPLICATE_MIN_ROWS : 1;
-	R = R < 1 ? 1 : R > SOBOL_REPLICATES ? SOBOL_REPLICATES : R;
+	const size_t R = prsm_study_sobol_replicates(s);
 	/* The outputs of the kept rows, gathered as each replicate finishes (whose own arrays are
 	 * then freed, so the next replicate reuses their memory): output o's K columns at
 	 * buf + o K N, column k at + k N (rows in replicate order), compacted to a column length
@@ -286,18 +308,14 @@ static int sobol(prsm_study_result *r, const prsm_study *s, double deadline_s, p
 		if (q > 0 && (prsm_cancel_requested(s->mc.cancel) ||
 		              (deadline_s > 0.0 && prsm_clock_seconds() >= deadline_s)))
 			break;
-		prsm_mc_options mo = s->mc;
-		mo.samples = N / R + (q < N % R ? 1 : 0);
-		mo.seed = replicate_seed(s->mc.seed, q);
-		mo.sampler = s->sens.sobol_sampler;
-		mo.n_targets = 0;
-		mo.first_block = mo.block_count = 0;
-		mo.stream_offset = SALTELLI_STREAM_OFFSET;
-		mo.failure = PRSM_FAILURE_SKIP;
-		mo.max_failed_fraction = 1.0;
+		prsm_mc_options mo;
+		prsm_study_sobol_options(&mo, s, q);
 		if (deadline_s > 0.0)
 			mo.time_cap_s = fmax(deadline_s - prsm_clock_seconds(), 1e-9);
-		rc = prsm_mc_run_saltelli(&sr, &s->model, s->vars, s->d, s->n_groups, s->corr, s->n_corr, &mo, err);
+		if (runner && runner->replicate)
+			rc = runner->replicate(&sr, s, q, &mo, runner->ctx, err);
+		else
+			rc = prsm_mc_run_saltelli(&sr, &s->model, s->vars, s->d, s->n_groups, s->corr, s->n_corr, &mo, err);
 		if (rc)
 			goto cleanup;
 		ran++;
@@ -396,9 +414,16 @@ static void result_clear(prsm_study_result *r, const prsm_study *s)
 
 int prsm_study_run(prsm_study_result *r, const prsm_study *s, prsm_error *err)
 {
+	return prsm_study_run_with(r, s, NULL, err);
+}
+
+int prsm_study_run_with(prsm_study_result *r, const prsm_study *s, const prsm_study_runner *runner,
+                        prsm_error *err)
+{
 	result_clear(r, s);
 	double t0 = prsm_clock_seconds();
-	int rc = prsm_mc_run(&r->run, &s->model, s->vars, s->d, s->corr, s->n_corr, &s->mc, err);
+	int rc = runner && runner->run ? runner->run(&r->run, s, runner->ctx, err)
+	                               : prsm_mc_run(&r->run, &s->model, s->vars, s->d, s->corr, s->n_corr, &s->mc, err);
 	if (rc)
 		return rc;
 	r->elapsed_run_s = prsm_clock_seconds() - t0;
@@ -426,7 +451,7 @@ int prsm_study_run(prsm_study_result *r, const prsm_study *s, prsm_error *err)
 		goto fail;
 	if (s->sens.sobol) {
 		/* every phase honours the study's time cap and cancel, the bootstrap too */
-		rc = sobol(r, s, s->mc.time_cap_s > 0.0 ? t0 + s->mc.time_cap_s : 0.0, err);
+		rc = sobol(r, s, runner, s->mc.time_cap_s > 0.0 ? t0 + s->mc.time_cap_s : 0.0, err);
 		if (rc)
 			goto fail;
 	}

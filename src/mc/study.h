@@ -103,6 +103,27 @@ typedef struct {
  * failure policy stops the run, with err naming the sample or the failed fraction. */
 int prsm_study_run(prsm_study_result *r, const prsm_study *s, prsm_error *err);
 
+/* Who runs a study's engine runs: prsm_study_run_with calls these instead of the engine (a
+ * caller that spreads the runs over processes, src/par). run: the plain run, as prsm_mc_run(out,
+ * &s->model, ..., &s->mc, err) would return it. replicate: Saltelli replicate q of the Sobol
+ * phase (prsm_study_sobol_replicates), with the options mo (prsm_study_sobol_options and the time
+ * left), as prsm_mc_run_saltelli would return it. Either may be NULL: the engine's. */
+typedef struct {
+	int (*run)(prsm_mc_result *out, const prsm_study *s, void *ctx, prsm_error *err);
+	int (*replicate)(prsm_mc_result *out, const prsm_study *s, size_t q, const prsm_mc_options *mo, void *ctx,
+	                 prsm_error *err);
+	void *ctx;
+} prsm_study_runner;
+
+/* prsm_study_run with the engine runs made by runner (NULL: prsm_study_run). */
+int prsm_study_run_with(prsm_study_result *r, const prsm_study *s, const prsm_study_runner *runner,
+                        prsm_error *err);
+
+/* The Saltelli replicates of the study's Sobol phase (randomised-QMC replicates with the Sobol'
+ * sampler, else 1), and the engine options of replicate q without a time cap. */
+size_t prsm_study_sobol_replicates(const prsm_study *s);
+void prsm_study_sobol_options(prsm_mc_options *mo, const prsm_study *s, size_t q);
+
 /* Summaries, SRC/SRRC and stack figures of an existing plain run (used by prsm_study_run and
  * by split runs merged with prsm_mc_result_concat). */
 int prsm_study_summarise(prsm_study_result *r, const prsm_study *s, prsm_error *err);
