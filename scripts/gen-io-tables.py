@@ -29,12 +29,18 @@ project headers it includes are read too) and the members the document does not 
                                  prsm_io_hook_<name>(base, obj, pointer, problems)
   "covered": "engaged_threads"   read by that property's hook (or a step); "writes": [...] the
                                  members it sets there
-  "by": "distribution"           a field (its member, limits, enum) read only when the hand-written
-                                 step named asks for it (prsm_io_get); "required": true makes it
-                                 required then (what a oneOf branch requires)
+  "by": "distribution"           a field or section (its member, limits, enum) read only when the
+                                 hand-written step named asks for it (prsm_io_get); "required": true
+                                 makes it required then (what a oneOf branch requires)
   "skip": true                   checked (type, length) and not stored (names, descriptions)
+  "missing": "..."               a required member's own problem when it is absent (instead of
+                                 "is required (...)"; an array's "{min}", "{max}" are the schema's)
+  "when": "!is_study"            a member of its object (a key, and read) only when that int of the
+                                 document's struct is nonzero ("!": zero); otherwise the allowed
+                                 keys are the others (one condition per object)
   on objects: "field" + "struct" (a member of another struct type: its own table), "init"
-  ([{"field", "value"}] set when the section is present; or a string: the function that sets
+  ([{"field", "value"}]: a member of the holder set when the section is present, before it is
+  read; or a string: the function that sets
   the section's defaults, run at its turn whether it is present or not, and checked against
   the schema's defaults by prsm_io_defaults_<table>_<key>()), "computed" (the section's members
   no property fills), "after" (a hook run on the section once its properties are read), "order"
@@ -46,7 +52,8 @@ project headers it includes are read too) and the members the document does not 
   arrays: "message" (the problem, at the array, when it is not an array of minItems to maxItems
   items or, required, missing; "{min}" and "{max}" are the schema's numbers), "code" (default
   "bad_array"), "field" + "count" (a C array member, of exactly maxItems, and the member counting
-  the items; "compact": true stores the items a step kept without gaps), "each" (a step run on
+  the items; "compact": true stores the items a step kept without gaps; "count" alone: the number
+  of items not stored, once the array's shape is valid), "each" (a step run on
   each item once read: objects by the items' table, whose x-prsm names their "struct" when
   there is no "field"; strings checked against maxLength), "after" (a step run once the array
   is read, present or not). Numbers (with their limits) fill a double array. A step's
@@ -293,6 +300,7 @@ class Gen:
             # the listed ones (and steps) in that order, then the others in the schema's
             seq = [(o, props[o]) if isinstance(o, str) else (None, o) for o in order]
             seq += [(k, v) for k, v in props.items() if k not in names]
+        when = {}  # the condition of the fields with "when" (one per table) -> their keys
         for key, raw in seq + extra:
             if key is None:  # a step
                 fields.append({'name': 'NULL', 'required': '0', 'kind': 'PRSM_IO_STEP',
@@ -302,9 +310,10 @@ class Gen:
             where = f'{self.path}: {ptr}/{key}'
             note = raw.get('x-prsm')
             init_ = {'name': c_string(key), 'required': '1' if key in required else '0'}
-            if note is not None and 'covered' in note and not note.keys() - {'covered', 'writes'}:
+            if note is not None and 'covered' in note and not note.keys() - {'covered', 'writes', 'missing', 'when'}:
                 init_['kind'] = 'PRSM_IO_COVERED'  # (a reference need not be local then)
                 self.write(scope, sname, prefix, note.get('writes', []))
+                self.presence(init_, note, key, when, where)
                 fields.append(init_)
                 continue
             prop = self.resolve(raw)
@@ -313,6 +322,7 @@ class Gen:
                 note = {}  # a section of the same struct
             if note is None:
                 raise GenError(f'{where} has no "x-prsm" annotation (which C member does it fill?)')
+            self.presence(init_, note, key, when, where)
             ptype = prop.get('type')
             if 'hook' in note:
                 h = note['hook']
@@ -359,11 +369,12 @@ class Gen:
                     child = self.table(prop, f'{ptr}/{key}', sname, prefix, scope, init, iprefix)
                 init_['kind'] = 'PRSM_IO_OBJECT'
                 init_['child'] = '&' + child
+                self.deferred(init_, note, where)
                 if sec_init:
                     if len(sec_init) != 1:
                         raise GenError(f'{where}: one "init" member at most')
                     f0 = sec_init[0]
-                    self.member_type(sname, f0['field'])
+                    self.write(scope, sname, prefix, [f0['field']])
                     init_['has_set'] = '1'
                     init_['set_offset'] = f'offsetof({sname}, {f0["field"]})'
                     init_['set_value'] = str(f0['value'])
@@ -446,8 +457,30 @@ class Gen:
             fields.append(init_)
         if len(fields) > 64:  # prsm_io_at.read has a bit per field
             raise GenError(f'{self.path}: {ptr or "/"} has more than 64 fields and steps: split it into sections')
-        self.tables.append((cname, sname, fields, keys))
+        cond = None
+        if when:
+            if len(when) > 1:
+                raise GenError(f'{self.path}: {ptr or "/"}: its fields\' "when" must name one condition')
+            ((member, negated), governed), = when.items()
+            cond = ([c_string(k) for k in keys if k not in governed],
+                    f'offsetof({self.root_note["struct"]}, {member})', '1' if negated else '0')
+        self.tables.append((cname, sname, fields, keys, cond))
         return cname
+
+    def presence(self, init_, note, key, when, where):
+        """"missing": the problem when a required member is absent; "when": "[!]member", a
+        member of the object (a key, and read) only when that int of the document's struct is
+        nonzero (zero)."""
+        if 'missing' in note:
+            if init_['required'] == '0' and not note.get('required'):
+                raise GenError(f'{where}: "missing" is the problem of a required member')
+            init_['missing'] = c_string(note['missing'])
+        if 'when' in note:
+            member = note['when'].lstrip('!')
+            if self.member_type(self.root_note['struct'], member) != 'int':
+                raise GenError(f'{where}: "when" names {member}, not an int member of {self.root_note["struct"]}')
+            when.setdefault((member, note['when'].startswith('!')), set()).add(key)
+            init_['when'] = '1'
 
     def deferred(self, init_, note, where):
         """"by": read when that step asks; "required" then (what a oneOf branch requires)."""
@@ -471,6 +504,8 @@ class Gen:
         if 'message' not in note:
             raise GenError(f'{where}: an array needs "message" (the problem when it is not one)')
         msg = note['message'].replace('{min}', str(lo)).replace('{max}', str(hi))
+        if 'missing' in note:
+            init_['missing'] = c_string(note['missing'].replace('{min}', str(lo)).replace('{max}', str(hi)))
         init_.update({'kind': 'PRSM_IO_ARRAY', 'min_items': str(lo), 'max_items': 'INT_MAX' if hi is None else str(hi),
                       'code': c_string(note.get('code', 'bad_array')), 'message': c_string(msg)})
         self.limits(note, prop, ptr, key, where)
@@ -490,6 +525,12 @@ class Gen:
                 init_['compact'] = '1'
             self.asserts.append((f'sizeof((({sname} *)0)->{field}) / sizeof({item_struct})', str(hi),
                                  f'{ptr}/{key}: the C array holds maxItems'))
+        elif 'count' in note:  # items not stored: their count once the array's shape is valid
+            ctype = self.member_type(sname, note['count'])
+            if ctype not in ('int', 'size_t'):
+                raise GenError(f'{where}: the count {note["count"]} is an int or a size_t, not {ctype}')
+            self.write(scope, sname, prefix, [note['count']])
+            init_.update({'count_offset': f'offsetof({sname}, {note["count"]})', 'count_size': f'sizeof({ctype})'})
         if items.get('type') == 'object' or 'properties' in items:
             scratch = item_struct is None
             if scratch:  # read into a scratch struct, one item at a time
@@ -603,16 +644,20 @@ def emit(gens, out_dir):
             c.append(f'static const int {base}_values[] = {{' + ', '.join(values) + '};')
         for wrapper, st, fn in g.wrappers:
             c.append(f'static void {wrapper}(void *p)\n{{\n\t{fn}(p);\n}}')
-        for cname, sname, fields, keys in g.tables:
+        for cname, sname, fields, keys, cond in g.tables:
             c.append(f'static const char *const {cname}_keys[] = {{' +
                      ', '.join(c_string(k) for k in keys) + ', NULL};')
+            if cond:
+                c.append(f'static const char *const {cname}_keys_else[] = {{' + ', '.join(cond[0] + ['NULL']) + '};')
             c.append(f'static const prsm_io_field {cname}_fields[] = {{')
             for f in fields:
                 c.append('\t{' + ', '.join(f'.{k} = {v}' for k, v in f.items()) + '},')
             c.append('};')
             export = cname == f'prsm_io_t_{g.doc}'
-            c.append(f'{"" if export else "static "}const prsm_io_table {cname} = {{{c_string(sname)}, '
-                     f'{cname}_fields, sizeof {cname}_fields / sizeof {cname}_fields[0], {cname}_keys}};')
+            tail = f', .keys_else = {cname}_keys_else, .when_offset = {cond[1]}, .when_not = {cond[2]}' if cond else ''
+            c.append(f'{"" if export else "static "}const prsm_io_table {cname} = {{.struct_name = {c_string(sname)}, '
+                     f'.fields = {cname}_fields, .n_fields = sizeof {cname}_fields / sizeof {cname}_fields[0], '
+                     f'.keys = {cname}_keys{tail}}};')
             c.append('')
             if export:
                 h.append(f'extern const prsm_io_table {cname};')
@@ -638,7 +683,7 @@ def emit(gens, out_dir):
             c.append('}')
             c.append('')
         # the sections other code reads on their own (e.g. an operating point in a study)
-        for cname, sname, fields, keys in g.tables:
+        for cname, sname, fields, keys, cond in g.tables:
             for sec in g.root_note.get('export', []):
                 if cname == f'prsm_io_t_{g.doc}_{sec}':
                     c.append(f'const prsm_io_table *const {cname}_table = &{cname};')

@@ -164,4 +164,60 @@ study_check('a section\'s defaults function runs at its turn; its defaults are c
 study_check('... and a schema default it does not set is reported by prsm_io_defaults_study_monte_carlo()',
             lambda s: s[D]['monte_carlo']['properties']['samples'].update(default=20000), 0,
             'if (!(s->samples == 20000)) {')
+
+# ---- the allocation and optimisation documents: "missing", "when", sections "by" a step -------
+docs = {}
+for name in ('allocation', 'optimization'):
+    with open(os.path.join(src, 'schemas', f'{name}.schema.json'), encoding='utf-8') as f:
+        docs[name] = json.load(f)
+
+
+def doc_check(doc, name, edit, want_rc, want_text=''):
+    s = copy.deepcopy(docs[doc])
+    if edit:
+        edit(s)
+    check(name, s, want_rc, want_text, file=f'{doc}.schema.json')
+
+
+def alloc_item(s, *path):
+    """The x-prsm of an allocate item's property."""
+    node = s['properties']['allocate']['items']
+    for k in path:
+        node = node['properties'][k]
+    return node.setdefault('x-prsm', {})
+
+
+doc_check('allocation', 'the allocation schema generates: a required member\'s own problem when it is missing', None,
+          0, '{.name = "cost", .required = 1, .missing = "cost is required: {\\"model\\": ..., \\"coefficient\\": ...}"')
+doc_check('allocation', '"missing" on a member that is not required is refused',
+          lambda s: alloc_item(s, 'bounds').update(missing='x'), 1, '"missing" is the problem of a required member')
+doc_check('optimization', 'the optimisation schema generates: an array\'s "missing" with {min} and {max}', None, 0,
+          '.missing = "is required (1..4 objectives)", .kind = PRSM_IO_ARRAY')
+doc_check('allocation', '"when": the keys of the object when the condition fails, and the condition', None, 0,
+          'prsm_io_t_allocation_allocate_keys_else[] = {"parameter", "cost", "bounds", NULL};')
+doc_check('allocation', '... the table names the int of the document it tests', None, 0,
+          '.keys_else = prsm_io_t_allocation_allocate_keys_else, .when_offset = offsetof(prsm_io_allocation, '
+          'is_study), .when_not = 1}')
+doc_check('allocation', '... and the fields it governs', None, 0,
+          '{.name = "sd_ratio", .required = 0, .when = 1, .offset = offsetof(prsm_io_alloc_tolerance, sd_ratio)')
+doc_check('allocation', '"when" naming a member that is not an int of the document is refused',
+          lambda s: alloc_item(s, 'sd_ratio').update(when='!name'), 1, 'not an int member of prsm_io_allocation')
+doc_check('allocation', 'two conditions in one table are refused',
+          lambda s: alloc_item(s, 'sd_ratio').update(when='is_study'), 1, '"when" must name one condition')
+doc_check('allocation', 'a section "by" a step is read when the step asks', None, 0,
+          '{.name = "analytic", .required = 0, .offset = 0, .kind = PRSM_IO_OBJECT, .child = '
+          '&prsm_io_t_allocation_analytic, .deferred = 1}')
+doc_check('allocation', 'a section "by" no step or hook is refused',
+          lambda s: s['properties']['analytic']['x-prsm'].update(by='nosuch'), 1,
+          '"by" names nosuch, which is no step or hook')
+doc_check('allocation', 'the member a section\'s "init" sets counts as filled (without it: refused)',
+          lambda s: s['properties']['constraints']['items']['properties']['spec']['x-prsm'].pop('init'), 1,
+          'members of prsm_io_alloc_constraint that no property fills and "computed" does not list: has_spec')
+doc_check('allocation', 'an array of scratch items counts them ("count" without "field")', None, 0,
+          '.message = "constraints: an array of 1 to 16 outputs with a target", .count_offset = '
+          'offsetof(prsm_io_allocation, model.m), .count_size = sizeof(size_t), .item_size = '
+          'sizeof(prsm_io_alloc_constraint)')
+doc_check('allocation', '... into an int or a size_t only',
+          lambda s: s['properties']['constraints']['x-prsm'].update(count='model.nominal'), 1,
+          'the count model.nominal is an int or a size_t')
 sys.exit(1 if failed else 0)

@@ -7,8 +7,10 @@
  * schema's limits, removed, or joined by a misspelt key; each property of the schema the design
  * lacks added with each of those values), go through both readers; the
  * return codes, the problem lists (pointer, code, message, in order) and the structs must be
- * identical; the same for the analyze request's "assembly" options. The legacy readers
- * (tests/legacy/) go once every document is ported.
+ * identical; the same for the analyze request's "assembly" options, the study, and the
+ * optimisation and allocation documents (their examples with variants, each member also
+ * repeated; tests/schema_test.py's invalid documents; the fuzz corpora; each under two of the
+ * callers' caps). The legacy readers (tests/legacy/) go once every document is ported.
  */
 #include "test_support.h"
 
@@ -20,6 +22,7 @@
 #include "io/study_json.h"
 #include "io/json_util.h"
 #include "legacy/design_reader_legacy.h"
+#include "legacy/opt_alloc_reader_legacy.h"
 
 typedef struct {
 	int documents, valid, invalid;
@@ -217,8 +220,13 @@ static cJSON *variant(int k, double limit_hint)
 }
 #define VARIANTS 19
 
-/* The schema's limits that numbers are tried at, beside the generic values. */
+/* The schema's limits that numbers are tried at, beside the generic values (limit_set: the ones
+ * of the document at hand). */
 static const double limits[] = {12, 50, 90, 64, 500, 5000, 20000, 2000, 1e8, 1e5, 50000, 1000, 1e6, 45, 5, 2, 6};
+static const double *limit_set = limits;
+static size_t n_limit_set = sizeof limits / sizeof limits[0];
+/* 1: mutate_all also repeats each member (a duplicate key) */
+static int mutate_duplicates;
 
 /* Every member of every object under node, in turn: replaced by each variant, removed, and a
  * misspelt sibling added; each resulting document compared. root is the whole design. */
@@ -241,8 +249,8 @@ static void mutate_all(cJSON *root, cJSON *node, tally *t, compare_fn compare_on
 	for (cJSON *m = node->child; m; m = m->next) {
 		cJSON saved = *m;
 		for (int k = 0; k < VARIANTS; k++) {
-			for (size_t l = 0; l < (k >= 13 && k <= 15 ? sizeof limits / sizeof limits[0] : 1); l++) {
-				cJSON *v = variant(k, limits[l]);
+			for (size_t l = 0; l < (k >= 13 && k <= 15 ? n_limit_set : 1); l++) {
+				cJSON *v = variant(k, limit_set[l]);
 				/* put v's value in m's place, keeping m's key and links */
 				m->type = v->type;
 				m->valuedouble = v->valuedouble;
@@ -290,6 +298,20 @@ static void mutate_all(cJSON *root, cJSON *node, tally *t, compare_fn compare_on
 					node->child->prev = m;
 			}
 		}
+		/* each member repeated: a duplicate key at the end (the reader reads the first) */
+		for (cJSON *m = node->child; mutate_duplicates && m; m = m->next) {
+			cJSON *dup = cJSON_Duplicate(m, 1);
+			cJSON *last = node->child->prev;
+			last->next = dup;
+			dup->prev = last;
+			node->child->prev = dup;
+			compare_one(root, t);
+			last->next = NULL;
+			node->child->prev = last;
+			cJSON_Delete(dup);
+			if (m == last)
+				break;
+		}
 		/* a misspelt key beside the others */
 		if (node->child && node->child->string) {
 			char bad[64];
@@ -329,8 +351,8 @@ static void fill_absent(cJSON *root, cJSON *node, const cJSON *schema, tally *t,
 			continue;
 		}
 		for (int k = 0; k < VARIANTS; k++)
-			for (size_t l = 0; l < (k >= 13 && k <= 15 ? sizeof limits / sizeof limits[0] : 1); l++) {
-				cJSON_AddItemToObject(node, p->string, variant(k, limits[l]));
+			for (size_t l = 0; l < (k >= 13 && k <= 15 ? n_limit_set : 1); l++) {
+				cJSON_AddItemToObject(node, p->string, variant(k, limit_set[l]));
 				compare_one(root, t);
 				cJSON_DeleteItemFromObjectCaseSensitive(node, p->string);
 			}
@@ -657,6 +679,235 @@ static void test_study_documents(void **state)
 	schema_root = NULL;
 }
 
+/* ---- the allocation and optimisation documents ------------------------------------------------ */
+
+/* Their limits that numbers are tried at. */
+static const double doc_limits[] = {100, 50, 500000, 1e100, 20, 30, 0.5, 1e-4, 4000000, 2147483647, 16, 64, 65536,
+                                    1e15, 1e6, 86400, 0.1, 9007199254740991.0, 600, 1000, 12, 500, 90, 40, 95};
+
+/* The caps the callers give (0: the document's own): each document is read under each. */
+static const size_t alloc_caps[] = {0, 100000};
+
+/* One allocation document through the reader before the port (tests/legacy/) and today's, under
+ * each sample cap: return codes, problems and warnings identical, and the loaded structs (their
+ * studies normalised as the study comparison's are) byte for byte. The tally counts the
+ * document once (under the first cap). */
+static void compare_allocation(const cJSON *doc, tally *t)
+{
+	static unsigned long calls;
+	if (calls++ % STUDY_STRIDE)
+		return;
+	tally other = {0, 0, 0};
+	for (size_t k = 0; k < sizeof alloc_caps / sizeof alloc_caps[0]; k++) {
+		prsm_io_allocation *a = NULL, *b = NULL;
+		for (int l = 0; l < 4; l++)
+			prsm_problems_init(&study_lists[l]);
+		const int ra = prsm_legacy_allocation_read(&a, doc, alloc_caps[k], &study_lists[2], &study_lists[0]);
+		const int rb = prsm_io_allocation_read(&b, doc, alloc_caps[k], &study_lists[3], &study_lists[1]);
+		if (ra == 0 && rb == 0) {
+			assert_true((a->study == NULL) == (b->study == NULL));
+			if (a->study) {
+				normalise(a->study);
+				normalise(b->study);
+				tally ts = {0, 0, 0};
+				check_same("allocation's study", doc, ra, rb, &study_lists[0], &study_lists[1], a->study, b->study,
+				           sizeof *a->study, &ts);
+			}
+			prsm_io_study *sa = a->study, *sb = b->study;
+			a->study = b->study = NULL;
+			check_same("allocation", doc, ra, rb, &study_lists[0], &study_lists[1], a, b, sizeof *a, k ? &other : t);
+			a->study = sa;
+			b->study = sb;
+		} else {
+			check_same("allocation", doc, ra, rb, &study_lists[0], &study_lists[1], NULL, NULL, 0, k ? &other : t);
+		}
+		tally w = {0, 0, 0};
+		check_same("allocation warnings", doc, ra, rb, &study_lists[2], &study_lists[3], NULL, NULL, 0, &w);
+		prsm_io_allocation_free(a);
+		prsm_io_allocation_free(b);
+	}
+}
+
+/* A document and its variants (each member replaced, removed, repeated, misspelt; each absent
+ * property added) outside the skipped members. */
+static void doc_variants(cJSON *doc, tally *t, compare_fn compare_one)
+{
+	compare_one(doc, t);
+	if (!cJSON_IsObject(doc))
+		return;
+	mutate_all(doc, doc, t, compare_one);
+	fill_absent(doc, doc, schema_root, t, compare_one);
+}
+
+/* The documents tests/schema_test.py builds for kind (tests/legacy/opt_alloc_documents.py, the
+ * examples first): each with its variants when `variants`, else as it is. Returns their count. */
+static int schema_test_documents(const char *src, const char *kind, int variants, tally *t, compare_fn compare_one)
+{
+	char cmd[1600];
+	snprintf(cmd, sizeof cmd, "/usr/bin/python3 '%s/tests/legacy/opt_alloc_documents.py' '%s' %s", src, src, kind);
+	FILE *p = popen(cmd, "r");
+	assert_non_null(p);
+	char *line = NULL;
+	size_t cap = 0;
+	ssize_t len;
+	int lines = 0;
+	while ((len = getline(&line, &cap, p)) > 0) {
+		lines++;
+		prsm_problems pp;
+		prsm_problems_init(&pp);
+		cJSON *doc = prsm_json_parse(line, (size_t)len, &pp);
+		if (doc && variants)
+			doc_variants(doc, t, compare_one);
+		else if (doc)
+			compare_one(doc, t);
+		cJSON_Delete(doc);
+	}
+	free(line);
+	assert_int_equal(pclose(p), 0);
+	return lines;
+}
+
+/* Every file of a directory, as it is. */
+typedef struct {
+	tally *t;
+	compare_fn compare_one;
+} corpus_ctx;
+
+static void corpus_file(const char *path, void *vctx)
+{
+	corpus_ctx *c = vctx;
+	cJSON *doc = read_json(path);
+	if (doc)
+		c->compare_one(doc, c->t);
+	cJSON_Delete(doc);
+}
+
+static const char *const doc_skip[] = {"design", "errors", "study", NULL};
+
+/* The allocation documents: the examples (in schema_test.py's list) and their variants outside
+ * the embedded study and design (whose readers are compared above), schema_test.py's invalid
+ * ones, the fuzz corpus. */
+static void test_allocation_documents(void **state)
+{
+	(void)state;
+	char src[512], path[1024];
+	prsm_test_source_dir(src, sizeof src);
+	snprintf(path, sizeof path, "%s/schemas/allocation.schema.json", src);
+	cJSON *schema = read_json(path);
+	assert_non_null(schema);
+	schema_root = schema;
+	mutate_skip = doc_skip;
+	mutate_duplicates = 1;
+	limit_set = doc_limits;
+	n_limit_set = sizeof doc_limits / sizeof doc_limits[0];
+	study_pair_alloc();
+	tally t = {0, 0, 0}, tf = {0, 0, 0};
+	const int lines = schema_test_documents(src, "allocation", 1, &t, compare_allocation);
+	print_message("schema_test.py's %d allocation documents and their variants: %d documents (%d valid, %d "
+	              "invalid), identical\n", lines, t.documents, t.valid, t.invalid);
+	assert_true(lines >= 9 && t.valid > 2000 / STUDY_STRIDE && t.invalid > 30000 / STUDY_STRIDE);
+	snprintf(path, sizeof path, "%s/tests/fuzz/corpus/allocation", src);
+	corpus_ctx c = {&tf, compare_allocation};
+	each_file(path, corpus_file, &c);
+	print_message("the allocation fuzz corpus: %d documents (%d valid, %d invalid), identical\n", tf.documents,
+	              tf.valid, tf.invalid);
+	assert_true(tf.documents >= 50 / STUDY_STRIDE);
+	study_pair_free();
+	limit_set = limits;
+	n_limit_set = sizeof limits / sizeof limits[0];
+	mutate_duplicates = 0;
+	mutate_skip = NULL;
+	cJSON_Delete(schema);
+	schema_root = NULL;
+}
+
+/* The evaluation caps the callers give (0: the document's own). */
+static const size_t opt_caps[] = {0, 500};
+static prsm_io_optimization *opt_pair[2];
+
+/* One optimisation document through the reader before the port and today's, under each cap:
+ * return codes, problems and warnings identical, and the loaded structs byte for byte (the
+ * robust constraints' pointer into the struct as an offset, the candidates' study document as
+ * its text). */
+static void compare_optimization(const cJSON *doc, tally *t)
+{
+	static unsigned long calls;
+	if (calls++ % STUDY_STRIDE)
+		return;
+	prsm_io_optimization *a = opt_pair[0], *b = opt_pair[1];
+	tally other = {0, 0, 0};
+	for (size_t k = 0; k < sizeof opt_caps / sizeof opt_caps[0]; k++) {
+		for (int l = 0; l < 4; l++)
+			prsm_problems_init(&study_lists[l]);
+		const int ra = prsm_legacy_optimization_read(a, doc, opt_caps[k], &study_lists[2], &study_lists[0]);
+		const int rb = prsm_io_optimization_read(b, doc, opt_caps[k], &study_lists[3], &study_lists[1]);
+		size_t size = 0;
+		if (ra == 0 && rb == 0) {
+			size = sizeof *a;
+			char *sa = a->study ? cJSON_PrintUnformatted(a->study) : NULL;
+			char *sb = b->study ? cJSON_PrintUnformatted(b->study) : NULL;
+			if ((sa == NULL) != (sb == NULL) || (sa && strcmp(sa, sb))) {
+				print_error("optimisation: the robust study documents differ\n%s\n%s\n", sa ? sa : "-", sb ? sb : "-");
+				fail();
+			}
+			cJSON_free(sa);
+			cJSON_free(sb);
+			prsm_io_optimization *o[2] = {a, b};
+			for (int l = 0; l < 2; l++) {
+				cJSON_Delete(o[l]->study);
+				o[l]->study = NULL;
+				if (o[l]->spec.robust == &o[l]->robust)
+					o[l]->spec.robust = (prsm_robust *)(uintptr_t)1;
+			}
+		}
+		check_same("optimisation", doc, ra, rb, &study_lists[0], &study_lists[1], a, b, size, k ? &other : t);
+		tally w = {0, 0, 0};
+		check_same("optimisation warnings", doc, ra, rb, &study_lists[2], &study_lists[3], NULL, NULL, 0, &w);
+		prsm_io_optimization_release(a);
+		prsm_io_optimization_release(b);
+	}
+}
+
+/* The optimisation documents: the examples and schema_test.py's invalid ones with their
+ * variants outside the base design (compared above), the fuzz corpus. */
+static void test_optimization_documents(void **state)
+{
+	(void)state;
+	char src[512], path[1024];
+	prsm_test_source_dir(src, sizeof src);
+	snprintf(path, sizeof path, "%s/schemas/optimization.schema.json", src);
+	cJSON *schema = read_json(path);
+	assert_non_null(schema);
+	schema_root = schema;
+	mutate_skip = doc_skip;
+	mutate_duplicates = 1;
+	limit_set = doc_limits;
+	n_limit_set = sizeof doc_limits / sizeof doc_limits[0];
+	for (int k = 0; k < 2; k++) {
+		opt_pair[k] = calloc(1, sizeof *opt_pair[k]);
+		assert_non_null(opt_pair[k]);
+	}
+	tally t = {0, 0, 0}, tf = {0, 0, 0};
+	const int lines = schema_test_documents(src, "optimization", 1, &t, compare_optimization);
+	print_message("schema_test.py's %d optimisation documents and their variants: %d documents (%d valid, %d "
+	              "invalid), identical\n", lines, t.documents, t.valid, t.invalid);
+	assert_true(lines >= 18 && t.valid > 500 / STUDY_STRIDE && t.invalid > 5000 / STUDY_STRIDE);
+	snprintf(path, sizeof path, "%s/tests/fuzz/corpus/optimization", src);
+	corpus_ctx c = {&tf, compare_optimization};
+	each_file(path, corpus_file, &c);
+	print_message("the optimisation fuzz corpus: %d documents (%d valid, %d invalid), identical\n", tf.documents,
+	              tf.valid, tf.invalid);
+	assert_true(tf.documents >= 50 / STUDY_STRIDE);
+	free(opt_pair[0]);
+	free(opt_pair[1]);
+	limit_set = limits;
+	n_limit_set = sizeof limits / sizeof limits[0];
+	mutate_duplicates = 0;
+	mutate_skip = NULL;
+	cJSON_Delete(schema);
+	schema_root = NULL;
+}
+
 /* The schemas' "default"s are what the C init functions set: checked by the generated
  * prsm_io_defaults_<table> (scripts/gen-io-tables.py), one problem per difference. */
 int prsm_io_defaults_design(prsm_problems *problems);
@@ -684,12 +935,16 @@ static void test_schema_defaults(void **state)
 int main(void)
 {
 	prsm_global_init();
+	if (getenv("PRSM_TEST_FILTER")) /* e.g. "test_optimization*": one part of the proof */
+		cmocka_set_test_filter(getenv("PRSM_TEST_FILTER"));
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_examples_and_variants),
 		cmocka_unit_test(test_fuzz_corpora),
 		cmocka_unit_test(test_assembly_options),
 		cmocka_unit_test(test_study_monte_carlo),
 		cmocka_unit_test(test_study_documents),
+		cmocka_unit_test(test_allocation_documents),
+		cmocka_unit_test(test_optimization_documents),
 		cmocka_unit_test(test_schema_defaults),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);

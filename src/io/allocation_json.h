@@ -52,6 +52,26 @@ typedef struct {
 	size_t samples;
 } prsm_io_allocation;
 
+/* The items of the document's arrays as the table-driven reader reads them (generated from the
+ * schema, src/io/doc.h); the steps of allocation_json.c move them into the parallel arrays above. */
+typedef struct {
+	double nominal;
+} prsm_io_alloc_output;                          /* analytic/outputs/N (its name: the step's) */
+typedef struct {
+	double lower, upper;
+} prsm_io_alloc_bounds;
+void prsm_io_alloc_bounds_init(prsm_io_alloc_bounds *b); /* lower 0, upper INFINITY (none) */
+typedef struct {
+	prsm_alloc_cost cost;
+	prsm_io_alloc_bounds bounds;
+	double sd_ratio, reference_half_width;
+} prsm_io_alloc_tolerance;                       /* allocate/N (its parameter: the step's) */
+typedef struct {
+	prsm_spec spec;                              /* the constraint's own spec, when has_spec */
+	int has_spec;
+	double target_yield_percent, target_ppm, assembly_tolerance;
+} prsm_io_alloc_constraint;                      /* constraints/N (its output: the step's) */
+
 /* Read and check doc into *out (owned by the caller: prsm_io_allocation_free): a study is
  * loaded, an analytic stack's linear model filled in; a study's linear model and the
  * feasibility of the allocation are the run's (src/app/allocate.h). max_samples caps the Monte

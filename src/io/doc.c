@@ -84,7 +84,7 @@ static void read_items(const prsm_io_at *r, void *base, const prsm_io_field *f, 
 		if (f->compact) /* the count as it grows */
 			put_count(base, f, ++kept);
 	}
-	if (f->stored && !f->compact)
+	if (f->count_size && !f->compact)
 		put_count(base, f, (size_t)i);
 }
 
@@ -92,11 +92,13 @@ static void read_items(const prsm_io_at *r, void *base, const prsm_io_field *f, 
 static int read_field(const prsm_io_at *r, void *base, const prsm_io_field *f, const cJSON *obj, const char *ptr,
                       prsm_problems *problems)
 {
-	const int req = f->required ? PRSM_JSON_REQUIRED : PRSM_JSON_OPTIONAL;
+	const int req = f->required && !f->missing ? PRSM_JSON_REQUIRED : PRSM_JSON_OPTIONAL;
 	char p[PRSM_JSON_POINTER_MAX];
 	const cJSON *sub;
 	int present = 0, v;
 	double d;
+	if (f->missing && f->required && !cJSON_GetObjectItemCaseSensitive(obj, f->name))
+		prsm_io_problem(problems, ptr, f->name, "required", "%s", f->missing);
 	switch (f->kind) {
 	case PRSM_IO_NUMBER: {
 		const prsm_json_range range = {f->min, f->max, f->min_exclusive, f->max_exclusive};
@@ -154,7 +156,7 @@ static int read_field(const prsm_io_at *r, void *base, const prsm_io_field *f, c
 		prsm_json_pointer_append(p, sizeof p, ptr, f->name);
 		if (sub && cJSON_IsArray(sub) && n >= f->min_items && n <= f->max_items)
 			read_items(r, base, f, sub, p, problems);
-		else if (sub || f->required)
+		else if (sub || (f->required && !f->missing))
 			prsm_problems_add(problems, p, sub ? f->code : "required", "%s", f->message);
 		prsm_io_at at = {r->root, r->ctx, base, NULL, sub, p, -1, start, 0};
 		if (f->after)
@@ -189,12 +191,19 @@ static int read_object(const prsm_io_at *r, void *base, const prsm_io_table *t, 
                        int index, int start, prsm_io_at *at, prsm_problems *problems)
 {
 	*at = (prsm_io_at){r->root, r->ctx, base, t, obj, ptr, index, start, 0};
-	prsm_json_check_keys(obj, ptr, t->keys, problems);
+	int holds = 1;
+	if (t->keys_else) {
+		int v;
+		memcpy(&v, (const char *)r->root + t->when_offset, sizeof v);
+		holds = (v != 0) != t->when_not;
+	}
+	prsm_json_check_keys(obj, ptr, holds ? t->keys : t->keys_else, problems);
 	for (size_t i = 0; i < t->n_fields; i++) {
 		const prsm_io_field *f = &t->fields[i];
 		if (f->kind == PRSM_IO_STEP && f->step(at, problems))
 			return 1;
-		if (f->kind != PRSM_IO_STEP && !f->deferred && read_field(r, base, f, obj, ptr, problems) && i < 64)
+		if (f->kind != PRSM_IO_STEP && !f->deferred && (holds || !f->when) &&
+		    read_field(r, base, f, obj, ptr, problems) && i < 64)
 			at->read |= 1ULL << i;
 	}
 	return 0;

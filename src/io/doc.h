@@ -4,12 +4,14 @@
  * name, type, limits, unit scale and C member are stated once, in the schema.
  *
  * prsm_io_read checks an object against its table: unknown and repeated keys (with a
- * did-you-mean), every field's type and limits (the messages of json_util.h's value checkers),
- * required members, either/or conflicts, arrays (item by item into a C array or a scratch
- * struct) and maps (objects of named items); it stores each valid value, scaled, at its member
- * and calls the hand-written hooks and steps for what a table cannot say (cross-field rules,
- * conversions that need other fields), each at its place in the order. Every problem is
- * collected with its JSON pointer; a member whose value is invalid keeps what it held.
+ * did-you-mean; members that exist only while an int of the document holds), every field's type
+ * and limits (the messages of json_util.h's value checkers), required members (with their own
+ * message where the schema gives one), either/or conflicts, arrays (item by item into a C array
+ * or a scratch struct) and maps (objects of named items); it stores each valid value, scaled,
+ * at its member and calls the hand-written hooks and steps for what a table cannot say
+ * (cross-field rules, conversions that need other fields), each at its place in the order.
+ * Every problem is collected with its JSON pointer; a member whose value is invalid keeps what
+ * it held.
  */
 #ifndef PRSM_IO_DOC_H
 #define PRSM_IO_DOC_H
@@ -86,13 +88,15 @@ typedef struct {
 	int set_value;                 /*   is read */
 	const char *conflict_with;     /* a member that must not be present with this one */
 	const char *conflict_message;
+	const char *missing;           /* required: the problem when it is absent (not the generic one) */
 	int deferred;                  /* read only when a step asks (prsm_io_get) */
+	int when;                      /* a member (a key, and read) only when the table's condition holds */
 	prsm_io_step step;             /* steps; arrays and maps: run on each item once read */
 	/* arrays: missing (required) or not an array of min_items to max_items: one problem, code
 	 * ("required" when missing) and message; stored: item i at offset + i x item_size (compact:
-	 * the kept ones without gaps), their count at count_offset (an int or a size_t); else object
-	 * items are read into a scratch struct of item_size. items: PRSM_IO_STRING (max_chars) or
-	 * PRSM_IO_NUMBER (min, max) when they are not objects */
+	 * the kept ones without gaps); else object items are read into a scratch struct of
+	 * item_size. Their count at count_offset (an int or a size_t; count_size 0: none). items:
+	 * PRSM_IO_STRING (max_chars) or PRSM_IO_NUMBER (min, max) when they are not objects */
 	int min_items, max_items;
 	prsm_io_kind items;
 	const char *code, *message;
@@ -107,6 +111,11 @@ typedef struct prsm_io_table {
 	const prsm_io_field *fields;
 	size_t n_fields;
 	const char *const *keys;       /* the allowed members, NULL-terminated */
+	/* fields with `when`: members only when the int at when_offset of the document's struct is
+	 * nonzero (when_not: zero); otherwise keys_else are the allowed members */
+	const char *const *keys_else;
+	size_t when_offset;
+	int when_not;
 } prsm_io_table;
 
 /* Read object obj (pointer obj_pointer) into base by table t: keys, then each field in the

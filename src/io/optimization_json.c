@@ -3,6 +3,14 @@
  * design problem of opt/design_problem.h and the optimiser's options. Every problem of the
  * document is reported at once with its JSON pointer, as src/io/study_json.c does for studies.
  * The result document: optimization_result.c; the run: src/app/optimize.c.
+ *
+ * The fields, their limits and C members are stated once, in the schema ("x-prsm"); io/doc.c
+ * reads the document by the table generated from it. What a table cannot say is here, as the
+ * steps and hooks the schema names: the base design (the variables' defaults), a variable given
+ * as pitch or lead and as roller or screw radius, the integer sets (values or min to max), the
+ * ranges' order, the objectives in the problem's list, what the method needs of them, the
+ * caller's evaluation cap, and the robust constraints with the study every candidate's is made
+ * from, checked once on the base design (its problems re-pointed under /robust).
  */
 #include "io/optimization_json.h"
 
@@ -11,39 +19,24 @@
 #include <string.h>
 
 #include "io/design_json.h"
+#include "io/doc.h"
 #include "io/json_util.h"
 #include "io/study_json.h"
 #include "opt/design_problem.h"
-#include "util/utf8.h"
+#include "prsm_io_tables.h"
 
 const char *const prsm_io_opt_method_names[] = {"single", "weighted_sum", "pareto", NULL};
 
-static const char *const doc_keys[] = {"name", "description", "design", "variables", "objectives",
-                                       "multi_objective", "constraints", "robust", "solver", NULL};
-static const char *const robust_keys[] = {"tolerances", "correlations", "assembly", "monte_carlo",
-                                          "constraints", "surrogate", NULL};
-static const char *const robust_mc_keys[] = {"samples", "seed", "sampler", "block_size", "threads",
-                                             "failure", "edge_contact", NULL};
-static const char *const robust_constraint_keys[] = {"output", "spec", "yield_min_percent", NULL};
-static const char *const spec_keys[] = {"lower", "upper", NULL};
-/* Robust studies: default samples per candidate and the document's cap. */
+/* Robust studies: default samples per candidate. */
 #define ROBUST_DEFAULT_SAMPLES 256
-#define ROBUST_MAX_SAMPLES 65536
-static const char *const variable_keys[] = {"starts", "pitch_mm", "lead_mm", "roller_radius_mm",
-                                            "screw_radius_mm", "rollers", "engaged_threads",
-                                            "flank_angle_deg", NULL};
-static const char *const range_keys[] = {"min", "max", NULL};
-static const char *const set_keys[] = {"values", "min", "max", NULL};
-static const char *const objective_keys[] = {"name", "weight", NULL};
-static const char *const multi_keys[] = {"method", "points", NULL};
-static const char *const constraint_keys[] = {
-	"nut_outer_diameter_max_mm", "screw_diameter_min_mm", "screw_diameter_max_mm",
-	"static_safety_min", "life_min_h", "life_min_revolutions", "p_max_max_MPa",
-	"critical_speed_factor_min", "standard_rules", NULL};
-static const char *const solver_keys[] = {"algorithm", "max_evaluations", "max_time_s", "multistart",
-                                          "seed", "xtol_rel", "ftol_rel", "constraint_tolerance",
-                                          NULL};
 
+/* What the steps share while a document is read. */
+typedef struct {
+	size_t max_evaluations;  /* the caller's cap, 0: PRSM_IO_OPT_MAX_EVALUATIONS */
+	const cJSON *design;     /* the base design */
+	int design_ok;
+	int robust_start;        /* the problems' count once the robust section's keys were checked */
+} opt_reading;
 
 void prsm_io_optimization_release(prsm_io_optimization *od)
 {
@@ -53,34 +46,80 @@ void prsm_io_optimization_release(prsm_io_optimization *od)
 	}
 }
 
-
-/* A continuous range {min, max} at obj[key]. */
-static void read_range(prsm_dp_range *r, const cJSON *obj, const char *base, const char *key,
-                       double lo, double hi, prsm_problems *pr)
+/* The base design: every field the optimiser does not vary. */
+int prsm_io_step_opt_design(prsm_io_at *at, prsm_problems *pr)
 {
-	const cJSON *o = NULL;
-	char ptr[PRSM_JSON_POINTER_MAX];
-	if (prsm_json_get_section(&o, ptr, sizeof ptr, obj, base, key, PRSM_JSON_OPTIONAL, range_keys,
-	                          pr) != PRSM_JSON_PRESENT)
-		return;
-	prsm_json_range rg = {lo, hi, 1, 0};
-	int a = prsm_json_get_number(&r->min, o, ptr, "min", PRSM_JSON_REQUIRED, rg, pr);
-	int b = prsm_json_get_number(&r->max, o, ptr, "max", PRSM_JSON_REQUIRED, rg, pr);
-	if (a == PRSM_JSON_PRESENT && b == PRSM_JSON_PRESENT) {
-		if (!(r->min < r->max)) {
-			char mp[PRSM_JSON_POINTER_MAX];
-			prsm_json_pointer_append(mp, sizeof mp, ptr, "max");
-			prsm_problems_add(pr, mp, "empty_range", "max (%g) must exceed min (%g)", r->max, r->min);
-		}
-		r->vary = 1;
+	opt_reading *c = at->ctx;
+	prsm_design base;
+	c->design = cJSON_GetObjectItemCaseSensitive(at->obj, "design");
+	if (!c->design)
+		prsm_problems_add(pr, "/design", "required", "is required (the base design)");
+	else
+		c->design_ok = prsm_io_design_from_json(&base, c->design, "/design", pr) == 0;
+	if (!c->design_ok)
+		prsm_design_init(&base);
+	prsm_dp_spec_init(&((prsm_io_optimization *)at->root)->spec, &base);
+	return 0;
+}
+
+/* ---- the variables -------------------------------------------------------------------------- */
+
+/* Pitch or lead, roller or screw radius: one of each pair, read as the range it is. */
+int prsm_io_step_opt_variables(prsm_io_at *at, prsm_problems *pr)
+{
+	prsm_dp_spec *s = &((prsm_io_optimization *)at->root)->spec;
+	static const char *const pairs[][2] = {{"pitch_mm", "lead_mm"}, {"roller_radius_mm", "screw_radius_mm"}};
+	int second[2];
+	for (int k = 0; k < 2; k++) {
+		second[k] = cJSON_GetObjectItemCaseSensitive(at->obj, pairs[k][1]) &&
+		            !cJSON_GetObjectItemCaseSensitive(at->obj, pairs[k][0]);
+		if (cJSON_GetObjectItemCaseSensitive(at->obj, pairs[k][0]) &&
+		    cJSON_GetObjectItemCaseSensitive(at->obj, pairs[k][1]))
+			prsm_io_problem(pr, at->pointer, pairs[k][1], "conflict", "give %s or %s, not both", pairs[k][0],
+			                pairs[k][1]);
 	}
+	s->pitch_is_lead = second[0];
+	prsm_io_get(at, pairs[0][second[0]], pr);
+	s->radius_is_screw = second[1];
+	prsm_io_get(at, pairs[1][second[1]], pr);
+	return 0;
+}
+
+/* A range whose min and max were read: min < max, and it varies. */
+static void range_read(const prsm_io_at *at, prsm_dp_range *r, prsm_problems *pr)
+{
+	if (!(r->min < r->max))
+		prsm_io_problem(pr, at->pointer, "max", "empty_range", "max (%g) must exceed min (%g)", r->max, r->min);
+	r->vary = 1;
+}
+
+int prsm_io_step_opt_range(prsm_io_at *at, prsm_problems *pr)
+{
+	if (prsm_io_was_read(at, "min") && prsm_io_was_read(at, "max"))
+		range_read(at, at->base, pr);
+	return 0;
+}
+
+/* The flank angle: read up to 90 deg inclusive, then refused there with its own message. */
+int prsm_io_step_opt_flank(prsm_io_at *at, prsm_problems *pr)
+{
+	prsm_dp_range *r = at->base;
+	const prsm_json_range rg = {0.0, 90.0, 1, 0};
+	const int a = prsm_json_get_number(&r->min, at->obj, at->pointer, "min", PRSM_JSON_REQUIRED, rg, pr);
+	const int b = prsm_json_get_number(&r->max, at->obj, at->pointer, "max", PRSM_JSON_REQUIRED, rg, pr);
+	if (a == PRSM_JSON_PRESENT && b == PRSM_JSON_PRESENT)
+		range_read(at, r, pr);
+	if (r->vary && r->max >= 90.0)
+		prsm_problems_add(pr, at->pointer, "range", "flank angle must stay below 90 deg");
+	return 0;
 }
 
 /* A discrete set {values} or {min, max} at obj[key] (integers in [lo, hi]). max may be left
- * out when allow_auto: *auto_max is then set and the caller fills the set. */
+ * out when allow_auto: *auto_min is then set and the caller fills the set. */
 static void read_set(prsm_dp_set *s, const cJSON *obj, const char *base, const char *key, int lo,
                      int hi, int allow_auto, int *auto_min, prsm_problems *pr)
 {
+	static const char *const set_keys[] = {"values", "min", "max", NULL};
 	const cJSON *o = NULL;
 	char ptr[PRSM_JSON_POINTER_MAX], vp[PRSM_JSON_POINTER_MAX];
 	if (prsm_json_get_section(&o, ptr, sizeof ptr, obj, base, key, PRSM_JSON_OPTIONAL, set_keys,
@@ -105,7 +144,7 @@ static void read_set(prsm_dp_set *s, const cJSON *obj, const char *base, const c
 		cJSON_ArrayForEach(v, values) {
 			char ip[PRSM_JSON_POINTER_MAX];
 			prsm_json_pointer_append_index(ip, sizeof ip, vp, i);
-			int x;
+			int x = i > 0 ? s->values[i - 1] : lo - 1; /* a bad value: as the last good one */
 			if (prsm_json_int_value(&x, v, ip, lo, hi, pr)) {
 				bad = 1;
 			} else if (i > 0 && x <= s->values[i - 1]) {
@@ -139,190 +178,178 @@ static void read_set(prsm_dp_set *s, const cJSON *obj, const char *base, const c
 		s->values[s->count++] = v;
 }
 
-static void read_variables(prsm_io_optimization *od, const cJSON *doc, prsm_problems *pr)
+void prsm_io_hook_opt_starts(void *base, const cJSON *v, const char *p, prsm_problems *pr)
 {
-	const cJSON *v = NULL;
-	char ptr[PRSM_JSON_POINTER_MAX];
-	if (prsm_json_get_section(&v, ptr, sizeof ptr, doc, "", "variables", PRSM_JSON_REQUIRED,
-	                          variable_keys, pr) != PRSM_JSON_PRESENT)
-		return;
-	prsm_dp_spec *s = &od->spec;
-	int unused = -1, rollers_min = -1;
-	read_set(&s->starts, v, ptr, "starts", 3, PRSM_DESIGN_STARTS_MAX, 0, &unused, pr);
-	static const char *const pairs[][2] = {{"pitch_mm", "lead_mm"}, {"roller_radius_mm", "screw_radius_mm"}};
-	for (int k = 0; k < 2; k++)
-		if (cJSON_GetObjectItemCaseSensitive(v, pairs[k][0]) &&
-		    cJSON_GetObjectItemCaseSensitive(v, pairs[k][1])) {
-			char p2[PRSM_JSON_POINTER_MAX];
-			prsm_json_pointer_append(p2, sizeof p2, ptr, pairs[k][1]);
-			prsm_problems_add(pr, p2, "conflict", "give %s or %s, not both", pairs[k][0], pairs[k][1]);
-		}
-	s->pitch_is_lead = cJSON_GetObjectItemCaseSensitive(v, "lead_mm") != NULL &&
-	                   !cJSON_GetObjectItemCaseSensitive(v, "pitch_mm");
-	read_range(&s->pitch, v, ptr, s->pitch_is_lead ? "lead_mm" : "pitch_mm", 0.0,
-	           s->pitch_is_lead ? PRSM_DESIGN_PITCH_MAX_MM * PRSM_DESIGN_STARTS_MAX
-	                            : PRSM_DESIGN_PITCH_MAX_MM, pr);
-	s->radius_is_screw = cJSON_GetObjectItemCaseSensitive(v, "screw_radius_mm") != NULL &&
-	                     !cJSON_GetObjectItemCaseSensitive(v, "roller_radius_mm");
-	read_range(&s->radius, v, ptr, s->radius_is_screw ? "screw_radius_mm" : "roller_radius_mm", 0.0,
-	           1000.0, pr);
-	read_range(&s->flank_deg, v, ptr, "flank_angle_deg", 0.0, 90.0, pr);
-	if (s->flank_deg.vary && s->flank_deg.max >= 90.0) {
-		char p2[PRSM_JSON_POINTER_MAX];
-		prsm_json_pointer_append(p2, sizeof p2, ptr, "flank_angle_deg");
-		prsm_problems_add(pr, p2, "range", "flank angle must stay below 90 deg");
-	}
-	read_set(&s->rollers, v, ptr, "rollers", 1, PRSM_DESIGN_ROLLERS_MAX, 1, &rollers_min, pr);
-	read_set(&s->threads, v, ptr, "engaged_threads", 1, PRSM_DESIGN_ENGAGED_THREADS_MAX, 0, &unused, pr);
-	od->rollers_auto_max = rollers_min;
-	if (!s->pitch.vary && !s->radius.vary && !s->flank_deg.vary && !s->starts.count &&
-	    !s->rollers.count && rollers_min < 0 && !s->threads.count)
-		prsm_problems_add(pr, ptr, "nothing_varies", "give at least one variable a range or values");
+	int unused = -1;
+	read_set(&((prsm_io_optimization *)base)->spec.starts, v, p, "starts", 3, PRSM_DESIGN_STARTS_MAX, 0, &unused, pr);
 }
 
-static void read_objectives(prsm_io_optimization *od, const cJSON *doc, prsm_problems *pr)
+void prsm_io_hook_opt_rollers(void *base, const cJSON *v, const char *p, prsm_problems *pr)
 {
-	const cJSON *arr = cJSON_GetObjectItemCaseSensitive(doc, "objectives");
-	if (!arr) {
-		prsm_problems_add(pr, "/objectives", "required", "is required (1..%d objectives)",
-		                  PRSM_OPT_MAX_OBJECTIVES);
-		return;
-	}
-	if (!cJSON_IsArray(arr) || cJSON_GetArraySize(arr) < 1 ||
-	    cJSON_GetArraySize(arr) > PRSM_OPT_MAX_OBJECTIVES) {
-		prsm_problems_add(pr, "/objectives", "count", "must be an array of 1..%d objectives",
-		                  PRSM_OPT_MAX_OBJECTIVES);
-		return;
-	}
-	int i = 0, seen[PRSM_DP_OBJECTIVE_KINDS] = {0};
-	const cJSON *o;
-	cJSON_ArrayForEach(o, arr) {
-		char ip[PRSM_JSON_POINTER_MAX], np[PRSM_JSON_POINTER_MAX];
-		prsm_json_pointer_append_index(ip, sizeof ip, "/objectives", i);
-		if (prsm_json_object_value(o, ip, pr)) {
-			i++;
-			continue;
-		}
-		prsm_json_check_keys(o, ip, objective_keys, pr);
-		int kind = 0;
-		double w = 1.0;
-		prsm_json_get_number(&w, o, ip, "weight", PRSM_JSON_OPTIONAL,
-		                     (prsm_json_range){0.0, 1e6, 0, 0}, pr);
-		if (prsm_json_get_enum(&kind, o, ip, "name", PRSM_JSON_REQUIRED, prsm_dp_objective_names,
-		                       pr) == PRSM_JSON_PRESENT) {
-			prsm_json_pointer_append(np, sizeof np, ip, "name");
-			if (seen[kind]++)
-				prsm_problems_add(pr, np, "duplicate", "objective %s given twice",
-				                  prsm_dp_objective_names[kind]);
-			od->spec.objective[od->spec.n_objectives] = kind;
-			od->weight[od->spec.n_objectives] = w;
-			od->spec.n_objectives++;
-		}
-		i++;
-	}
+	prsm_io_optimization *od = base;
+	od->rollers_auto_max = -1;
+	read_set(&od->spec.rollers, v, p, "rollers", 1, PRSM_DESIGN_ROLLERS_MAX, 1, &od->rollers_auto_max, pr);
 }
 
-static void read_multi(prsm_io_optimization *od, const cJSON *doc, prsm_problems *pr)
+void prsm_io_hook_opt_threads(void *base, const cJSON *v, const char *p, prsm_problems *pr)
 {
-	const cJSON *m = NULL;
-	char ptr[PRSM_JSON_POINTER_MAX];
-	od->method = PRSM_IO_OPT_SINGLE;
-	od->points = 7;
-	int n = od->spec.n_objectives;
-	int present = prsm_json_get_section(&m, ptr, sizeof ptr, doc, "", "multi_objective",
-	                                    PRSM_JSON_OPTIONAL, multi_keys, pr);
-	if (present != PRSM_JSON_PRESENT) {
-		if (n > 1)
-			prsm_problems_add(pr, "/multi_objective", "required",
-			                  "%d objectives need a multi_objective method (weighted_sum or pareto)", n);
-		return;
-	}
-	int method = PRSM_IO_OPT_WEIGHTED;
-	prsm_json_get_enum(&method, m, ptr, "method", PRSM_JSON_REQUIRED, prsm_io_opt_method_names, pr);
-	prsm_json_get_int(&od->points, m, ptr, "points", PRSM_JSON_OPTIONAL, 2,
-	                  PRSM_IO_OPT_MAX_PARETO_POINTS, pr);
-	od->method = method;
-	char mp[PRSM_JSON_POINTER_MAX];
-	prsm_json_pointer_append(mp, sizeof mp, ptr, "method");
-	if (method == PRSM_IO_OPT_PARETO && n != 2)
-		prsm_problems_add(pr, mp, "objectives", "a Pareto sweep needs exactly 2 objectives (got %d)", n);
-	if (method == PRSM_IO_OPT_WEIGHTED) {
+	int unused = -1;
+	read_set(&((prsm_io_optimization *)base)->spec.threads, v, p, "engaged_threads", 1,
+	         PRSM_DESIGN_ENGAGED_THREADS_MAX, 0, &unused, pr);
+}
+
+int prsm_io_step_opt_nothing_varies(prsm_io_at *at, prsm_problems *pr)
+{
+	const prsm_io_optimization *od = at->root;
+	const prsm_dp_spec *s = &od->spec;
+	if (!s->pitch.vary && !s->radius.vary && !s->flank_deg.vary && !s->starts.count && !s->rollers.count &&
+	    od->rollers_auto_max < 0 && !s->threads.count)
+		prsm_problems_add(pr, at->pointer, "nothing_varies", "give at least one variable a range or values");
+	return 0;
+}
+
+/* ---- objectives, method, constraints, solver ------------------------------------------------- */
+
+/* An objective, once, appended to the problem's list with its weight (default 1). */
+int prsm_io_step_opt_objective(prsm_io_at *at, prsm_problems *pr)
+{
+	prsm_io_optimization *od = at->root;
+	const prsm_io_opt_objective *o = at->base;
+	if (!prsm_io_was_read(at, "name"))
+		return 0;
+	for (int k = 0; k < od->spec.n_objectives; k++)
+		if (od->spec.objective[k] == o->kind) {
+			prsm_io_problem(pr, at->pointer, "name", "duplicate", "objective %s given twice",
+			                prsm_dp_objective_names[o->kind]);
+			break;
+		}
+	od->spec.objective[od->spec.n_objectives] = o->kind;
+	od->weight[od->spec.n_objectives] = prsm_io_was_read(at, "weight") ? o->weight : 1.0;
+	od->spec.n_objectives++;
+	return 0;
+}
+
+/* What the method needs of the objectives. */
+void prsm_io_hook_opt_method(void *base, const cJSON *m, const char *p, prsm_problems *pr)
+{
+	(void)m;
+	const prsm_io_optimization *od = base;
+	const int n = od->spec.n_objectives;
+	if (od->method == PRSM_IO_OPT_PARETO && n != 2)
+		prsm_io_problem(pr, p, "method", "objectives", "a Pareto sweep needs exactly 2 objectives (got %d)", n);
+	if (od->method == PRSM_IO_OPT_WEIGHTED) {
 		double sum = 0.0;
 		for (int k = 0; k < n; k++)
 			sum += od->weight[k];
 		if (!(sum > 0.0))
 			prsm_problems_add(pr, "/objectives", "weights", "at least one weight must be positive");
 	}
-	if (method == PRSM_IO_OPT_SINGLE && n > 1)
-		prsm_problems_add(pr, mp, "objectives", "single needs exactly one objective (got %d)", n);
+	if (od->method == PRSM_IO_OPT_SINGLE && n > 1)
+		prsm_io_problem(pr, p, "method", "objectives", "single needs exactly one objective (got %d)", n);
 }
 
-static void read_constraints(prsm_io_optimization *od, const cJSON *doc, prsm_problems *pr)
+/* Several objectives need a method. */
+int prsm_io_step_opt_multi(prsm_io_at *at, prsm_problems *pr)
 {
-	const cJSON *c = NULL;
-	char ptr[PRSM_JSON_POINTER_MAX];
-	if (prsm_json_get_section(&c, ptr, sizeof ptr, doc, "", "constraints", PRSM_JSON_OPTIONAL,
-	                          constraint_keys, pr) != PRSM_JSON_PRESENT)
-		return;
-	prsm_dp_spec *s = &od->spec;
-	double *field[] = {&s->nut_outer_diameter_max_mm, &s->screw_diameter_min_mm,
-	                   &s->screw_diameter_max_mm, &s->static_safety_min, &s->life_min_h,
-	                   &s->life_min_revolutions, &s->p_max_max_MPa, &s->critical_speed_factor_min};
-	const prsm_json_range big = {0.0, 1e15, 1, 0};
-	for (int k = 0; k < 8; k++)
-		prsm_json_get_number(field[k], c, ptr, constraint_keys[k], PRSM_JSON_OPTIONAL, big, pr);
-	prsm_json_get_bool(&s->standard_rules, c, ptr, "standard_rules", PRSM_JSON_OPTIONAL, pr);
+	const int n = ((prsm_io_optimization *)at->root)->spec.n_objectives;
+	if (!cJSON_IsObject(cJSON_GetObjectItemCaseSensitive(at->obj, "multi_objective")) && n > 1)
+		prsm_problems_add(pr, "/multi_objective", "required",
+		                  "%d objectives need a multi_objective method (weighted_sum or pareto)", n);
+	return 0;
+}
+
+void prsm_io_hook_opt_constraints(void *base, const cJSON *c, const char *p, prsm_problems *pr)
+{
+	(void)c;
+	const prsm_dp_spec *s = base;
 	if (!isnan(s->screw_diameter_min_mm) && !isnan(s->screw_diameter_max_mm) &&
 	    !(s->screw_diameter_min_mm < s->screw_diameter_max_mm))
-		prsm_problems_add(pr, "/constraints/screw_diameter_max_mm", "empty_range",
-		                  "screw_diameter_max_mm (%g) must exceed screw_diameter_min_mm (%g)",
-		                  s->screw_diameter_max_mm, s->screw_diameter_min_mm);
+		prsm_io_problem(pr, p, "screw_diameter_max_mm", "empty_range",
+		                "screw_diameter_max_mm (%g) must exceed screw_diameter_min_mm (%g)", s->screw_diameter_max_mm,
+		                s->screw_diameter_min_mm);
 	if (!isnan(s->critical_speed_factor_min) && !s->base.life.column)
-		prsm_problems_add(pr, "/constraints/critical_speed_factor_min", "needs_column",
-		                  "a critical-speed constraint needs the design's column "
-		                  "(free_length_mm and fixity)");
+		prsm_io_problem(pr, p, "critical_speed_factor_min", "needs_column",
+		                "a critical-speed constraint needs the design's column (free_length_mm and fixity)");
 }
 
-static void read_solver(prsm_io_optimization *od, const cJSON *doc, size_t max_evaluations, prsm_problems *pr)
+/* solver.max_evaluations: at most the caller's cap. */
+int prsm_io_step_opt_max_evaluations(prsm_io_at *at, prsm_problems *pr)
 {
-	prsm_opt_options *o = &od->options;
-	prsm_opt_options_init(o);
-	o->xtol_rel = 1e-4;
-	o->ftol_rel = 1e-6;
-	const cJSON *s = NULL;
-	char ptr[PRSM_JSON_POINTER_MAX];
-	if (prsm_json_get_section(&s, ptr, sizeof ptr, doc, "", "solver", PRSM_JSON_OPTIONAL,
-	                          solver_keys, pr) != PRSM_JSON_PRESENT)
-		return;
-	size_t cap = max_evaluations ? max_evaluations : PRSM_IO_OPT_MAX_EVALUATIONS;
+	const opt_reading *c = at->ctx;
+	prsm_opt_options *o = at->base;
+	size_t cap = c->max_evaluations ? c->max_evaluations : PRSM_IO_OPT_MAX_EVALUATIONS;
 	if (cap > PRSM_IO_OPT_MAX_EVALUATIONS)
 		cap = PRSM_IO_OPT_MAX_EVALUATIONS;
-	prsm_json_get_enum(&o->algorithm, s, ptr, "algorithm", PRSM_JSON_OPTIONAL,
-	                   prsm_opt_algorithm_names, pr);
 	int me = (int)o->max_evaluations;
-	if (prsm_json_get_int(&me, s, ptr, "max_evaluations", PRSM_JSON_OPTIONAL, 1, (int)cap, pr) ==
+	if (prsm_json_get_int(&me, at->obj, at->pointer, "max_evaluations", PRSM_JSON_OPTIONAL, 1, (int)cap, pr) ==
 	    PRSM_JSON_PRESENT)
 		o->max_evaluations = (size_t)me;
-	prsm_json_get_number(&o->max_time_s, s, ptr, "max_time_s", PRSM_JSON_OPTIONAL,
-	                     (prsm_json_range){0.0, PRSM_IO_OPT_MAX_TIME_S, 1, 0}, pr);
-	prsm_json_get_int(&o->multistart, s, ptr, "multistart", PRSM_JSON_OPTIONAL, 1,
-	                  PRSM_IO_OPT_MAX_MULTISTART, pr);
+	return 0;
+}
+
+/* solver.seed: an integer up to 2^53 - 1. */
+void prsm_io_hook_opt_seed(void *base, const cJSON *s, const char *p, prsm_problems *pr)
+{
 	double seed = 1.0;
-	if (prsm_json_get_number(&seed, s, ptr, "seed", PRSM_JSON_OPTIONAL,
-	                         (prsm_json_range){0.0, 9007199254740991.0, 0, 0}, pr) == PRSM_JSON_PRESENT) {
+	if (prsm_json_get_number(&seed, s, p, "seed", PRSM_JSON_OPTIONAL, (prsm_json_range){0.0, 9007199254740991.0, 0, 0},
+	                         pr) == PRSM_JSON_PRESENT) {
 		if (seed != floor(seed))
-			prsm_problems_add(pr, "/solver/seed", "integer", "must be an integer (got %g)", seed);
-		o->seed = (unsigned long)seed;
+			prsm_io_problem(pr, p, "seed", "integer", "must be an integer (got %g)", seed);
+		((prsm_opt_options *)base)->seed = (unsigned long)seed;
 	}
-	const prsm_json_range tol = {0.0, 0.1, 0, 0};
-	prsm_json_get_number(&o->xtol_rel, s, ptr, "xtol_rel", PRSM_JSON_OPTIONAL, tol, pr);
-	prsm_json_get_number(&o->ftol_rel, s, ptr, "ftol_rel", PRSM_JSON_OPTIONAL, tol, pr);
-	prsm_json_get_number(&o->constraint_tol, s, ptr, "constraint_tolerance", PRSM_JSON_OPTIONAL,
-	                     tol, pr);
 }
 
 /* ---- robust constraints ---- */
 
+int prsm_io_step_opt_robust(prsm_io_at *at, prsm_problems *pr)
+{
+	prsm_robust_init(at->base);
+	((opt_reading *)at->ctx)->robust_start = prsm_problems_total(pr);
+	return 0;
+}
+
+/* robust/constraints/N: a study output, once, and its spec. */
+int prsm_io_step_opt_robust_constraint(prsm_io_at *at, prsm_problems *pr)
+{
+	static const char *const spec_keys[] = {"lower", "upper", NULL};
+	const prsm_io_optimization *od = at->root;
+	prsm_robust_constraint *c = at->base;
+	const char *name = NULL;
+	if (prsm_json_get_string(&name, at->obj, at->pointer, "output", PRSM_JSON_REQUIRED, PRSM_ROBUST_NAME_MAX - 1,
+	                         pr) == PRSM_JSON_PRESENT) {
+		prsm_output_kind kind;
+		if (prsm_output_parse(name, &kind))
+			prsm_io_problem(pr, at->pointer, "output", "unknown_output", "unknown output '%s': " PRSM_OUTPUT_NAMES_TEXT,
+			                name);
+		else
+			for (int k = 0; k < od->robust.n; k++)
+				if (strcmp(od->robust.c[k].output, name) == 0)
+					prsm_io_problem(pr, at->pointer, "output", "duplicate", "%s has a robust constraint already "
+					                "(at /robust/constraints/%d)", name, k);
+		snprintf(c->output, sizeof c->output, "%s", name);
+	}
+	const cJSON *spec = NULL;
+	char sp[PRSM_JSON_POINTER_MAX];
+	if (prsm_json_get_section(&spec, sp, sizeof sp, at->obj, at->pointer, "spec", PRSM_JSON_REQUIRED, spec_keys, pr) ==
+	    PRSM_JSON_PRESENT) {
+		const prsm_json_range any = {-1e300, 1e300, 0, 0};
+		int lo = prsm_json_get_number(&c->spec.lower, spec, sp, "lower", PRSM_JSON_OPTIONAL, any, pr);
+		int hi = prsm_json_get_number(&c->spec.upper, spec, sp, "upper", PRSM_JSON_OPTIONAL, any, pr);
+		c->spec.has_lower = lo == PRSM_JSON_PRESENT;
+		c->spec.has_upper = hi == PRSM_JSON_PRESENT;
+		if (lo == PRSM_JSON_ABSENT && hi == PRSM_JSON_ABSENT)
+			prsm_problems_add(pr, sp, "required", "a spec needs lower, upper or both");
+		if (c->spec.has_lower && c->spec.has_upper && !(c->spec.lower < c->spec.upper))
+			prsm_io_problem(pr, sp, "upper", "range", "upper must be greater than lower");
+	}
+	return 0;
+}
+
+/* A robust constraint is kept when it has no problem. */
+int prsm_io_step_opt_robust_kept(prsm_io_at *at, prsm_problems *pr)
+{
+	return prsm_problems_total(pr) > at->start;
+}
 
 /* Re-point a problem of the candidate study document into the optimisation document. */
 static void add_study_problem(prsm_problems *pr, const prsm_io_optimization *od, const prsm_problem *p)
@@ -359,107 +386,22 @@ static void add_study_problem(prsm_problems *pr, const prsm_io_optimization *od,
 	prsm_problems_add(pr, ptr, p->code, "%s", p->message);
 }
 
-/* One robust constraint at /robust/constraints/i into od->robust.c[k]; 0 when valid. */
-static int read_robust_constraint(prsm_io_optimization *od, const cJSON *it, const char *ip, prsm_problems *pr)
+/* The study document every candidate's study is made from, checked once on the base design
+ * (every problem re-pointed under /robust): the robust section without a problem of its own. */
+int prsm_io_step_opt_robust_study(prsm_io_at *at, prsm_problems *pr)
 {
-	const int before = prsm_problems_total(pr);
-	if (prsm_json_object_value(it, ip, pr))
-		return PRSM_EINVAL;
-	prsm_json_check_keys(it, ip, robust_constraint_keys, pr);
-	prsm_robust_constraint *c = &od->robust.c[od->robust.n];
-	memset(c, 0, sizeof *c);
-	const char *name = NULL;
-	char op[PRSM_JSON_POINTER_MAX];
-	prsm_json_pointer_append(op, sizeof op, ip, "output");
-	if (prsm_json_get_string(&name, it, ip, "output", PRSM_JSON_REQUIRED, PRSM_ROBUST_NAME_MAX - 1,
-	                         pr) == PRSM_JSON_PRESENT) {
-		prsm_output_kind kind;
-		if (prsm_output_parse(name, &kind))
-			prsm_problems_add(pr, op, "unknown_output",
-			                  "unknown output '%s': " PRSM_OUTPUT_NAMES_TEXT, name);
-		else
-			for (int k = 0; k < od->robust.n; k++)
-				if (strcmp(od->robust.c[k].output, name) == 0)
-					prsm_problems_add(pr, op, "duplicate", "%s has a robust constraint already "
-					                  "(at /robust/constraints/%d)", name, k);
-		snprintf(c->output, sizeof c->output, "%s", name);
-	}
-	const cJSON *spec = NULL;
-	char sp[PRSM_JSON_POINTER_MAX];
-	if (prsm_json_get_section(&spec, sp, sizeof sp, it, ip, "spec", PRSM_JSON_REQUIRED, spec_keys,
-	                          pr) == PRSM_JSON_PRESENT) {
-		const prsm_json_range any = {-1e300, 1e300, 0, 0};
-		int lo = prsm_json_get_number(&c->spec.lower, spec, sp, "lower", PRSM_JSON_OPTIONAL, any, pr);
-		int hi = prsm_json_get_number(&c->spec.upper, spec, sp, "upper", PRSM_JSON_OPTIONAL, any, pr);
-		c->spec.has_lower = lo == PRSM_JSON_PRESENT;
-		c->spec.has_upper = hi == PRSM_JSON_PRESENT;
-		if (lo == PRSM_JSON_ABSENT && hi == PRSM_JSON_ABSENT)
-			prsm_problems_add(pr, sp, "required", "a spec needs lower, upper or both");
-		if (c->spec.has_lower && c->spec.has_upper && !(c->spec.lower < c->spec.upper)) {
-			char up[PRSM_JSON_POINTER_MAX];
-			prsm_json_pointer_append(up, sizeof up, sp, "upper");
-			prsm_problems_add(pr, up, "range", "upper must be greater than lower");
-		}
-	}
-	double pct = NAN;
-	if (prsm_json_get_number(&pct, it, ip, "yield_min_percent", PRSM_JSON_REQUIRED,
-	                         (prsm_json_range){0.0, 100.0, 1, 1}, pr) == PRSM_JSON_PRESENT)
-		c->yield_min = pct / 100.0;
-	if (prsm_problems_total(pr) > before)
-		return PRSM_EINVAL;
-	od->robust.n++;
-	return 0;
-}
-
-/* The "robust" section: its constraints, and the study document every candidate's study is
- * made from, checked once on the base design (every problem re-pointed under /robust). */
-static void read_robust(prsm_io_optimization *od, const cJSON *doc, const cJSON *design, int design_ok,
-                        prsm_problems *pr)
-{
-	const cJSON *r = NULL;
-	char ptr[PRSM_JSON_POINTER_MAX];
-	if (prsm_json_get_section(&r, ptr, sizeof ptr, doc, "", "robust", PRSM_JSON_OPTIONAL,
-	                          robust_keys, pr) != PRSM_JSON_PRESENT)
-		return;
-	const int before = prsm_problems_total(pr);
-	prsm_robust_init(&od->robust);
-	od->has_robust = 1;
-	int kind = PRSM_ROBUST_KERNEL;
-	prsm_json_get_enum(&kind, r, ptr, "surrogate", PRSM_JSON_OPTIONAL, prsm_robust_surrogate_names, pr);
-	od->robust.surrogate = (prsm_robust_surrogate)kind;
-	const cJSON *arr = cJSON_GetObjectItemCaseSensitive(r, "constraints");
-	if (!cJSON_IsArray(arr) || cJSON_GetArraySize(arr) < 1 ||
-	    cJSON_GetArraySize(arr) > PRSM_ROBUST_MAX) {
-		prsm_problems_add(pr, "/robust/constraints", arr ? "count" : "required",
-		                  "an array of 1..%d robust constraints {output, spec, yield_min_percent}",
-		                  PRSM_ROBUST_MAX);
-	} else {
-		int i = 0;
-		const cJSON *it;
-		cJSON_ArrayForEach(it, arr) {
-			char ip[PRSM_JSON_POINTER_MAX];
-			prsm_json_pointer_append_index(ip, sizeof ip, "/robust/constraints", i++);
-			read_robust_constraint(od, it, ip, pr);
-		}
-	}
-	if (!cJSON_GetObjectItemCaseSensitive(r, "tolerances"))
-		prsm_problems_add(pr, "/robust/tolerances", "required", "robust constraints need the "
-		                  "tolerance set (as a study's tolerances)");
-	const cJSON *mc = NULL;
-	char mp[PRSM_JSON_POINTER_MAX];
-	prsm_json_get_section(&mc, mp, sizeof mp, r, ptr, "monte_carlo", PRSM_JSON_OPTIONAL,
-	                      robust_mc_keys, pr);
-	int samples = ROBUST_DEFAULT_SAMPLES;
-	prsm_json_get_int(&samples, mc, mp, "samples", PRSM_JSON_OPTIONAL, 16, ROBUST_MAX_SAMPLES, pr);
-	if (prsm_problems_total(pr) > before || !design_ok)
-		return;
-
+	prsm_io_optimization *od = at->root;
+	const opt_reading *c = at->ctx;
+	if (!od->has_robust || prsm_problems_total(pr) > c->robust_start || !c->design_ok)
+		return 0;
+	const cJSON *r = cJSON_GetObjectItemCaseSensitive(at->obj, "robust");
+	const cJSON *mc = cJSON_GetObjectItemCaseSensitive(r, "monte_carlo");
 	/* the study document of the base design: every candidate's is this one with its geometry */
 	cJSON *st = cJSON_CreateObject();
 	od->study = st;
 	if (!st)
-		return;
-	cJSON_AddItemToObject(st, "design", cJSON_Duplicate(design, 1));
+		return 0;
+	cJSON_AddItemToObject(st, "design", cJSON_Duplicate(c->design, 1));
 	static const char *const copied[] = {"tolerances", "correlations", "assembly", NULL};
 	for (int k = 0; copied[k]; k++) {
 		const cJSON *it = cJSON_GetObjectItemCaseSensitive(r, copied[k]);
@@ -469,14 +411,14 @@ static void read_robust(prsm_io_optimization *od, const cJSON *doc, const cJSON 
 	cJSON *outs = cJSON_AddArrayToObject(st, "outputs");
 	cJSON *specs = cJSON_AddObjectToObject(st, "specs");
 	for (int k = 0; k < od->robust.n; k++) {
-		const prsm_robust_constraint *c = &od->robust.c[k];
+		const prsm_robust_constraint *rc = &od->robust.c[k];
 		od->robust_output_of[k] = k;
-		cJSON_AddItemToArray(outs, cJSON_CreateString(c->output));
-		cJSON *so = cJSON_AddObjectToObject(specs, c->output);
-		if (c->spec.has_lower)
-			cJSON_AddNumberToObject(so, "lower", c->spec.lower);
-		if (c->spec.has_upper)
-			cJSON_AddNumberToObject(so, "upper", c->spec.upper);
+		cJSON_AddItemToArray(outs, cJSON_CreateString(rc->output));
+		cJSON *so = cJSON_AddObjectToObject(specs, rc->output);
+		if (rc->spec.has_lower)
+			cJSON_AddNumberToObject(so, "lower", rc->spec.lower);
+		if (rc->spec.has_upper)
+			cJSON_AddNumberToObject(so, "upper", rc->spec.upper);
 	}
 	cJSON *smc = mc ? cJSON_Duplicate(mc, 1) : cJSON_CreateObject();
 	cJSON_AddItemToObject(st, "monte_carlo", smc);
@@ -507,6 +449,7 @@ static void read_robust(prsm_io_optimization *od, const cJSON *doc, const cJSON 
 	}
 	free(sp);
 	free(s);
+	return 0;
 }
 
 /* Replaced radii of the base design as warnings (the optimiser's rules recompute them). */
@@ -516,16 +459,12 @@ static void base_warnings(const cJSON *doc, prsm_problems *warnings)
 	                                      "screw_crest_radius_mm", "screw_root_radius_mm",
 	                                      "roller_crest_radius_mm", "roller_root_radius_mm",
 	                                      "nut_crest_radius_mm", "nut_root_radius_mm", NULL};
-	const cJSON *g = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(doc, "design"),
-	                                                  "geometry");
+	const cJSON *g = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(doc, "design"), "geometry");
 	for (int k = 0; g && derived[k]; k++)
-		if (cJSON_GetObjectItemCaseSensitive(g, derived[k])) {
-			char p[PRSM_JSON_POINTER_MAX];
-			prsm_json_pointer_append(p, sizeof p, "/design/geometry", derived[k]);
-			prsm_problems_add(warnings, p, "replaced", "the optimiser derives %s from the standard "
-			                  "rules and the default thread proportions; the given value is not used",
-			                  derived[k]);
-		}
+		if (cJSON_GetObjectItemCaseSensitive(g, derived[k]))
+			prsm_io_problem(warnings, "/design/geometry", derived[k], "replaced", "the optimiser derives %s from the "
+			                "standard rules and the default thread proportions; the given value is not used",
+			                derived[k]);
 }
 
 int prsm_io_optimization_read(prsm_io_optimization *od, const cJSON *doc, size_t max_evaluations,
@@ -535,27 +474,13 @@ int prsm_io_optimization_read(prsm_io_optimization *od, const cJSON *doc, size_t
 	const int before = prsm_problems_total(pr);
 	if (prsm_json_object_value(doc, "", pr))
 		return PRSM_EINVAL;
-	prsm_json_check_keys(doc, "", doc_keys, pr);
-	const char *text = NULL;
-	if (prsm_json_get_string(&text, doc, "", "name", PRSM_JSON_OPTIONAL, 100, pr) == PRSM_JSON_PRESENT)
-		prsm_utf8_copy(od->name, sizeof od->name, text);
-	prsm_json_get_string(&text, doc, "", "description", PRSM_JSON_OPTIONAL, 2000, pr);
-	prsm_design base;
-	const cJSON *design = cJSON_GetObjectItemCaseSensitive(doc, "design");
-	int design_ok = 0;
-	if (!design)
-		prsm_problems_add(pr, "/design", "required", "is required (the base design)");
-	else
-		design_ok = prsm_io_design_from_json(&base, design, "/design", pr) == 0;
-	if (!design_ok)
-		prsm_design_init(&base);
-	prsm_dp_spec_init(&od->spec, &base);
-	read_variables(od, doc, pr);
-	read_objectives(od, doc, pr);
-	read_multi(od, doc, pr);
-	read_constraints(od, doc, pr);
-	read_solver(od, doc, max_evaluations, pr);
-	read_robust(od, doc, design, design_ok, pr);
+	/* the defaults of the sections the document may leave out */
+	od->points = 7;
+	prsm_opt_options_init(&od->options);
+	od->options.xtol_rel = 1e-4;
+	od->options.ftol_rel = 1e-6;
+	opt_reading c = {max_evaluations, NULL, 0, 0};
+	prsm_io_read_ctx(od, &prsm_io_t_optimization, doc, "", &c, pr);
 	if (prsm_problems_total(pr) > before)
 		return PRSM_EINVAL;
 	if (od->has_robust) {
@@ -565,4 +490,3 @@ int prsm_io_optimization_read(prsm_io_optimization *od, const cJSON *doc, size_t
 	base_warnings(doc, warnings);
 	return 0;
 }
-

@@ -68,6 +68,13 @@ typedef struct {
 	int threads;
 } prsm_io_optimization;
 
+/* An objective as the table-driven reader reads it (generated from the schema, src/io/doc.h);
+ * a step appends it to spec.objective and weight. */
+typedef struct {
+	int kind;                         /* PRSM_DP_* */
+	double weight;
+} prsm_io_opt_objective;
+
 /* Read and check doc into od: every problem to problems with its pointer, remarks (e.g.
  * base-design radii the optimiser replaces) to warnings (may be NULL); max_evaluations caps
  * solver.max_evaluations (0: PRSM_IO_OPT_MAX_EVALUATIONS). The design problem (od->problem)
