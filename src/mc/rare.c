@@ -371,6 +371,18 @@ int rare_pool_init(rare_pool *pool, const rare_space *s, const prsm_rare_options
 	return 0;
 }
 
+int rare_setup(rare_space *s, rare_pool *pool, const prsm_rare_problem *p, const prsm_rare_options *o,
+               prsm_error *err)
+{
+	int rc = rare_space_init(s, p, err);
+	if (rc)
+		return rc;
+	rc = rare_pool_init(pool, s, o, err);
+	if (rc)
+		rare_space_free(s);
+	return rc;
+}
+
 void rare_pool_free(rare_pool *pool)
 {
 	if (pool->w)
@@ -635,14 +647,9 @@ int prsm_rare_run(prsm_rare_result *out, prsm_rare_method method, const prsm_rar
 		/* the pilot (auto) and plain MC share one sequence of blocks */
 		rare_space s;
 		rare_pool pool;
-		rc = rare_space_init(&s, p, err);
+		rc = rare_setup(&s, &pool, p, o, err);
 		if (rc)
 			return rc;
-		rc = rare_pool_init(&pool, &s, o, err);
-		if (rc) {
-			rare_space_free(&s);
-			return rc;
-		}
 		rare_is_state st;
 		memset(&st, 0, sizeof st);
 		out->has_is = 1;

@@ -309,14 +309,9 @@ int prsm_rare_form(prsm_rare_form_result *out, const prsm_rare_problem *p, const
 
 	rare_space s;
 	rare_pool pool;
-	rc = rare_space_init(&s, p, err);
+	rc = rare_setup(&s, &pool, p, o, err);
 	if (rc)
 		return rc;
-	rc = rare_pool_init(&pool, &s, o, err);
-	if (rc) {
-		rare_space_free(&s);
-		return rc;
-	}
 	form_ctx c;
 	memset(&c, 0, sizeof c);
 	c.pool = &pool;
@@ -521,14 +516,9 @@ int prsm_rare_sorm(prsm_rare_sorm_result *out, const prsm_rare_problem *p,
 		}
 		rare_space s;
 		rare_pool pool;
-		rc = rare_space_init(&s, p, err);
+		rc = rare_setup(&s, &pool, p, o, err);
 		if (rc)
 			return rc;
-		rc = rare_pool_init(&pool, &s, o, err);
-		if (rc) {
-			rare_space_free(&s);
-			return rc;
-		}
 		double *h = malloc(d * sizeof *h);
 		size_t *pi = malloc((n_pairs ? n_pairs : 1) * sizeof *pi), *pj = malloc((n_pairs ? n_pairs : 1) * sizeof *pj);
 		double *g = malloc(n_pts * sizeof *g);

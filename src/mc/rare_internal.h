@@ -75,6 +75,10 @@ struct rare_pool {
 
 int rare_pool_init(rare_pool *pool, const rare_space *s, const prsm_rare_options *o, prsm_error *err);
 void rare_pool_free(rare_pool *pool);
+/* rare_space_init then rare_pool_init, the space freed again when the pool fails: 0 with both to
+ * free (rare_pool_free, rare_space_free), or the error. */
+int rare_setup(rare_space *s, rare_pool *pool, const prsm_rare_problem *p, const prsm_rare_options *o,
+               prsm_error *err);
 /* Run tasks 0..n-1 on the pool's threads (the calling thread is worker 0). */
 void rare_pool_run(rare_pool *pool, size_t n, rare_task_fn task, void *arg);
 /* 0 while running, else the prsm_rare_stop (TIME_CAP, CANCELLED) that halts the run; polls the

@@ -339,14 +339,9 @@ int prsm_rare_is(prsm_rare_is_result *out, const prsm_rare_problem *p, const dou
 			return prsm_error_set(err, PRSM_EINVAL, NULL, "IS centre %zu is not finite", i / p->d);
 	rare_space s;
 	rare_pool pool;
-	rc = rare_space_init(&s, p, err);
+	rc = rare_setup(&s, &pool, p, o, err);
 	if (rc)
 		return rc;
-	rc = rare_pool_init(&pool, &s, o, err);
-	if (rc) {
-		rare_space_free(&s);
-		return rc;
-	}
 	rare_is_state st;
 	memset(&st, 0, sizeof st);
 	rc = rare_is_advance(&st, out, &pool, centres, weights, n_centres, o->max_samples, 1, o->max_evaluations, err);
@@ -538,14 +533,9 @@ int prsm_rare_subset(prsm_rare_subset_result *out, const prsm_rare_problem *p, c
 	out->chains = Nc;
 	rare_space s;
 	rare_pool pool;
-	rc = rare_space_init(&s, p, err);
+	rc = rare_setup(&s, &pool, p, o, err);
 	if (rc)
 		return rc;
-	rc = rare_pool_init(&pool, &s, o, err);
-	if (rc) {
-		rare_space_free(&s);
-		return rc;
-	}
 	ss_level L;
 	memset(&L, 0, sizeof L);
 	size_t *len = malloc(Nc * sizeof *len), *off = malloc(Nc * sizeof *off);
