@@ -329,6 +329,110 @@ ok "validate invalid study: the same 5 problems" test "$(grep -c ': /' "$tmp/v.t
 "$prsm" study "$tmp/study.json" "$tmp/study.json" > /dev/null 2>&1; check "study two files" 64 $?
 "$prsm" study "$tmp/does-not-exist.json" > /dev/null 2>&1; check "study missing file" 64 $?
 
+# expression models (issue 21): studies/stack-housing.json, a linear chain gap = A - B - C - D of
+# normal tolerances whose mean, sd, RSS and yield are the normal closed form, and a nonlinear
+# preload k max(0, h - gap)^1.5 whose yield is the normal's beyond one point; 1 and 2 threads alike
+"$prsm" validate "$src/studies/stack-housing.json" > "$tmp/v.txt"; check "validate stack-housing" 0 $?
+$py - "$src/studies/stack-housing.json" "$tmp/stack.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+d["monte_carlo"] = {"samples": 200000, "seed": 5}
+json.dump(d, open(sys.argv[2], "w"))
+PY
+"$prsm" study "$tmp/stack.json" --threads 2 --quiet > "$tmp/stack2.json"; check "study stack-housing (expressions)" 0 $?
+ok "stack-housing: the gap's mean, sd, RSS and yield and the preload's yield are the closed forms" $py - "$tmp/stack2.json" <<'PY'
+import json, math, sys
+r = json.load(open(sys.argv[1]))
+Phi = lambda z: 0.5 * math.erfc(-z / math.sqrt(2))
+sd = math.sqrt(0.015**2 + 0.01**2 + 0.01**2 + (0.04 / (3 * 1.33))**2)
+assert r["model"] == "expression" and list(r["outputs"]) == ["gap_mm", "preload_N"], (r["model"], list(r["outputs"]))
+g = r["outputs"]["gap_mm"]; n = g["n"]
+assert n == 200000 and r["samples"]["failed"] == 0, r["samples"]
+assert abs(g["mean"] - 0.1) < 4.5 * sd / math.sqrt(n), g["mean"]
+assert abs(g["sd"] - sd) < 4.5 * sd / math.sqrt(2 * n), (g["sd"], sd)
+p = Phi(0.1 / sd) - Phi(-0.08 / sd)
+assert abs(g["yield"]["fraction"] - p) < 4.5 * math.sqrt(p * (1 - p) / n), (g["yield"], p)
+assert abs(g["stack"]["rss_halfwidth"] - 3 * sd) < 1e-9 and abs(g["stack"]["nominal"] - 0.1) < 1e-12, g["stack"]
+f = r["outputs"]["preload_N"]
+q = Phi((0.05 - (30 / 2e4) ** (2 / 3)) / sd)
+assert abs(f["yield"]["fraction"] - q) < 4.5 * math.sqrt(q * (1 - q) / n), (f["yield"], q)
+PY
+"$prsm" study "$tmp/stack.json" --threads 1 --quiet > "$tmp/stack1.json"; check "study stack-housing --threads 1" 0 $?
+ok "stack-housing: --threads 1 and 2 give the same JSON except timing_s" $py - "$tmp/stack1.json" "$tmp/stack2.json" <<'PY'
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+a.pop("timing_s"); b.pop("timing_s")
+assert a == b
+PY
+# an expression model's mistakes: exit 1, each at its pointer, a syntax error at its character
+$py - "$src/studies/stack-housing.json" "$tmp/stack-bad.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+d["model"]["expressions"]["gap_mm"] = "housing_depth - bearing_width -* spacer_length - hub_length"
+d["model"]["expressions"]["preload_N"] = "k_contact * max(0, spigot - 0.1)"
+d["model"]["inputs"].append("cover_depth")
+d["tolerances"].append({"parameter": "cover_lip", "distribution": "uniform", "lower": 0, "upper": 0.01})
+json.dump(d, open(sys.argv[2], "w"))
+PY
+"$prsm" study "$tmp/stack-bad.json" > "$tmp/out" 2> "$tmp/err"; check "study stack-housing with mistakes" 1 $?
+ok "stack mistakes: nothing on stdout" test ! -s "$tmp/out"
+ok "stack mistakes: the syntax error at its character" grep -q ': /model/expressions/gap_mm: at character 32: unexpected operator "\*"' "$tmp/err"
+ok "stack mistakes: the unknown name at its character" grep -q ': /model/expressions/preload_N: at character 20: unknown name "spigot"' "$tmp/err"
+"$prsm" validate "$tmp/stack-bad.json" > "$tmp/v.txt"; check "validate stack-housing with mistakes" 1 $?
+$py - "$src/studies/stack-housing.json" "$tmp/stack-bad2.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+d["model"]["inputs"].append("cover_depth")
+d["tolerances"].append({"parameter": "cover_lip", "distribution": "uniform", "lower": 0, "upper": 0.01})
+json.dump(d, open(sys.argv[2], "w"))
+PY
+"$prsm" validate "$tmp/stack-bad2.json" > "$tmp/v.txt"; check "validate: an input without a tolerance and a tolerance of no input" 1 $?
+ok "stack: the tolerance that is no input" grep -q ": /tolerances/4/parameter: cover_lip: not an input of the model" "$tmp/v.txt"
+# a division by zero at some samples: skip lists them by index, abort names the first
+printf '%s' '{"model": {"expression": "A / (rint(B * 10) - 3)", "inputs": ["A", "B"]},
+ "tolerances": [{"parameter": "A", "distribution": "normal", "mean": 1, "sd": 0.1},
+                {"parameter": "B", "distribution": "uniform", "lower": 0, "upper": 1}],
+ "monte_carlo": {"samples": 2000, "failure": {"policy": "skip", "max_failed_fraction": 0.5}}}' > "$tmp/div0.json"
+"$prsm" study "$tmp/div0.json" --quiet --csv "$tmp/div0.csv" > "$tmp/div0-out.json"; check "study: a division by zero at some samples (skip)" 0 $?
+ok "division by zero: the failed samples are those with rint(10 B) = 3, listed by index" $py - "$tmp/div0-out.json" "$tmp/div0.csv" <<'PY'
+import csv, json, sys
+s = json.load(open(sys.argv[1]))["samples"]
+rows = list(csv.DictReader(open(sys.argv[2])))
+bad = [int(r["sample"]) for r in rows if round(10 * float(r["B"])) == 3]
+assert 120 < s["failed"] < 290 and s["failed"] == len(bad) and s["failed_samples"] == bad[:100], (s["failed"], len(bad))
+assert s["used"] + s["failed"] == s["run"] == 2000, s
+PY
+sed 's/"skip", "max_failed_fraction": 0.5/"abort"/' "$tmp/div0.json" > "$tmp/div0-abort.json"
+"$prsm" study "$tmp/div0-abort.json" > "$tmp/out" 2> "$tmp/err"; rc=$?
+ok "division by zero, policy abort: an error exit (exit $rc), the sample named" sh -c "test '$rc' -eq 2 -o '$rc' -eq 1 && test ! -s '$tmp/out' && grep -q 'sample [0-9]* failed' '$tmp/err'"
+# the skewed distributions and a histogram in one study: the echo carries their exact moments
+printf '%s' '{"model": {"benchmark": "linear", "coefficients": [1, 1, 1, 1, 1, 1]},
+ "tolerances": [{"parameter": "x1", "distribution": "exponential", "scale": 0.02},
+  {"parameter": "x2", "distribution": "gamma", "shape": 2.5, "scale": 0.01, "location": -0.01},
+  {"parameter": "x3", "distribution": "weibull", "shape": 2, "scale": 0.03},
+  {"parameter": "x4", "distribution": "beta", "alpha": 2, "beta": 5, "lower": -0.05, "upper": 0.05},
+  {"parameter": "x5", "distribution": "gumbel", "scale": 0.01},
+  {"parameter": "x6", "distribution": "histogram", "edges": [-0.03, -0.01, 0.01, 0.03], "weights": [1, 4, 2]}],
+ "monte_carlo": {"samples": 100000}}' > "$tmp/dists.json"
+"$prsm" study "$tmp/dists.json" --quiet > "$tmp/dists-out.json"; check "study: exponential, gamma, weibull, beta, gumbel, histogram" 0 $?
+ok "new distributions: exact moments echoed, the sum's mean and sd agree" $py - "$tmp/dists-out.json" <<'PY'
+import json, math, sys
+r = json.load(open(sys.argv[1]))
+t = r["tolerances"]
+want = [(0.02, 0.02), (0.015, math.sqrt(2.5) * 0.01), (0.03 * math.gamma(1.5), 0.03 * math.sqrt(1 - math.pi / 4)),
+        (-0.05 + 0.1 * 2 / 7, 0.1 * math.sqrt(10 / 392)), (0.01 * 0.5772156649015329, 0.01 * math.pi / math.sqrt(6)),
+        (sum(w * c for w, c in zip([1, 4, 2], [-0.02, 0, 0.02])) / 7, None)]
+assert [x["distribution"] for x in t] == ["exponential", "gamma", "weibull", "beta", "gumbel", "histogram"]
+for x, (m, s) in zip(t, want):
+    assert abs(x["mean"] - m) < 1e-14 and (s is None or abs(x["sd"] - s) < 1e-14), (x, m, s)
+y = r["outputs"]["y"]; n = y["n"]
+mean = sum(x["mean"] for x in t); sd = math.sqrt(sum(x["sd"] ** 2 for x in t))
+assert abs(y["mean"] - mean) < 4.5 * sd / math.sqrt(n) and abs(y["sd"] - sd) < 0.02 * sd, (y["mean"], mean, y["sd"], sd)
+PY
+printf '%s' '{"model": {"benchmark": "linear", "coefficients": [1]}, "tolerances": [{"parameter": "x1", "distribution": "histogram", "edges": [0, 1, 1], "weights": [1, 2]}]}' > "$tmp/hbad.json"
+"$prsm" validate "$tmp/hbad.json" > "$tmp/v.txt"; check "validate: histogram edges that do not increase" 1 $?
+ok "histogram edges: at /tolerances/0/edges" grep -q ": /tolerances/0/edges: histogram edges must increase" "$tmp/v.txt"
+
 # validate knows every document kind: optimisation and allocation documents too
 for f in optimize-case-a optimize-case-a-pareto allocate-ls1 allocate-case-a; do
   "$prsm" validate "$src/studies/$f.json" > "$tmp/v.txt"; check "validate $f" 0 $?

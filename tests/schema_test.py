@@ -1556,7 +1556,7 @@ STUDY_INVALID = [
     ("neither a distribution nor a shorthand", sv(("tolerances/1", {"parameter": "roller.thickness_um"})),
      "/tolerances/1/distribution"),
     # distributions
-    ("unknown distribution", sv(("tolerances/1/distribution", "gamma")), "/tolerances/1/distribution"),
+    ("unknown distribution", sv(("tolerances/1/distribution", "cauchy")), "/tolerances/1/distribution"),
     ("normal with lower", sv(("tolerances/1/lower", -1)), "/tolerances/1/lower"),
     ("normal without sd", sv(("tolerances/1", {"parameter": "roller.thickness_um", "distribution": "normal",
                                                "mean": 1})),

@@ -678,6 +678,12 @@ static void studies_load_without_problems(void **state)
 		 * file is the design */
 		const cJSON *design = cJSON_GetObjectItemCaseSensitive(doc, "design");
 		const char *base = design ? "/design" : "";
+		/* a study of a model (a benchmark or expressions, issue 21) has no design (test_expr_model
+		 * reads studies/stack-housing.json) */
+		if (!design && cJSON_GetObjectItemCaseSensitive(doc, "model") && cJSON_GetObjectItemCaseSensitive(doc, "tolerances")) {
+			cJSON_Delete(doc);
+			continue;
+		}
 		/* a simulation of the bare gear pair has no design (test_io_vibration reads it) */
 		if (!design && cJSON_GetObjectItemCaseSensitive(doc, "dynamics") &&
 		    !cJSON_GetObjectItemCaseSensitive(doc, "geometry")) {

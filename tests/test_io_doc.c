@@ -144,6 +144,12 @@ static void normalise(prsm_io_study *s)
 static void compare_study(const cJSON *doc, tally *t)
 {
 	static unsigned long calls;
+	/* expression models (issue 21) came after the port: the legacy reader has none */
+	const cJSON *model = cJSON_GetObjectItemCaseSensitive(doc, "model");
+	if (cJSON_IsObject(model) && !cJSON_GetObjectItemCaseSensitive(model, "benchmark") &&
+	    (cJSON_GetObjectItemCaseSensitive(model, "expression") || cJSON_GetObjectItemCaseSensitive(model, "expressions") ||
+	     cJSON_GetObjectItemCaseSensitive(model, "inputs") || cJSON_GetObjectItemCaseSensitive(model, "constants")))
+		return;
 	if (calls++ % STUDY_STRIDE)
 		return;
 	prsm_io_study *a = study_pair[0], *b = study_pair[1];

@@ -3,10 +3,11 @@
  *
  * The fields, their limits and C members are stated once, in schemas/study.schema.json
  * ("x-prsm"); io/doc.c reads the document by the table generated from it. What a table cannot
- * say is here, as the steps the schema names: the design (or the benchmark) with its nominal
- * analysis, what each tolerance's parameter is and its distribution (a named one or the tol/cpk
- * shorthand), the outputs, specs, targets and correlations that name each other, and the
- * variables the engine samples. Reading never stops at the first problem; the variables are
+ * say is here, as the steps the schema names: the design (or the benchmark, or the expression
+ * model with its expressions parsed) with its nominal analysis, what each tolerance's parameter
+ * is and its distribution (a named one, a histogram's bins or the tol/cpk shorthand), the
+ * outputs, specs, targets and correlations that name each other, and the variables the engine
+ * samples. Reading never stops at the first problem; the variables are
  * built only when every section is valid. A tolerance on a per-roller parameter ("roller.*")
  * becomes one variable per roller, drawn independently, unless "shared": true; a start-index
  * tolerance one per start; a radial magnitude (run-out, periodic lead, tilt) gets a second
@@ -68,6 +69,22 @@ static int param_find(param_info *pi, const char *path, const prsm_io_study *s, 
 {
 	memset(pi, 0, sizeof *pi);
 	pi->bench_index = -1;
+	if (s->is_benchmark && s->bench.kind == PRSM_BENCH_EXPRESSION) {
+		const prsm_expr_model *m = &s->expr;
+		for (size_t i = 0; i < m->n_inputs; i++)
+			if (strcmp(m->inputs[i], path) == 0) {
+				pi->bench_index = (int)i;
+				pi->unit = "";
+				pi->scale = 1.0;
+				return 0;
+			}
+		int k = snprintf(msg, cap, "not an input of the model (inputs: ");
+		for (size_t i = 0; i < m->n_inputs && k > 0 && (size_t)k < cap; i++)
+			k += snprintf(msg + k, cap - (size_t)k, "%s%s", i ? ", " : "", m->inputs[i]);
+		if (k > 0 && (size_t)k < cap)
+			snprintf(msg + k, cap - (size_t)k, ")");
+		return PRSM_ENOTFOUND;
+	}
 	if (s->is_benchmark) {
 		/* x1 .. xn exactly: no leading zero, sign or blank */
 		const size_t digits = strspn(path + 1, "0123456789");
@@ -202,7 +219,30 @@ static int read_design(prsm_io_study *s, const cJSON *doc, prsm_problems *warnin
 	return 0;
 }
 
-/* The design (with its nominal analysis and assembly) or the benchmark model, exactly one. */
+/* A model of expressions rather than a benchmark: no "benchmark", and what an expression model
+ * has. */
+static int is_expression_model(const cJSON *m)
+{
+	static const char *const keys[] = {"expression", "expressions", "inputs", "constants", NULL};
+	if (!cJSON_IsObject(m) || cJSON_GetObjectItemCaseSensitive(m, "benchmark"))
+		return 0;
+	for (int k = 0; keys[k]; k++)
+		if (cJSON_GetObjectItemCaseSensitive(m, keys[k]))
+			return 1;
+	return 0;
+}
+
+/* "model" as expressions ($defs/expression_model's table and its steps) */
+static void read_expressions(prsm_io_study *s, const cJSON *m, study_reading *c, prsm_problems *pr)
+{
+	s->bench.kind = PRSM_BENCH_EXPRESSION;
+	s->expr_single = cJSON_GetObjectItemCaseSensitive(m, "expression") != NULL;
+	prsm_io_read_ctx(&s->expr, &prsm_io_t_expr_model, m, "/model", c, pr);
+	s->bench.inputs = s->expr.n_inputs;
+}
+
+/* The design (with its nominal analysis and assembly) or the model (a benchmark or
+ * expressions), exactly one. */
 int prsm_io_step_design(prsm_io_at *at, prsm_problems *pr)
 {
 	prsm_io_study *s = at->root;
@@ -213,13 +253,18 @@ int prsm_io_step_design(prsm_io_at *at, prsm_problems *pr)
 		prsm_problems_add(pr, "/model", "conflict", "a study has a design or a benchmark model, not both");
 	} else if (model) {
 		s->is_benchmark = 1;
-		if (prsm_json_object_value(model, "/model", pr) == 0)
-			read_benchmark(s, model, pr);
+		const int expressions = is_expression_model(model);
+		if (cJSON_IsObject(model) && cJSON_GetObjectItemCaseSensitive(model, "benchmark") &&
+		    (cJSON_GetObjectItemCaseSensitive(model, "expression") ||
+		     cJSON_GetObjectItemCaseSensitive(model, "expressions")))
+			prsm_problems_add(pr, "/model", "conflict", "a model is a benchmark or expressions, not both");
+		else if (prsm_json_object_value(model, "/model", pr) == 0)
+			expressions ? read_expressions(s, model, c, pr) : read_benchmark(s, model, pr);
 		static const char *const design_only[] = {"errors", "assembly", NULL};
 		for (int k = 0; design_only[k]; k++)
 			if (cJSON_GetObjectItemCaseSensitive(at->obj, design_only[k]))
-				prsm_io_problem(pr, "", design_only[k], "not_allowed", "%s belongs to a design study, not a benchmark",
-				                design_only[k]);
+				prsm_io_problem(pr, "", design_only[k], "not_allowed", "%s belongs to a design study, not a %s",
+				                design_only[k], expressions ? "model of expressions" : "benchmark");
 		c->design_rc = prsm_problems_total(pr) == at->start ? 0 : PRSM_EINVAL;
 	} else if (design) {
 		c->design_rc = read_design(s, at->obj, c->warnings, pr);
@@ -229,7 +274,169 @@ int prsm_io_step_design(prsm_io_at *at, prsm_problems *pr)
 	return 0;
 }
 
+/* ---- the expression model ---------------------------------------------------------------- */
+
+/* "model"."inputs"[i]: a name, once */
+int prsm_io_step_expr_input(prsm_io_at *at, prsm_problems *pr)
+{
+	prsm_expr_model *m = at->base;
+	const char *name = at->obj->valuestring;
+	char msg[200];
+	if (prsm_expr_name_check(name, msg, sizeof msg)) {
+		prsm_problems_add(pr, at->pointer, "bad_name", "%s", msg);
+		return 0;
+	}
+	for (int k = 0; k < at->index; k++)
+		if (strcmp(m->inputs[k], name) == 0) {
+			prsm_problems_add(pr, at->pointer, "duplicate", "input '%s' is listed twice (at /model/inputs/%d)", name, k);
+			return 0;
+		}
+	snprintf(m->inputs[at->index], sizeof m->inputs[0], "%s", name);
+	return 0;
+}
+
+/* One expression's text, output name and its place in m. */
+static void put_expression(prsm_expr_model *m, const char *name, const char *text)
+{
+	snprintf(m->expr_names[m->n_exprs], sizeof m->expr_names[0], "%s", name);
+	snprintf(m->exprs[m->n_exprs], sizeof m->exprs[0], "%s", text);
+	m->n_exprs++;
+}
+
+/* "expression" (the one output, y) or "expressions" (named outputs), exactly one. Returns 0 when
+ * they were read. */
+static int read_expression_texts(prsm_expr_model *m, const cJSON *o, prsm_problems *pr)
+{
+	const size_t text_max = sizeof m->exprs[0] - 1;
+	const cJSON *one = cJSON_GetObjectItemCaseSensitive(o, "expression");
+	const cJSON *many = cJSON_GetObjectItemCaseSensitive(o, "expressions");
+	const char *text;
+	if (one && many) {
+		prsm_io_problem(pr, "/model", "expressions", "conflict",
+		                "give expression (one output, y) or expressions (named outputs), not both");
+		return 1;
+	}
+	if (!one && !many) {
+		prsm_problems_add(pr, "/model", "required", "an expression model needs expression (one output, y) or "
+		                  "expressions (named outputs, each with its expression)");
+		return 1;
+	}
+	if (one) {
+		if (prsm_json_string_value(&text, one, "/model/expression", text_max, pr))
+			return 1;
+		put_expression(m, "y", text);
+		return 0;
+	}
+	if (prsm_json_object_value(many, "/model/expressions", pr) || prsm_json_check_duplicates(many, "/model/expressions", pr))
+		return 1;
+	const int n = cJSON_GetArraySize(many);
+	if (n < 1 || n > PRSM_EXPR_MAX_OUTPUTS) {
+		prsm_problems_add(pr, "/model/expressions", "range", "expressions: 1 to %d named outputs (got %d)",
+		                  PRSM_EXPR_MAX_OUTPUTS, n);
+		return 1;
+	}
+	int bad = 0;
+	for (const cJSON *it = many->child; it; it = it->next) {
+		char ip[PRSM_JSON_POINTER_MAX], msg[200];
+		prsm_json_pointer_append(ip, sizeof ip, "/model/expressions", it->string);
+		if (prsm_expr_name_check(it->string, msg, sizeof msg)) {
+			prsm_problems_add(pr, ip, "bad_name", "%s", msg);
+			bad = 1;
+		} else if (prsm_json_string_value(&text, it, ip, text_max, pr)) {
+			bad = 1;
+		} else {
+			put_expression(m, it->string, text);
+		}
+	}
+	return bad;
+}
+
+/* "constants": named numbers, no input's name. Returns 0 when they were read. */
+static int read_constants(prsm_expr_model *m, const cJSON *o, prsm_problems *pr)
+{
+	const cJSON *cs = cJSON_GetObjectItemCaseSensitive(o, "constants");
+	if (!cs)
+		return 0;
+	if (prsm_json_object_value(cs, "/model/constants", pr) || prsm_json_check_duplicates(cs, "/model/constants", pr))
+		return 1;
+	if (cJSON_GetArraySize(cs) > PRSM_EXPR_MAX_CONSTANTS) {
+		prsm_problems_add(pr, "/model/constants", "range", "constants: at most %d", PRSM_EXPR_MAX_CONSTANTS);
+		return 1;
+	}
+	int bad = 0;
+	for (const cJSON *it = cs->child; it; it = it->next) {
+		char ip[PRSM_JSON_POINTER_MAX], msg[200];
+		double v;
+		prsm_json_pointer_append(ip, sizeof ip, "/model/constants", it->string);
+		int clash = 0;
+		for (size_t i = 0; i < m->n_inputs && !clash; i++)
+			clash = strcmp(m->inputs[i], it->string) == 0;
+		if (prsm_expr_name_check(it->string, msg, sizeof msg)) {
+			prsm_problems_add(pr, ip, "bad_name", "%s", msg);
+			bad = 1;
+		} else if (clash) {
+			prsm_problems_add(pr, ip, "duplicate", "'%s' is an input: a constant has a name of its own", it->string);
+			bad = 1;
+		} else if (prsm_json_number_value(&v, it, ip, ANY, pr)) {
+			bad = 1;
+		} else {
+			snprintf(m->constant_names[m->n_constants], sizeof m->constant_names[0], "%s", it->string);
+			m->constant_values[m->n_constants++] = v;
+		}
+	}
+	return bad;
+}
+
+/* "model" of expressions, once its inputs are read: the expressions and constants, then each
+ * expression parsed (a mistake reported at its character); an input no expression reads is a
+ * warning. */
+int prsm_io_step_expr_model(prsm_io_at *at, prsm_problems *pr)
+{
+	prsm_expr_model *m = at->base;
+	const study_reading *c = at->ctx;
+	int bad = read_expression_texts(m, at->obj, pr);
+	bad |= read_constants(m, at->obj, pr);
+	if (bad || prsm_problems_total(pr) != at->start)
+		return 0;
+	unsigned char used[PRSM_EXPR_MAX_INPUTS] = {0}, one[PRSM_EXPR_MAX_INPUTS];
+	for (size_t e = 0; e < m->n_exprs; e++) {
+		char ep[PRSM_JSON_POINTER_MAX];
+		prsm_expr_diag diag;
+		if (cJSON_GetObjectItemCaseSensitive(at->obj, "expression"))
+			snprintf(ep, sizeof ep, "/model/expression");
+		else
+			prsm_json_pointer_append(ep, sizeof ep, "/model/expressions", m->expr_names[e]);
+		const int rc = prsm_expr_check(m, e, one, &diag);
+		if (rc == PRSM_EIO) {
+			prsm_problems_add(pr, "/model", diag.code, "%s", diag.message);
+			return 0;
+		}
+		if (rc == 0) {
+			for (size_t i = 0; i < m->n_inputs; i++)
+				used[i] |= one[i];
+		} else if (diag.position == 0) {
+			prsm_problems_add(pr, ep, diag.code, "%s", diag.message);
+		} else if (diag.position > (int)strlen(m->exprs[e])) {
+			prsm_problems_add(pr, ep, diag.code, "at the end (character %d): %s", diag.position, diag.message);
+		} else {
+			prsm_problems_add(pr, ep, diag.code, "at character %d: %s", diag.position, diag.message);
+		}
+	}
+	if (prsm_problems_total(pr) != at->start || !c || !c->warnings)
+		return 0;
+	for (size_t i = 0; i < m->n_inputs; i++)
+		if (!used[i]) {
+			char ip[PRSM_JSON_POINTER_MAX];
+			prsm_json_pointer_append_index(ip, sizeof ip, "/model/inputs", (int)i);
+			prsm_problems_add(c->warnings, ip, "unused_input", "input '%s' is in no expression: its tolerance changes "
+			                  "no output", m->inputs[i]);
+		}
+	return 0;
+}
+
 /* ---- tolerances -------------------------------------------------------------------------- */
+
+static const char *const hist_arrays[] = {"edges", "weights", NULL};
 
 /* The shorthand {"tol_<unit>": t, "cpk": c[, "nominal": x]}: a normal of sd t / (3 cpk) around the
  * nominal, or for a radial magnitude the Rayleigh with the out-of-tolerance fraction of a centred
@@ -255,10 +462,21 @@ static void read_shorthand(prsm_io_at *at, const char *tol_key, const char *path
 	for (int k = 0; k < PRSM_DIST_KIND_COUNT; k++)
 		for (int q = 0; q < 4 && prsm_dist_param_name(k, q); q++) {
 			const char *pn = prsm_dist_param_name(k, q);
-			if (strcmp(pn, "mean") != 0 && cJSON_GetObjectItemCaseSensitive(o, pn))
+			/* each name once (location and scale belong to several kinds) */
+			int seen = 0;
+			for (int j = 0; j < k && !seen; j++)
+				for (int r = 0; r < 4 && prsm_dist_param_name(j, r) && !seen; r++)
+					seen = strcmp(prsm_dist_param_name(j, r), pn) == 0;
+			for (int r = 0; r < q && !seen; r++)
+				seen = strcmp(prsm_dist_param_name(k, r), pn) == 0;
+			if (!seen && strcmp(pn, "mean") != 0 && cJSON_GetObjectItemCaseSensitive(o, pn))
 				prsm_io_problem(pr, at->pointer, pn, "not_allowed", "%s is a distribution parameter: not with %s",
 				                pn, tol_key);
 		}
+	for (int a = 0; hist_arrays[a]; a++)
+		if (cJSON_GetObjectItemCaseSensitive(o, hist_arrays[a]))
+			prsm_io_problem(pr, at->pointer, hist_arrays[a], "not_allowed",
+			                "%s belongs to a histogram distribution: not with %s", hist_arrays[a], tol_key);
 	if (cJSON_GetObjectItemCaseSensitive(o, "mean"))
 		prsm_problems_add(pr, at->pointer, "not_allowed", "the shorthand takes nominal, not mean");
 	t->shorthand = 1;
@@ -274,8 +492,36 @@ static void read_shorthand(prsm_io_at *at, const char *tol_key, const char *path
 	}
 }
 
-/* A named distribution: its parameters in its order (normal's and truncnormal's mean default to
- * 0, a deviation from nominal; truncnormal's bounds to none, one at least), no other's. */
+/* The histogram's bins (bin i on [edges[i], edges[i + 1]), weights[i] its weight): the arrays the
+ * tolerance's histogram takes instead of parameters. */
+static int hist_array(const char *key)
+{
+	for (int a = 0; hist_arrays[a]; a++)
+		if (strcmp(hist_arrays[a], key) == 0)
+			return 1;
+	return 0;
+}
+
+/* A histogram's edges and weights, then its bins checked: a problem at the array at fault. */
+static void read_histogram(prsm_io_at *at, prsm_problems *pr)
+{
+	prsm_io_tolerance *t = at->base;
+	const int before = prsm_problems_total(pr);
+	prsm_io_get(at, "edges", pr);
+	prsm_io_get(at, "weights", pr);
+	if (prsm_problems_total(pr) != before)
+		return;
+	char msg[200];
+	if (prsm_dist_histogram_set(&t->dist, &t->hist, msg, sizeof msg) == 0)
+		return;
+	/* "histogram edges ...", "histogram weights ..." or "histogram has N edges ... one weight per bin" */
+	const char *key = strncmp(msg, "histogram edges", 15) == 0 ? "edges" : "weights";
+	prsm_io_problem(pr, at->pointer, key, "bad_distribution", "%s", msg);
+}
+
+/* A named distribution: its parameters in its order (normal's and truncnormal's mean and the
+ * location of the others default to 0, a deviation from nominal; truncnormal's bounds to none,
+ * one at least; prsm_dist_param_default), or a histogram's bins; no other's. */
 static void read_named(prsm_io_at *at, prsm_problems *pr)
 {
 	prsm_io_tolerance *t = at->base;
@@ -284,19 +530,24 @@ static void read_named(prsm_io_at *at, prsm_problems *pr)
 		return;
 	const int kind = t->dist.kind, bounded = kind == PRSM_DIST_TRUNCNORMAL;
 	for (int q = 0; q < 4 && prsm_dist_param_name(kind, q); q++) {
-		const int optional = ((kind == PRSM_DIST_NORMAL || bounded) && q == 0) || (bounded && q >= 2);
-		double v = optional && q == 0 ? 0.0 : NAN;
+		double fallback = NAN;
+		const int optional = prsm_dist_param_default(kind, q, &fallback);
+		double v = optional && q == 0 ? fallback : NAN;
 		if (prsm_json_get_number(&v, o, at->pointer, prsm_dist_param_name(kind, q),
 		                         optional ? PRSM_JSON_OPTIONAL : PRSM_JSON_REQUIRED, ANY, pr) == PRSM_JSON_ABSENT &&
-		    bounded && q >= 2)
-			v = q == 2 ? -INFINITY : INFINITY;
+		    optional)
+			v = fallback;
 		t->dist.p[q] = v;
 	}
+	if (kind == PRSM_DIST_HISTOGRAM)
+		read_histogram(at, pr);
 	if (bounded && !cJSON_GetObjectItemCaseSensitive(o, "lower") && !cJSON_GetObjectItemCaseSensitive(o, "upper"))
 		prsm_problems_add(pr, at->pointer, "required", "truncnormal needs lower, upper or both");
 	char list[64] = ""; /* "mean, sd" */
 	for (int q = 0; q < 4 && prsm_dist_param_name(kind, q); q++)
 		snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", q ? ", " : "", prsm_dist_param_name(kind, q));
+	if (kind == PRSM_DIST_HISTOGRAM)
+		snprintf(list, sizeof list, "edges, weights");
 	for (const cJSON *it = o->child; it; it = it->next) { /* the parameters of other distributions */
 		int any = 0, mine = 0;
 		for (int j = 0; j < PRSM_DIST_KIND_COUNT; j++)
@@ -305,6 +556,10 @@ static void read_named(prsm_io_at *at, prsm_problems *pr)
 					any = 1;
 					mine |= j == kind;
 				}
+		if (it->string && hist_array(it->string)) {
+			any = 1;
+			mine |= kind == PRSM_DIST_HISTOGRAM;
+		}
 		if (any && !mine)
 			prsm_io_problem(pr, at->pointer, it->string, "not_allowed", "%s is not a parameter of %s (it takes %s)",
 			                it->string, prsm_dist_name(kind), list);
@@ -414,7 +669,7 @@ static void build_vars(prsm_io_study *s, size_t g)
 		gr->n_vars = 1;
 		return;
 	}
-	static const prsm_dist phase = {PRSM_DIST_UNIFORM, {0.0, 2.0 * M_PI, 0.0, 0.0}};
+	static const prsm_dist phase = {PRSM_DIST_UNIFORM, {0.0, 2.0 * M_PI, 0.0, 0.0}, NULL};
 	const char *key = strchr(t->parameter, '.') + 1;
 	/* the key without its unit: runout_um -> runout, tilt_mrad -> tilt */
 	const size_t unit_len = strlen(unit_of(key));
@@ -462,10 +717,23 @@ int prsm_io_step_variables(prsm_io_at *at, prsm_problems *pr)
 		                  "per start, with phases): at most %d", d, PRSM_MC_MAX_VARIABLES);
 		return 0;
 	}
-	if (s->is_benchmark && d != s->bench.inputs)
+	if (s->is_benchmark && s->bench.kind == PRSM_BENCH_EXPRESSION) {
+		for (size_t i = 0; i < s->expr.n_inputs; i++) {
+			int found = 0;
+			for (size_t g = 0; g < nt && !found; g++)
+				found = strcmp(s->tolerances[g].parameter, s->expr.inputs[i]) == 0;
+			if (!found) {
+				char ip[PRSM_JSON_POINTER_MAX];
+				prsm_json_pointer_append_index(ip, sizeof ip, "/model/inputs", (int)i);
+				prsm_problems_add(pr, ip, "incomplete", "input '%s' has no tolerance: give it one (parameter \"%s\")",
+				                  s->expr.inputs[i], s->expr.inputs[i]);
+			}
+		}
+	} else if (s->is_benchmark && d != s->bench.inputs) {
 		prsm_problems_add(pr, "/tolerances", "incomplete", "the %s benchmark has %zu inputs: give "
 		                  "each of x1 .. x%zu one tolerance", prsm_bench_name(s->bench.kind),
 		                  s->bench.inputs, s->bench.inputs);
+	}
 	for (size_t g = 0; g < nt; g++)
 		build_vars(s, g);
 	if (s->is_benchmark)
@@ -660,6 +928,14 @@ int prsm_io_step_outputs(prsm_io_at *at, prsm_problems *pr)
 	prsm_study_output *o = s->study.outputs;
 	if (at->obj)
 		return 0;
+	if (s->is_benchmark && s->bench.kind == PRSM_BENCH_EXPRESSION) { /* every expression, in order */
+		for (size_t e = 0; e < s->expr.n_exprs; e++) {
+			snprintf(o[e].name, sizeof o[e].name, "%s", s->expr.expr_names[e]);
+			s->expr.output_expr[e] = e;
+		}
+		s->study.m = s->expr.n_exprs;
+		return 0;
+	}
 	snprintf(o[0].name, sizeof o[0].name, "%s", s->is_benchmark ? "y" : "backlash_um");
 	s->prsm.outputs[0] = PRSM_OUT_BACKLASH;
 	s->study.m = 1;
@@ -678,6 +954,27 @@ int prsm_io_step_output(prsm_io_at *at, prsm_problems *pr)
 	const study_reading *c = at->ctx;
 	const char *name = at->obj->valuestring;
 	prsm_output_kind k;
+	if (s->is_benchmark && s->bench.kind == PRSM_BENCH_EXPRESSION) {
+		const prsm_expr_model *m = &s->expr;
+		size_t e = 0;
+		while (e < m->n_exprs && strcmp(m->expr_names[e], name) != 0)
+			e++;
+		if (e == m->n_exprs && c->design_rc == 0) {
+			char list[300] = "";
+			for (size_t j = 0; j < m->n_exprs; j++)
+				snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", j ? ", " : "", m->expr_names[j]);
+			prsm_problems_add(pr, at->pointer, "unknown_output", "'%s' is not an output of the model (%s)", name, list);
+			return 0;
+		}
+		if (output_index(s, name) >= 0) {
+			prsm_problems_add(pr, at->pointer, "duplicate", "output '%s' is listed twice", name);
+			return 0;
+		}
+		snprintf(s->study.outputs[s->study.m].name, sizeof s->study.outputs[0].name, "%s", name);
+		s->expr.output_expr[s->study.m] = e < m->n_exprs ? e : 0;
+		s->study.m++;
+		return 0;
+	}
 	if (s->is_benchmark ? strcmp(name, "y") != 0 : prsm_output_parse(name, &k) != 0) {
 		if (s->is_benchmark)
 			prsm_problems_add(pr, at->pointer, "unknown_output", "a benchmark has one output, y");
@@ -826,14 +1123,46 @@ static void check_ranges(prsm_io_study *out, prsm_problems *warnings, prsm_probl
 		return;
 	for (size_t i = 0; i < st->d; i++)
 		x[i] = prsm_dist_center(&st->vars[i].dist);
-	for (size_t i = 0; i <= st->d; i++)
+	/* the centres first (j = 0, i = d), then each input at either quantile; one problem is enough */
+	int stop = 0;
+	for (size_t j = 0; j <= st->d && !stop; j++) {
+		const size_t i = j == 0 ? st->d : j - 1;
 		for (int k = 0; k < (i < st->d ? 2 : 1); k++) {
 			const double keep = i < st->d ? x[i] : 0.0;
 			if (i < st->d)
 				x[i] = prsm_dist_quantile(&st->vars[i].dist, u[k]);
 			int bad = m->eval(y, &flags, m->ctx, ws, x) != 0;
-			for (size_t o = 0; o < st->m && !bad; o++)
-				bad = !(fabs(y[o]) <= RANGE_MAX);
+			size_t o = 0;
+			while (o < st->m && fabs(y[o]) <= RANGE_MAX)
+				o++;
+			bad |= o < st->m;
+			if (bad && out->bench.kind == PRSM_BENCH_EXPRESSION) {
+				/* an expression model: the expression at fault, and where; not finite there is a
+				 * warning (those samples fail, and the failure policy applies), beyond +-RANGE_MAX
+				 * a problem (the moments would overflow) */
+				const prsm_expr_model *em = &out->expr;
+				const size_t e = em->output_expr[o < st->m ? o : 0];
+				const int finite = o < st->m ? isfinite(y[o]) : 0;
+				prsm_problems *to = finite ? pr : warnings;
+				char ep[PRSM_JSON_POINTER_MAX], where[160];
+				if (out->expr_single)
+					snprintf(ep, sizeof ep, "/model/expression");
+				else
+					prsm_json_pointer_append(ep, sizeof ep, "/model/expressions", em->expr_names[e]);
+				if (i < st->d)
+					snprintf(where, sizeof where, "with %s at its %s quantile %.6g", st->info[i].name,
+					         k ? "99.865 %" : "0.135 %", x[i]);
+				else
+					snprintf(where, sizeof where, "at the distributions' centres");
+				if (to && finite)
+					prsm_problems_add(to, ep, "range", "%s reaches %.6g %s: beyond +-%g its moments overflow double "
+					                  "arithmetic", em->expr_names[e], y[o], where, RANGE_MAX);
+				else if (to)
+					prsm_problems_add(to, ep, "not_finite", "%s is not finite %s: such samples fail (the failure "
+					                  "policy applies)", em->expr_names[e], where);
+				stop = 1;
+				break;
+			}
 			if (bad) {
 				if (i < st->d)
 					prsm_problems_add(pr, "/model", "range", "the model's output leaves +-%g (or is not "
@@ -843,12 +1172,13 @@ static void check_ranges(prsm_io_study *out, prsm_problems *warnings, prsm_probl
 				else
 					prsm_problems_add(pr, "/model", "range", "the model's output leaves +-%g (or is not "
 					                  "finite) at the distributions' centres", RANGE_MAX);
-				i = st->d; /* one problem is enough */
+				stop = 1;
 				break;
 			}
 			if (i < st->d)
 				x[i] = keep;
 		}
+	}
 	if (ws && m->workspace_free)
 		m->workspace_free(ws);
 }
@@ -873,6 +1203,12 @@ int prsm_io_step_model(prsm_io_at *at, prsm_problems *pr)
 	}
 	if (prsm_problems_total(pr) != at->start)
 		return 0;
+	if (out->is_benchmark && out->bench.kind == PRSM_BENCH_EXPRESSION) {
+		/* the variables are the inputs in order; the outputs those the study asks for */
+		out->expr.n_outputs = st->m;
+		prsm_expr_mc_model(&st->model, &out->expr);
+		return 0;
+	}
 	if (out->is_benchmark) {
 		/* benchmark variables are the inputs in order */
 		prsm_bench_mc_model(&st->model, &out->bench);

@@ -2,7 +2,8 @@
  * study_json.h: the study document (schemas/study.schema.json) to a prsm_study, and its result
  * to JSON and CSV (DESIGN.md, "Documents": study, result).
  *
- * A study is a design (or a named analytic benchmark) + `tolerances` + `outputs` + `specs` +
+ * A study is a design (or a named analytic benchmark, or a model of the study's own
+ * expressions, mc/expr_model.h) + `tolerances` + `outputs` + `specs` +
  * `monte_carlo` + `sensitivity`, with optional `errors` (a fixed error set every sample starts
  * from), `assembly` (mode, measuring load, angles per revolution) and `correlations`. Every
  * problem is reported at once with its JSON pointer. Units convert here: a tolerance is given in
@@ -16,6 +17,7 @@
 #include <cJSON.h>
 
 #include "mc/bench_models.h"
+#include "mc/expr_model.h"
 #include "mc/prsm_model.h"
 #include "mc/study.h"
 #include "model/assembly.h"
@@ -31,6 +33,7 @@
 typedef struct {
 	char parameter[PRSM_STUDY_NAME_MAX];
 	prsm_dist dist;                  /* in the parameter's API unit */
+	prsm_dist_histogram hist;        /* a histogram's bins (dist.hist points here) */
 	int shorthand;                   /* given as {"tol_*": t, "cpk": c} */
 	double tol, cpk;                 /* the shorthand's values */
 	int per_roller, per_start, shared, radial;
@@ -40,8 +43,10 @@ typedef struct {
  * not move after prsm_io_study_load(). Large (about 1 MB): allocate it on the heap. */
 typedef struct {
 	char name[404]; /* up to 100 characters of UTF-8 */
-	int is_benchmark;
-	prsm_bench_model bench;
+	int is_benchmark;               /* an analytic model, not a design: a benchmark or expressions */
+	prsm_bench_model bench;         /* kind PRSM_BENCH_EXPRESSION (inputs: expr's) for expressions */
+	prsm_expr_model expr;           /* the expression model, when bench.kind says so */
+	int expr_single;                /* given as "expression" (one output, y), not "expressions" */
 	prsm_design design;
 	prsm_analysis analysis;
 	prsm_assembly assembly;

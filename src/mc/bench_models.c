@@ -13,6 +13,7 @@ const char *prsm_bench_name(prsm_bench_kind k)
 	case PRSM_BENCH_ISHIGAMI: return "ishigami";
 	case PRSM_BENCH_GFUNCTION: return "gfunction";
 	case PRSM_BENCH_LINEAR: return "linear";
+	case PRSM_BENCH_EXPRESSION: return "expression";
 	}
 	return "?";
 }
@@ -46,6 +47,8 @@ double prsm_bench_eval(const prsm_bench_model *b, const double *x)
 			y += b->coef[i] * x[i];
 		return y;
 	}
+	case PRSM_BENCH_EXPRESSION:
+		break;
 	}
 	return NAN;
 }
@@ -112,6 +115,8 @@ int prsm_bench_exact(const prsm_bench_model *b, const double *sd, double *mean, 
 			first[i] = total[i] = V > 0 ? pow(b->coef[i] * sd[i], 2) / V : 0.0;
 		return 0;
 	}
+	case PRSM_BENCH_EXPRESSION:
+		break;
 	}
 	return PRSM_EINVAL;
 }

@@ -1,7 +1,8 @@
 /*
  * bench_models.h: analytic models a study may name instead of a design, so anyone can check
  * the Monte Carlo and sensitivity engine against exact values (docs/studies.md): the
- * Ishigami function, Sobol's G-function and a linear stack.
+ * Ishigami function, Sobol's G-function and a linear stack. (A study's own expressions are the
+ * other analytic model: mc/expr_model.h.)
  */
 #ifndef PRSM_MC_BENCH_MODELS_H
 #define PRSM_MC_BENCH_MODELS_H
@@ -10,7 +11,15 @@
 
 #define PRSM_BENCH_MAX_INPUTS 64
 
-typedef enum { PRSM_BENCH_ISHIGAMI = 0, PRSM_BENCH_GFUNCTION = 1, PRSM_BENCH_LINEAR = 2 } prsm_bench_kind;
+/* PRSM_BENCH_EXPRESSION marks a study's analytic model that is no benchmark but expressions
+ * (mc/expr_model.h): its name is "expression", prsm_bench_kind_parse does not take it, it has no
+ * closed form here (prsm_bench_eval NAN, prsm_bench_exact PRSM_EINVAL). */
+typedef enum {
+	PRSM_BENCH_ISHIGAMI = 0,
+	PRSM_BENCH_GFUNCTION = 1,
+	PRSM_BENCH_LINEAR = 2,
+	PRSM_BENCH_EXPRESSION = 3
+} prsm_bench_kind;
 
 typedef struct {
 	prsm_bench_kind kind;

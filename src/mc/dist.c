@@ -1,6 +1,8 @@
 /*
  * dist.c: quantile, CDF, exact moments and stack figures of the tolerance distributions of
- * dist.h, on GSL's normal, lognormal and Rayleigh CDFs and their inverses.
+ * dist.h, on GSL's normal, lognormal, Rayleigh, exponential, gamma, Weibull and beta CDFs and
+ * their inverses (gsl_cdf_*_P, _Q, _Pinv, _Qinv); the Gumbel's closed forms and the histogram's
+ * exact piecewise-linear inversion are written out here.
  *
  * The truncated normal works in standard units a = (lower - mean)/sd, b = (upper - mean)/sd and
  * takes its probabilities from the tail the window lies in: the upper-tail Q when the window's
@@ -13,17 +15,35 @@
  * except for windows narrower than TRUNC_NARROW standard units, where v is the difference of
  * nearly equal terms; there 20-point Gauss-Legendre quadrature over the window (exact to
  * rounding for so smooth an integrand) takes its place.
+ *
+ * The quantiles of the skewed families work from the lower tail (P) for u <= 1/2 and from the
+ * upper tail (Q = 1 - u, exact in doubles there) above, so both tails keep the precision u
+ * itself has. Exponential and Weibull take GSL's closed-form inverses (gsl_cdf_*_Pinv, _Qinv),
+ * the Gumbel its own. GSL's gamma and beta inverses are no use over the whole range (NaN, or
+ * CDF errors of 1e-2, for gamma shape 1000 or 0.1, beta(2, 1000), beta(0.5, 0.1), ...), so their
+ * quantiles invert GSL's CDFs (gsl_cdf_gamma_P/Q, gsl_cdf_beta_P) here: ln F(e^s) = ln u by
+ * Newton's method in s = ln x, kept inside a bracket that bisection falls back to (ln F is
+ * nearly linear in s in the lower tail, where x^shape rules, and in the gamma's upper tail
+ * nearly linear in x, so a few steps from the Wilson-Hilferty or small-x first guess reach
+ * a few ulps). A beta's upper half is the lower half of Beta(beta, alpha) mirrored.
+ *
+ * A histogram's quantile finds the bin whose cumulative probabilities bracket u (bisection over
+ * at most 64 bins) and interpolates linearly inside it: the exact inverse of its
+ * piecewise-linear CDF.
  */
 #include "mc/dist.h"
 
 #include <assert.h>
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
 
 #include <gsl/gsl_cdf.h>
+#include <gsl/gsl_math.h>
 #include <gsl/gsl_randist.h>
+#include <gsl/gsl_sf_gamma.h>
 
 #include "util/error.h"
 
@@ -33,6 +53,7 @@
 
 static const char *const dist_names[PRSM_DIST_KIND_COUNT] = {
 	"normal", "truncnormal", "uniform", "triangular", "lognormal", "rayleigh",
+	"exponential", "gamma", "weibull", "beta", "gumbel", "histogram",
 };
 
 const char *prsm_dist_name(prsm_dist_kind k)
@@ -229,6 +250,161 @@ static void trunc_std_moments(const trunc_window *w, double *mean, double *var)
 	*var = m2 / m0;
 }
 
+/* ---- gamma and beta quantiles ------------------------------------------------------------ */
+
+/* A tail equation H(s) = 0 in s = ln x, H increasing: the value at s and its slope dH/ds. */
+typedef double (*tail_eq)(double s, const double *par, double *slope);
+
+/* par: {shape k, ln u}: ln P(x) - ln u of the unit-scale gamma, slope x f(x) / P(x). */
+static double gamma_lower_eq(double s, const double *par, double *slope)
+{
+	const double x = exp(s), P = gsl_cdf_gamma_P(x, par[0], 1.0);
+	*slope = x * gsl_ran_gamma_pdf(x, par[0], 1.0) / P;
+	return log(P) - par[1];
+}
+
+/* par: {shape k, ln q}: ln q - ln Q(x), slope x f(x) / Q(x). */
+static double gamma_upper_eq(double s, const double *par, double *slope)
+{
+	const double x = exp(s), Q = gsl_cdf_gamma_Q(x, par[0], 1.0);
+	*slope = x * gsl_ran_gamma_pdf(x, par[0], 1.0) / Q;
+	return par[1] - log(Q);
+}
+
+/* par: {a, b, ln u}: ln I_x(a, b) - ln u on (0, 1), slope x f(x) / I_x(a, b). */
+static double beta_lower_eq(double s, const double *par, double *slope)
+{
+	const double x = exp(s);
+	if (x >= 1.0) {
+		*slope = NAN;
+		return -par[2];
+	}
+	const double P = gsl_cdf_beta_P(x, par[0], par[1]);
+	*slope = x * gsl_ran_beta_pdf(x, par[0], par[1]) / P;
+	return log(P) - par[2];
+}
+
+/* The root of H in (-inf, s_max] from the first guess s: Newton's steps while they stay inside
+ * the bracket found so far and shrink, bisection otherwise; the bracket found by steps doubling
+ * outward. Stops at a step of a few ulps of s, or after a Newton step below 1e-8 |s|: near the
+ * root the error is then of the order of the square of that step. s stays within
+ * [S_MIN, s_max]; a root below S_MIN (x below every positive double) is -inf. */
+#define S_MIN (-750.0)
+static double solve_tail(tail_eq H, const double *par, double s, double s_max)
+{
+	double lo = -INFINITY, hi = INFINITY, step = 1.0, last = INFINITY;
+	if (s > s_max)
+		s = s_max;
+	for (int it = 0; it < 400; it++) {
+		double slope, h = H(s, par, &slope);
+		if (h == 0.0)
+			return s;
+		if (h < 0.0 || isnan(h))
+			lo = s;
+		else
+			hi = s;
+		if (s <= S_MIN && h > 0.0) /* the root is below every positive double */
+			return -INFINITY;
+		const double newton = s - h / slope, scale = fmax(1.0, fabs(s));
+		double next;
+		if (isfinite(newton) && slope > 0.0 && newton > lo && newton < hi && fabs(newton - s) < 0.5 * last) {
+			next = newton;
+			if (fabs(newton - s) <= 1e-8 * fabs(s))
+				return newton;
+		} else if (isfinite(lo) && isfinite(hi)) {
+			next = 0.5 * (lo + hi);
+		} else if (isfinite(lo)) { /* the root is above s */
+			next = fmin(s + step, s_max);
+			step *= 2.0;
+		} else {
+			next = fmax(s - step, S_MIN);
+			step *= 2.0;
+		}
+		if (isfinite(lo) && isfinite(hi) && hi - lo <= 4.0 * DBL_EPSILON * scale)
+			return next;
+		if (fabs(next - s) <= 2.0 * DBL_EPSILON * scale)
+			return next;
+		last = isfinite(lo) && isfinite(hi) ? fabs(next - s) : INFINITY;
+		s = next;
+	}
+	return s;
+}
+
+/* The u-quantile of the unit-scale gamma of shape k, u in (0, 1). */
+static double gamma_std_quantile(double k, double u)
+{
+	/* first guess: Wilson-Hilferty, or the small-x form P = x^k / Gamma(k + 1) where it fails */
+	const double c = 1.0 / (9.0 * k), w = 1.0 - c + prsm_normal_quantile(u) * sqrt(c);
+	double x0 = w > 0.0 ? k * w * w * w : 0.0;
+	if (!(x0 > 0.0) || (u <= 0.5 && k < 1.0))
+		x0 = exp((log(u) + gsl_sf_lngamma(k + 1.0)) / k);
+	if (!(x0 > 0.0) || !isfinite(x0))
+		x0 = k;
+	double s;
+	if (u <= 0.5) {
+		const double par[2] = {k, log(u)};
+		s = solve_tail(gamma_lower_eq, par, log(x0), 709.0);
+	} else {
+		const double par[2] = {k, log1p(-u)};
+		s = solve_tail(gamma_upper_eq, par, log(x0), 709.0);
+	}
+	return exp(s);
+}
+
+/* x with I_x(a, b) = u, u in (0, 1), by the equation of the lower tail. */
+static double beta_lower_quantile(double a, double b, double u)
+{
+	/* first guess: the approximation of Cran, Martin & Thomas (AS 109, Applied Statistics 26,
+	 * 111-114, 1977), after Majumder & Bhattacharjee, from the normal deviate y of 1 - u */
+	const double lnbeta = gsl_sf_lnbeta(a, b), y = -prsm_normal_quantile(u);
+	double x0;
+	if (a > 1.0 && b > 1.0) {
+		const double r = (y * y - 3.0) / 6.0, sa = 1.0 / (2.0 * a - 1.0), tb = 1.0 / (2.0 * b - 1.0);
+		const double h = 2.0 / (sa + tb);
+		const double w = y * sqrt(h + r) / h - (tb - sa) * (r + 5.0 / 6.0 - 2.0 / (3.0 * h));
+		x0 = a / (a + b * exp(2.0 * w));
+	} else {
+		const double r = 2.0 * b, t9 = 1.0 / (9.0 * b), c = 1.0 - t9 + y * sqrt(t9), t = r * c * c * c;
+		if (t <= 0.0) {
+			x0 = -expm1((log1p(-u) + log(b) + lnbeta) / b);
+		} else {
+			const double t2 = (4.0 * a + r - 2.0) / t;
+			x0 = t2 <= 1.0 ? exp((log(u * a) + lnbeta) / a) : 1.0 - 2.0 / (t2 + 1.0);
+		}
+	}
+	if (!(x0 > 0.0 && x0 < 1.0))
+		x0 = a / (a + b);
+	const double par[3] = {a, b, log(u)};
+	return exp(solve_tail(beta_lower_eq, par, log(x0), 0.0));
+}
+
+/* The u-quantile of Beta(a, b) on [0, 1] as x and 1 - x, each to its own relative precision:
+ * from the lower tail for u <= 1/2, else as 1 - the (1 - u)-quantile of Beta(b, a); solved
+ * again from the other side when the answer lies within 1e-4 of the far end (a beta so skewed
+ * that its median is that close to an end), where 1 minus it would lose its digits. */
+#define BETA_FAR 1e-4
+static double beta_std_quantile(double a, double b, double u, double *one_minus)
+{
+	if (u <= 0.5) {
+		const double x = beta_lower_quantile(a, b, u);
+		if (1.0 - x >= BETA_FAR) {
+			*one_minus = 1.0 - x;
+			return x;
+		}
+		const double y = beta_lower_quantile(b, a, 1.0 - u);
+		*one_minus = y;
+		return 1.0 - y;
+	}
+	const double y = beta_lower_quantile(b, a, 1.0 - u);
+	if (1.0 - y >= BETA_FAR) {
+		*one_minus = y;
+		return 1.0 - y;
+	}
+	const double x = beta_lower_quantile(a, b, u);
+	*one_minus = 1.0 - x;
+	return x;
+}
+
 /* ---- checks ----------------------------------------------------------------------------- */
 
 static int check_fail(char *msg, size_t msg_size, const char *fmt, ...)
@@ -245,11 +421,15 @@ static int check_fail(char *msg, size_t msg_size, const char *fmt, ...)
 	return PRSM_EINVAL;
 }
 
-/* Names of the parameters p[0..3] of each kind, NULL past the last one. */
+/* Names of the parameters p[0..3] of each kind, NULL past the last one (a histogram's bins are
+ * arrays, not parameters). */
 static const char *const param_names[PRSM_DIST_KIND_COUNT][4] = {
 	{"mean", "sd", NULL, NULL},        {"mean", "sd", "lower", "upper"},
 	{"lower", "upper", NULL, NULL},     {"lower", "mode", "upper", NULL},
 	{"mu", "sigma", NULL, NULL},        {"sigma", NULL, NULL, NULL},
+	{"scale", "location", NULL, NULL},  {"shape", "scale", "location", NULL},
+	{"shape", "scale", "location", NULL}, {"alpha", "beta", "lower", "upper"},
+	{"location", "scale", NULL, NULL},  {NULL, NULL, NULL, NULL},
 };
 
 const char *prsm_dist_param_name(prsm_dist_kind k, int q)
@@ -257,6 +437,167 @@ const char *prsm_dist_param_name(prsm_dist_kind k, int q)
 	if ((int)k < 0 || (int)k >= PRSM_DIST_KIND_COUNT || q < 0 || q >= 4)
 		return NULL;
 	return param_names[k][q];
+}
+
+int prsm_dist_param_default(prsm_dist_kind k, int q, double *value)
+{
+	assert(value != NULL);
+	const char *name = prsm_dist_param_name(k, q);
+	if (name == NULL)
+		return 0;
+	if (strcmp(name, "location") == 0 || (strcmp(name, "mean") == 0)) {
+		*value = 0.0;
+		return 1;
+	}
+	if (k == PRSM_DIST_TRUNCNORMAL && q >= 2) {
+		*value = q == 2 ? -INFINITY : INFINITY;
+		return 1;
+	}
+	return 0;
+}
+
+/* ---- histogram -------------------------------------------------------------------------- */
+
+/* The bins' counts, edges and weights (not the cdf). Returns 0 or PRSM_EINVAL with msg. */
+static int hist_check_bins(const prsm_dist_histogram *h, char *msg, size_t msg_size)
+{
+	const size_t ne = h->n_edges, nw = h->n_weights;
+	if (ne < 2 || ne > PRSM_DIST_HISTOGRAM_MAX_BINS + 1)
+		return check_fail(msg, msg_size, "histogram needs 1 to %d bins, so 2 to %d edges (got %zu edges)",
+		                  PRSM_DIST_HISTOGRAM_MAX_BINS, PRSM_DIST_HISTOGRAM_MAX_BINS + 1, ne);
+	if (nw != ne - 1)
+		return check_fail(msg, msg_size, "histogram has %zu edges, so %zu bins: it needs one weight per bin "
+		                  "(got %zu weights)", ne, ne - 1, nw);
+	for (size_t i = 0; i < ne; i++) {
+		if (!isfinite(h->edges[i]))
+			return check_fail(msg, msg_size, "histogram edges[%zu] must be finite (got %g)", i, h->edges[i]);
+		if (i > 0 && !(h->edges[i] > h->edges[i - 1]))
+			return check_fail(msg, msg_size, "histogram edges must increase: edges[%zu] = %g is not above "
+			                  "edges[%zu] = %g", i, h->edges[i], i - 1, h->edges[i - 1]);
+	}
+	double total = 0.0;
+	for (size_t i = 0; i < nw; i++) {
+		if (!(isfinite(h->weights[i]) && h->weights[i] >= 0.0))
+			return check_fail(msg, msg_size, "histogram weights[%zu] must be finite and >= 0 (got %g)", i,
+			                  h->weights[i]);
+		total += h->weights[i];
+	}
+	if (!(total > 0.0) || !isfinite(total))
+		return check_fail(msg, msg_size, "histogram weights must have a finite, positive sum (got %g)", total);
+	return 0;
+}
+
+/* cdf[i] = (w[0] + ... + w[i-1]) / total: the same partial sums as the total, so cdf[bins] is
+ * exactly 1. The support's ends: the outer edges of the first and last bins of positive weight. */
+static void hist_cdf(const prsm_dist_histogram *h, double *cdf, double *lo, double *hi)
+{
+	const size_t bins = h->n_weights;
+	double total = 0.0;
+	for (size_t i = 0; i < bins; i++)
+		total += h->weights[i];
+	double run = 0.0;
+	cdf[0] = 0.0;
+	for (size_t i = 0; i < bins; i++) {
+		run += h->weights[i];
+		cdf[i + 1] = run / total;
+	}
+	size_t first = 0, last = bins - 1;
+	while (h->weights[first] == 0.0)
+		first++;
+	while (h->weights[last] == 0.0)
+		last--;
+	*lo = h->edges[first];
+	*hi = h->edges[last + 1];
+}
+
+int prsm_dist_histogram_set(prsm_dist *d, prsm_dist_histogram *h, char *msg, size_t msg_size)
+{
+	assert(d != NULL && h != NULL);
+	if (msg != NULL && msg_size > 0)
+		msg[0] = '\0';
+	if (hist_check_bins(h, msg, msg_size))
+		return PRSM_EINVAL;
+	double lo, hi;
+	hist_cdf(h, h->cdf, &lo, &hi);
+	memset(d, 0, sizeof *d);
+	d->kind = PRSM_DIST_HISTOGRAM;
+	d->p[0] = lo;
+	d->p[1] = hi;
+	d->hist = h;
+	return 0;
+}
+
+/* The bin j (0 .. bins-1) with cdf[j] <= u < cdf[j + 1], for u in [0, 1): it has positive mass. */
+static size_t hist_bin_of_u(const prsm_dist_histogram *h, double u)
+{
+	size_t lo = 0, hi = h->n_weights - 1; /* the answer lies in [lo, hi] */
+	while (lo < hi) {
+		const size_t mid = lo + (hi - lo) / 2;
+		if (h->cdf[mid + 1] > u)
+			hi = mid;
+		else
+			lo = mid + 1;
+	}
+	return lo;
+}
+
+/* The bin j with edges[j] <= x < edges[j + 1], for x inside (edges[0], edges[bins]). */
+static size_t hist_bin_of_x(const prsm_dist_histogram *h, double x)
+{
+	size_t lo = 0, hi = h->n_weights - 1;
+	while (lo < hi) {
+		const size_t mid = lo + (hi - lo + 1) / 2;
+		if (h->edges[mid] <= x)
+			lo = mid;
+		else
+			hi = mid - 1;
+	}
+	return lo;
+}
+
+static double hist_quantile(const prsm_dist *d, double u)
+{
+	const prsm_dist_histogram *h = d->hist;
+	if (u <= 0.0)
+		return d->p[0];
+	if (u >= 1.0)
+		return d->p[1];
+	const size_t j = hist_bin_of_u(h, u);
+	const double a = h->edges[j], b = h->edges[j + 1], fa = h->cdf[j], fb = h->cdf[j + 1];
+	/* from the nearer end of the bin, so that u near either end is resolved alike */
+	const double x = u - fa <= fb - u ? a + (u - fa) / (fb - fa) * (b - a) : b - (fb - u) / (fb - fa) * (b - a);
+	return x < a ? a : (x > b ? b : x);
+}
+
+static double hist_cdf_at(const prsm_dist *d, double x)
+{
+	const prsm_dist_histogram *h = d->hist;
+	if (x <= d->p[0])
+		return 0.0;
+	if (x >= d->p[1])
+		return 1.0;
+	const size_t j = hist_bin_of_x(h, x);
+	const double a = h->edges[j], b = h->edges[j + 1];
+	const double f = h->cdf[j] + (x - a) / (b - a) * (h->cdf[j + 1] - h->cdf[j]);
+	return f < 0.0 ? 0.0 : (f > 1.0 ? 1.0 : f);
+}
+
+/* Mean and variance: each bin's midpoint and width^2 / 12 about the overall mean. */
+static void hist_moments(const prsm_dist *d, double *mean, double *var)
+{
+	const prsm_dist_histogram *h = d->hist;
+	const size_t bins = h->n_weights;
+	double total = 0.0, m = 0.0, v = 0.0;
+	for (size_t i = 0; i < bins; i++)
+		total += h->weights[i];
+	for (size_t i = 0; i < bins; i++)
+		m += h->weights[i] / total * (0.5 * h->edges[i] + 0.5 * h->edges[i + 1]);
+	for (size_t i = 0; i < bins; i++) {
+		const double c = 0.5 * h->edges[i] + 0.5 * h->edges[i + 1] - m, w = h->edges[i + 1] - h->edges[i];
+		v += h->weights[i] / total * (c * c + w * w / 12.0);
+	}
+	*mean = m;
+	*var = v;
 }
 
 int prsm_dist_check(const prsm_dist *d, char *msg, size_t msg_size)
@@ -301,6 +642,42 @@ int prsm_dist_check(const prsm_dist *d, char *msg, size_t msg_size)
 			return check_fail(msg, msg_size, "%s mode must lie in [lower, upper] = [%g, %g] (got %g)",
 			                  name, p[0], p[2], p[1]);
 		break;
+	case PRSM_DIST_EXPONENTIAL:
+		if (!(p[0] > 0.0))
+			return check_fail(msg, msg_size, "%s scale must be > 0 (got %g)", name, p[0]);
+		break;
+	case PRSM_DIST_GAMMA:
+	case PRSM_DIST_WEIBULL:
+	case PRSM_DIST_BETA: {
+		/* the shapes: gamma's and weibull's p[0], beta's p[0] and p[1] */
+		const int shapes = d->kind == PRSM_DIST_BETA ? 2 : 1;
+		for (int i = 0; i < shapes; i++)
+			if (!(p[i] >= PRSM_DIST_SHAPE_MIN && p[i] <= PRSM_DIST_SHAPE_MAX))
+				return check_fail(msg, msg_size, "%s %s must lie in [%g, %g] (got %g)", name, pn[i],
+				                  PRSM_DIST_SHAPE_MIN, PRSM_DIST_SHAPE_MAX, p[i]);
+		if (d->kind != PRSM_DIST_BETA && !(p[1] > 0.0))
+			return check_fail(msg, msg_size, "%s scale must be > 0 (got %g)", name, p[1]);
+		if (d->kind == PRSM_DIST_BETA && !(p[2] < p[3]))
+			return check_fail(msg, msg_size, "%s lower must be < upper (got %g >= %g)", name, p[2], p[3]);
+		break;
+	}
+	case PRSM_DIST_GUMBEL:
+		if (!(p[1] > 0.0))
+			return check_fail(msg, msg_size, "%s scale must be > 0 (got %g)", name, p[1]);
+		break;
+	case PRSM_DIST_HISTOGRAM: {
+		const prsm_dist_histogram *h = d->hist;
+		if (h == NULL)
+			return check_fail(msg, msg_size, "histogram has no bins (see prsm_dist_histogram_set)");
+		if (hist_check_bins(h, msg, msg_size))
+			return PRSM_EINVAL;
+		double cdf[PRSM_DIST_HISTOGRAM_MAX_BINS + 1], lo, hi;
+		hist_cdf(h, cdf, &lo, &hi);
+		if (memcmp(cdf, h->cdf, h->n_edges * sizeof cdf[0]) != 0 || p[0] != lo || p[1] != hi)
+			return check_fail(msg, msg_size, "histogram cumulative weights or support out of date (see "
+			                  "prsm_dist_histogram_set)");
+		break;
+	}
 	}
 
 	if (d->kind == PRSM_DIST_TRUNCNORMAL) {
@@ -390,6 +767,43 @@ double prsm_dist_quantile(const prsm_dist *d, double u)
 		if (u >= 1.0)
 			return INFINITY;
 		return gsl_cdf_rayleigh_Pinv(u, p[0]);
+	case PRSM_DIST_EXPONENTIAL:
+	case PRSM_DIST_GAMMA:
+	case PRSM_DIST_WEIBULL: {
+		const double location = d->kind == PRSM_DIST_EXPONENTIAL ? p[1] : p[2];
+		if (u <= 0.0)
+			return location;
+		if (u >= 1.0)
+			return INFINITY;
+		double t;
+		if (d->kind == PRSM_DIST_EXPONENTIAL)
+			t = u <= 0.5 ? gsl_cdf_exponential_Pinv(u, p[0]) : gsl_cdf_exponential_Qinv(1.0 - u, p[0]);
+		else if (d->kind == PRSM_DIST_GAMMA)
+			t = p[1] * gamma_std_quantile(p[0], u);
+		else /* GSL's Weibull takes the scale first */
+			t = u <= 0.5 ? gsl_cdf_weibull_Pinv(u, p[1], p[0]) : gsl_cdf_weibull_Qinv(1.0 - u, p[1], p[0]);
+		return location + (t > 0.0 ? t : 0.0);
+	}
+	case PRSM_DIST_BETA: {
+		const double lo = p[2], hi = p[3], w = hi - lo;
+		if (u <= 0.0)
+			return lo;
+		if (u >= 1.0)
+			return hi;
+		/* the upper half of the support from the upper end: 1 - X is Beta(beta, alpha) */
+		double y;
+		const double x = beta_std_quantile(p[0], p[1], u, &y);
+		return clamp(x <= 0.5 ? lo + w * x : hi - w * y, lo, hi);
+	}
+	case PRSM_DIST_GUMBEL:
+		if (u <= 0.0)
+			return -INFINITY;
+		if (u >= 1.0)
+			return INFINITY;
+		/* x = location - scale ln(-ln u); -ln u = -log1p(u - 1) above 1/2, where u - 1 is exact */
+		return p[0] - p[1] * log(u <= 0.5 ? -log(u) : -log1p(u - 1.0));
+	case PRSM_DIST_HISTOGRAM:
+		return hist_quantile(d, u);
 	}
 	assert(!"unknown distribution kind");
 	return NAN;
@@ -432,6 +846,25 @@ double prsm_dist_cdf(const prsm_dist *d, double x)
 		return x <= 0.0 ? 0.0 : gsl_cdf_lognormal_P(x, p[0], p[1]);
 	case PRSM_DIST_RAYLEIGH:
 		return x <= 0.0 ? 0.0 : gsl_cdf_rayleigh_P(x, p[0]);
+	case PRSM_DIST_EXPONENTIAL:
+		return x <= p[1] ? 0.0 : gsl_cdf_exponential_P(x - p[1], p[0]);
+	case PRSM_DIST_GAMMA:
+		return x <= p[2] ? 0.0 : (isinf(x) ? 1.0 : gsl_cdf_gamma_P(x - p[2], p[0], p[1]));
+	case PRSM_DIST_WEIBULL:
+		return x <= p[2] ? 0.0 : gsl_cdf_weibull_P(x - p[2], p[1], p[0]);
+	case PRSM_DIST_BETA:
+		if (x <= p[2])
+			return 0.0;
+		if (x >= p[3])
+			return 1.0;
+		/* the upper half from the upper end, as the quantile takes it */
+		if (x - p[2] <= p[3] - x)
+			return clamp(gsl_cdf_beta_P((x - p[2]) / (p[3] - p[2]), p[0], p[1]), 0.0, 1.0);
+		return clamp(1.0 - gsl_cdf_beta_P((p[3] - x) / (p[3] - p[2]), p[1], p[0]), 0.0, 1.0);
+	case PRSM_DIST_GUMBEL:
+		return exp(-exp(-(x - p[0]) / p[1]));
+	case PRSM_DIST_HISTOGRAM:
+		return hist_cdf_at(d, x);
 	}
 	assert(!"unknown distribution kind");
 	return NAN;
@@ -461,6 +894,21 @@ double prsm_dist_mean(const prsm_dist *d)
 		return exp(p[0] + 0.5 * p[1] * p[1]);
 	case PRSM_DIST_RAYLEIGH:
 		return p[0] * sqrt(0.5 * M_PI);
+	case PRSM_DIST_EXPONENTIAL:
+		return p[1] + p[0];
+	case PRSM_DIST_GAMMA:
+		return p[2] + p[0] * p[1];
+	case PRSM_DIST_WEIBULL:
+		return p[2] + p[1] * exp(gsl_sf_lngamma(1.0 + 1.0 / p[0]));
+	case PRSM_DIST_BETA:
+		return p[2] + (p[3] - p[2]) * (p[0] / (p[0] + p[1]));
+	case PRSM_DIST_GUMBEL:
+		return p[0] + M_EULER * p[1];
+	case PRSM_DIST_HISTOGRAM: {
+		double m, v;
+		hist_moments(d, &m, &v);
+		return m;
+	}
 	}
 	assert(!"unknown distribution kind");
 	return NAN;
@@ -493,6 +941,27 @@ double prsm_dist_sd(const prsm_dist *d)
 	}
 	case PRSM_DIST_RAYLEIGH:
 		return p[0] * sqrt(2.0 - 0.5 * M_PI);
+	case PRSM_DIST_EXPONENTIAL:
+		return p[0];
+	case PRSM_DIST_GAMMA:
+		return sqrt(p[0]) * p[1];
+	case PRSM_DIST_WEIBULL: {
+		/* lambda^2 (G(1 + 2/k) - G(1 + 1/k)^2) = lambda^2 G(1 + 1/k)^2 expm1(lnG(1 + 2/k) - 2 lnG(1 + 1/k)):
+		 * no difference of nearly equal terms for large k */
+		const double g1 = gsl_sf_lngamma(1.0 + 1.0 / p[0]), g2 = gsl_sf_lngamma(1.0 + 2.0 / p[0]);
+		return p[1] * exp(g1) * sqrt(expm1(g2 - 2.0 * g1));
+	}
+	case PRSM_DIST_BETA: {
+		const double a = p[0], b = p[1], s = a + b;
+		return (p[3] - p[2]) * sqrt(a * b / (s + 1.0)) / s;
+	}
+	case PRSM_DIST_GUMBEL:
+		return p[1] * M_PI / sqrt(6.0);
+	case PRSM_DIST_HISTOGRAM: {
+		double m, v;
+		hist_moments(d, &m, &v);
+		return sqrt(v);
+	}
 	}
 	assert(!"unknown distribution kind");
 	return NAN;
@@ -516,6 +985,13 @@ double prsm_dist_center(const prsm_dist *d)
 		return exp(p[0]);
 	case PRSM_DIST_RAYLEIGH:
 		return 0.0;
+	case PRSM_DIST_EXPONENTIAL:
+	case PRSM_DIST_GAMMA:
+	case PRSM_DIST_WEIBULL:
+	case PRSM_DIST_BETA:
+	case PRSM_DIST_GUMBEL:
+	case PRSM_DIST_HISTOGRAM:
+		return prsm_dist_quantile(d, 0.5);
 	}
 	assert(!"unknown distribution kind");
 	return NAN;
@@ -542,6 +1018,22 @@ double prsm_dist_halfwidth(const prsm_dist *d)
 		return exp(p[0]) * expm1(p[1] * gsl_cdf_ugaussian_Qinv(STACK_TAIL));
 	case PRSM_DIST_RAYLEIGH:
 		return p[0] * sqrt(-2.0 * log(STACK_TAIL));
+	case PRSM_DIST_EXPONENTIAL:
+	case PRSM_DIST_GAMMA:
+	case PRSM_DIST_WEIBULL:
+	case PRSM_DIST_GUMBEL: {
+		/* the farther of the 0.135 and 99.865 % quantiles from the median */
+		const double m = prsm_dist_quantile(d, 0.5);
+		return fmax(prsm_dist_quantile(d, 1.0 - STACK_TAIL) - m, m - prsm_dist_quantile(d, STACK_TAIL));
+	}
+	case PRSM_DIST_BETA: {
+		const double m = prsm_dist_quantile(d, 0.5);
+		return fmax(m - p[2], p[3] - m);
+	}
+	case PRSM_DIST_HISTOGRAM: {
+		const double m = prsm_dist_quantile(d, 0.5);
+		return fmax(m - p[0], p[1] - m);
+	}
 	}
 	assert(!"unknown distribution kind");
 	return NAN;
@@ -554,4 +1046,5 @@ void prsm_dist_from_tolerance(prsm_dist *out, double nominal, double tol, double
 	out->p[0] = nominal;
 	out->p[1] = tol / (3.0 * cpk);
 	out->p[2] = out->p[3] = 0.0;
+	out->hist = NULL;
 }

@@ -31,13 +31,25 @@ static const char *const model_keys[] = {"benchmark", "a", "b", "coefficients", 
 static const char *const bench_names[] = {"ishigami", "gfunction", "linear", NULL};
 static const char *const tolerance_keys[] = {
 	"parameter", "distribution", "mean", "sd", "lower", "upper", "mode", "mu", "sigma",
+	"scale", "location", "shape", "alpha", "beta", "edges", "weights",
 	"tol", "tol_um", "tol_mrad", "tol_um_per_300mm", "cpk", "nominal", "shared", NULL};
 static const char *const dist_names[] = {"normal", "truncnormal", "uniform", "triangular",
-                                         "lognormal", "rayleigh", NULL}; /* = prsm_dist_kind */
+                                         "lognormal", "rayleigh", "exponential", "gamma",
+                                         "weibull", "beta", "gumbel", "histogram", NULL}; /* = prsm_dist_kind */
 static const char *const spec_keys[] = {"lower", "upper", NULL};
 static const char *const corr_keys[] = {"between", "rho", NULL};
 
 static const prsm_json_range ANY = {-HUGE_VAL, HUGE_VAL, 0, 0};
+
+/* 1 when parameter q of kind k is the first of that name (a name is reported once). */
+static int first_kind_of(const char *name, int k, int q)
+{
+	for (int j = 0; j <= k; j++)
+		for (int r = 0; r < (j == k ? q : 4) && prsm_dist_param_name(j, r); r++)
+			if (strcmp(prsm_dist_param_name(j, r), name) == 0)
+				return 0;
+	return 1;
+}
 static const prsm_json_range POSITIVE = {0.0, HUGE_VAL, 1, 0};
 
 
@@ -293,7 +305,8 @@ static int read_tolerance(prsm_io_tolerance *t, param_info *pi, const prsm_io_st
 		prsm_json_get_number(&nominal, o, ptr, "nominal", PRSM_JSON_OPTIONAL, ANY, pr);
 		for (int k = 0; k < 6; k++)
 			for (int q = 0; q < 4 && prsm_dist_param_name(k, q); q++)
-				if (strcmp(prsm_dist_param_name(k, q), "mean") != 0 && cJSON_GetObjectItemCaseSensitive(o, prsm_dist_param_name(k, q))) {
+				if (strcmp(prsm_dist_param_name(k, q), "mean") != 0 && cJSON_GetObjectItemCaseSensitive(o, prsm_dist_param_name(k, q)) &&
+				    first_kind_of(prsm_dist_param_name(k, q), k, q)) {
 					char xp[PRSM_JSON_POINTER_MAX];
 					prsm_json_pointer_append(xp, sizeof xp, ptr, prsm_dist_param_name(k, q));
 					prsm_problems_add(pr, xp, "not_allowed", "%s is a distribution parameter: not with %s",
@@ -425,7 +438,7 @@ static void build_vars(prsm_io_study *s, size_t g, const param_info *pi)
 	snprintf(gr->name, sizeof gr->name, "%s", t->parameter);
 	gr->first_var = st->d;
 	prsm_mc_binding b = {pi->part, 0, pi->offset, pi->scale};
-	prsm_dist phase = {PRSM_DIST_UNIFORM, {0.0, 2.0 * M_PI, 0.0, 0.0}};
+	prsm_dist phase = {PRSM_DIST_UNIFORM, {0.0, 2.0 * M_PI, 0.0, 0.0}, NULL};
 	const char *dot = strchr(t->parameter, '.');
 	const char *key = dot ? dot + 1 : t->parameter;
 	char stem[PRSM_STUDY_NAME_MAX];

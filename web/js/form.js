@@ -50,6 +50,16 @@ function readNumber(input, integer) {
   return integer && Number.isInteger(v) ? v : v;
 }
 
+// A list of numbers from a text <input> ("-0.02, 0, 0.02" or space-separated): undefined when
+// blank; the text itself when an item is not a number, so the API names the problem.
+function readList(input) {
+  const raw = input.value.trim();
+  if (raw === '') return undefined;
+  const items = raw.split(/[\s,;]+/).filter(x => x !== '');
+  const values = items.map(Number);
+  return values.every(Number.isFinite) ? values : raw;
+}
+
 export const DISTRIBUTIONS = {
   shorthand: { label: 'tol ± (Cpk)', keys: ['tol', 'cpk', 'nominal'] },
   normal: { label: 'normal', keys: ['mean', 'sd'] },
@@ -58,7 +68,15 @@ export const DISTRIBUTIONS = {
   triangular: { label: 'triangular', keys: ['lower', 'mode', 'upper'] },
   lognormal: { label: 'lognormal', keys: ['mu', 'sigma'] },
   rayleigh: { label: 'Rayleigh', keys: ['sigma'] },
+  exponential: { label: 'exponential', keys: ['scale', 'location'] },
+  gamma: { label: 'gamma', keys: ['shape', 'scale', 'location'] },
+  weibull: { label: 'Weibull', keys: ['shape', 'scale', 'location'] },
+  beta: { label: 'beta', keys: ['alpha', 'beta', 'lower', 'upper'] },
+  gumbel: { label: 'Gumbel (largest)', keys: ['location', 'scale'] },
+  histogram: { label: 'histogram', keys: ['edges', 'weights'], lists: ['edges', 'weights'] },
 };
+// A parameter the form takes as a list of numbers (a histogram's edges and weights).
+const isList = (dist, k) => (DISTRIBUTIONS[dist].lists || []).includes(k);
 const TOL_KEYS = ['tol', 'tol_um', 'tol_mrad', 'tol_um_per_300mm'];
 
 // The shorthand's key for a parameter: tol_um for *_um, tol_mrad for *_mrad, ...
@@ -237,7 +255,7 @@ export class StudyForm {
 
   captureParams(row) {
     for (const inp of row.paramsCell.querySelectorAll('input')) {
-      const v = readNumber(inp);
+      const v = inp.dataset.list ? readList(inp) : readNumber(inp);
       if (v === undefined) delete row.values[inp.dataset.key];
       else row.values[inp.dataset.key] = v;
     }
@@ -256,11 +274,13 @@ export class StudyForm {
       const lab = document.createElement('label');
       lab.htmlFor = id;
       lab.textContent = k === 'tol' ? `tol ±${unit ? ` (${unit})` : ''}` : k;
-      const inp = input('number', { id, 'data-key': k });
+      const list = isList(row.dist.value, k);
+      const inp = list ? input('text', { id, 'data-key': k, 'data-list': '1' }) : input('number', { id, 'data-key': k });
       if (k === 'cpk') inp.placeholder = '1';
-      if (k === 'nominal' || k === 'mean') inp.placeholder = '0';
+      if (k === 'nominal' || k === 'mean' || k === 'location') inp.placeholder = '0';
+      if (list) inp.placeholder = k === 'edges' ? '-2, -1, 0, 1, 2' : '1, 3, 3, 1';
       const v = row.values[k];
-      if (v !== undefined) inp.value = String(v);
+      if (v !== undefined) inp.value = Array.isArray(v) ? v.join(', ') : String(v);
       wrap.append(lab, inp);
       row.paramsCell.appendChild(wrap);
       row.inputs[k] = inp;
@@ -400,7 +420,7 @@ export class StudyForm {
       const t = { parameter: row.param.value };
       if (row.dist.value !== 'shorthand') t.distribution = row.dist.value;
       for (const k of DISTRIBUTIONS[row.dist.value].keys) {
-        const v = readNumber(row.inputs[k]);
+        const v = isList(row.dist.value, k) ? readList(row.inputs[k]) : readNumber(row.inputs[k]);
         if (v !== undefined) t[k === 'tol' ? tolKey(row.param.value) : k] = v;
       }
       if (row.shared.checked) t.shared = true;
