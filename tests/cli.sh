@@ -781,5 +781,51 @@ done
 "$prsm" validate "$tmp/vib-bad.json" > /dev/null; check "validate an invalid sweep" 1 $?
 "$prsm" validate "$src/studies/vibration-case-a-330.json" > /dev/null; check "validate a vibration request" 0 $?
 
+# ---- issue 18: ratings both ways, catalogue sizes, plausibility, wrong kinds (docs/ratings.md) ----
+for size in "21 5" "30 10" "48 5" "60 20"; do
+  set -- $size
+  printf '{"nominal": {"diameter_mm": %s, "lead_mm": %s}, "operating_point": {"axial_load_N": 10000}}' "$1" "$2" > "$tmp/nom.json"
+  "$prsm" analyze "$tmp/nom.json" > "$tmp/nom-out.json"; check "analyze the catalogue size $1 x $2" 0 $?
+  ok "$1 x $2: both rating conventions, makers' C_0a/C_a above 1, truncation warned for 48 x 5 only" $py - "$tmp/nom-out.json" "$1" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1])); r = d["capacity"]["ratings"]; m = r["makers_convention"]
+assert m["C0a_over_C_a"] > 1 and abs(m["C0a_over_C_a"] - m["C0a_N"] / m["C_a_N"]) < 1e-12, m
+assert r["load_distribution"]["C0a_N"] == d["capacity"]["static"]["C0a_N"] < m["C0a_N"], r
+assert d["nominal"]["starts"] == 5 and [a["starts"] for a in d["nominal"]["alternatives"]] == [3, 4, 5, 6]
+codes = [w["code"] for w in d["warnings"]]
+assert ("ellipse_truncation" in codes) == (sys.argv[2] == "48"), codes
+assert (d["capacity"]["static"]["limited_by"] == "ellipse_truncation") == (sys.argv[2] == "48")
+PY
+done
+"$prsm" analyze "$src/studies/catalogue/48x5.json" --format text > "$tmp/nom.txt"; check "analyze catalogue/48x5.json --format text" 0 $?
+ok "48 x 5 text: both conventions and the truncation" grep -q "makers' convention (equal sharing)" "$tmp/nom.txt"
+ok "48 x 5 text: the truncation warning" grep -q "contact ellipse reaches the" "$tmp/nom.txt"
+printf '{"nominal": {"diameter_mm": 30, "lead_mm": 10}, "geometry": {"pitch_mm": 2}}' > "$tmp/nom-bad.json"
+"$prsm" analyze "$tmp/nom-bad.json" 2> "$tmp/err"; check "a catalogue size with the pitch too" 1 $?
+ok "nominal and pitch_mm: the conflict at the geometry's field" grep -q ": /geometry/pitch_mm: is set by the catalogue size" "$tmp/err"
+printf '{"geometry": {"starts": 5, "pitch_mm": 2, "roller_radius_mm": 3250, "rollers": 10, "engaged_threads": 10}}' > "$tmp/slip.json"
+"$prsm" validate "$tmp/slip.json" > "$tmp/out"; check "validate a radius in µm" 0 $?
+ok "unit slip: warned at roller_radius_mm" grep -q "warning: /geometry/roller_radius_mm: 3250 mm: a value in µm" "$tmp/out"
+printf '{"geometry": {"starts": 5, "pitch_mm": 20, "roller_radius_mm": 3.25, "rollers": 6, "engaged_threads": 10}}' > "$tmp/p20.json"
+"$prsm" analyze "$tmp/p20.json" 2> "$tmp/err"; check "pitch 20 mm on a 3.25 mm roller" 1 $?
+ok "pitch 20: blames pitch_mm" grep -q ": /geometry/pitch_mm: roller needs" "$tmp/err"
+ok "pitch 20: not the derived root radius" sh -c "! grep -q roller_root_radius_mm '$tmp/err'"
+"$prsm" analyze "$src/studies/case-a-tolerances.json" > /dev/null 2> "$tmp/err"; check "analyze a study" 1 $?
+ok "a study given to analyze: says which command" grep -q "this is a tolerance study (it has \`tolerances\`), not a design: run it with \`prsm study FILE\`" "$tmp/err"
+"$prsm" analyze "$src/studies/optimize-case-a.json" > /dev/null 2> "$tmp/err"; check "analyze an optimisation" 1 $?
+ok "an optimisation given to analyze: says which command" grep -q "run it with \`prsm optimize FILE\`" "$tmp/err"
+"$prsm" batch "$tmp/no-such-file.jsonl" --out "$tmp/b.jsonl" 2> /dev/null; check "batch on a missing file (usage, 64)" 64 $?
+printf '{"geometry": {"starts": 5, "pitch_mm": 2, "roller_radius_mm": 3.25, "rollers": 10, "engaged_threads": 10}, "operating_point": {"axial_load_N": 7000, "screw_speed_rpm": 0}}' > "$tmp/rpm0.json"
+"$prsm" analyze "$tmp/rpm0.json" --format text > "$tmp/rpm0.txt"; check "analyze at 0 rpm --format text" 0 $?
+ok "0 rpm: L10 hours not rated, as the JSON's null" grep -q "hours not rated at 0 rpm" "$tmp/rpm0.txt"
+ok "0 rpm: no '0 h'" sh -c "! grep -q ' 0 h' '$tmp/rpm0.txt'"
+"$prsm" optimize "$src/studies/catalogue/optimize-standard-leads.json" --quiet > "$tmp/leads.json"; check "optimize with standard leads" 0 $?
+ok "standard leads: the best lead is one of the list" $py - "$tmp/leads.json" "$src/studies/catalogue/optimize-standard-leads.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1])); allowed = json.load(open(sys.argv[2]))["variables"]["lead_values_mm"]
+v = r["best"]["variables"]
+assert r["feasible"] and v["lead_mm"] in allowed and abs(v["pitch_mm"] * v["starts"] - v["lead_mm"]) < 1e-12, v
+PY
+
 echo "cli: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -508,6 +508,72 @@ static void test_errors(void **state)
 	free(a);
 }
 
+/* LS-1 as a study (an expression model) whose correction judges the yield by a rare-event
+ * method (issue 21 item 4): at 44.557 ppm, 2000 samples could never show the target (the
+ * sample-count check stands aside for a rare-event yield), FORM is exact on this linear stack
+ * of normals, so the linear allocation (f = 1) meets the target to rounding and the correction
+ * ends there; with importance sampling the target is judged on the interval's far end, so the
+ * accepted allocation is a little tighter. The analytic stack refuses yield_method. */
+static const char *LS1_STUDY =
+	"{\"study\": {\"model\": {\"expression\": \"0.1 + x1 + x2 - x3 - x4\", \"inputs\": [\"x1\", \"x2\", \"x3\", \"x4\"]},"
+	"   \"tolerances\": [{\"parameter\": \"x1\", \"tol\": 0.02}, {\"parameter\": \"x2\", \"tol\": 0.02},"
+	"                   {\"parameter\": \"x3\", \"tol\": 0.02}, {\"parameter\": \"x4\", \"tol\": 0.02}],"
+	"   \"outputs\": [\"y\"], \"specs\": {\"y\": {\"lower\": 0, \"upper\": 0.2}},"
+	"   \"monte_carlo\": {\"samples\": 2000, \"seed\": 5}},"
+	" \"allocate\": ["
+	"  {\"parameter\": \"x1\", \"cost\": {\"model\": \"reciprocal\", \"coefficient\": 0.5}},"
+	"  {\"parameter\": \"x2\", \"cost\": {\"model\": \"reciprocal\", \"coefficient\": 0.4}},"
+	"  {\"parameter\": \"x3\", \"cost\": {\"model\": \"reciprocal\", \"coefficient\": 0.3}},"
+	"  {\"parameter\": \"x4\", \"cost\": {\"model\": \"reciprocal\", \"coefficient\": 0.2}}],"
+	" \"constraints\": [{\"output\": \"y\", \"target_ppm\": 44.557090604135930, \"yield_method\": \"";
+
+static void test_rare_yield(void **state)
+{
+	(void)state;
+	const double p0 = 1.0 - 44.557090604135930e-6;
+	for (int k = 0; k < 2; k++) {
+		char text[2048];
+		snprintf(text, sizeof text, "%s%s\"}]}", LS1_STUDY, k == 0 ? "form" : "is");
+		cJSON *doc = parse(text);
+		cJSON *res = run_ok(doc, 2);
+		const cJSON *c0 = cJSON_GetArrayItem(item(res, "constraints"), 0);
+		const cJSON *mc = item(c0, "monte_carlo");
+		const cJSON *corr = item(res, "correction");
+		double f = num(corr, "scale");
+		print_message("%s: scale %.6g, yield %.12g (target %.12g)\n", k == 0 ? "form" : "is", f, num(mc, "fraction"), p0);
+		assert_true(cJSON_IsTrue(item(c0, "meets_target")));
+		assert_string_equal(item(mc, "yield_method")->valuestring, k == 0 ? "form" : "is");
+		if (k == 0) {
+			assert_string_equal(item(mc, "interval_method")->valuestring, "rare-event point estimate, no interval");
+			/* the reported step is the linear allocation, whose FORM yield is the target to rounding */
+			assert_true(f >= 0.99 && f <= 1.0);
+			if (f == 1.0)
+				assert_true(fabs(num(mc, "fraction") - p0) < 1e-12);
+		} else {
+			assert_string_equal(item(mc, "interval_method")->valuestring, "rare-event estimate, 95 %");
+			double lo = cJSON_GetArrayItem(item(mc, "interval95"), 0)->valuedouble;
+			assert_true(lo >= p0);
+			assert_true(f > 0.8 && f <= 1.0);
+		}
+		cJSON_Delete(res);
+		cJSON_Delete(doc);
+	}
+	/* the analytic stack has no Monte Carlo to judge */
+	char text[2048];
+	snprintf(text, sizeof text, "%.*s, \"yield_method\": \"form\"}]}", (int)(strlen(LS1) - 3), LS1);
+	cJSON *doc = parse(text);
+	prsm_problems pr;
+	prsm_problems_init(&pr);
+	prsm_error err = PRSM_ERROR_INIT;
+	cJSON *res = NULL;
+	assert_int_not_equal(prsm_app_allocate(&res, doc, NULL, NULL, NULL, 0.0, 1, &pr, &err), 0);
+	int found = 0;
+	for (int i = 0; i < pr.count; i++)
+		found |= strcmp(pr.items[i].pointer, "/constraints/0/yield_method") == 0;
+	assert_true(found);
+	cJSON_Delete(doc);
+}
+
 int main(void)
 {
 	prsm_global_init();
@@ -524,6 +590,7 @@ int main(void)
 		cmocka_unit_test(test_spec_message),
 		cmocka_unit_test(test_extremes),
 		cmocka_unit_test(test_errors),
+		cmocka_unit_test(test_rare_yield),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -389,6 +389,17 @@ static void test_job_kind(void **state)
 	assert_non_null(kind);
 	assert_ptr_equal(prsm_job_kind_by_collection("simulations"), kind);
 	assert_string_equal(kind->progress_unit, "simulated_ns");
+	/* the unit of a stored request follows its analysis */
+	assert_non_null(kind->progress_unit_of);
+	const char *units[][2] = {{"transient", "simulated_ns"}, {"sweep", "sweep_points"},
+	                          {"frequency_response", "sweep_points"}, {"basins", "basin_cells"},
+	                          {"linear", "analyses"}, {"vibration", "analyses"}};
+	for (size_t i = 0; i < sizeof units / sizeof units[0]; i++) {
+		char rq[128];
+		snprintf(rq, sizeof rq, "{\"dynamics\": {\"analysis\": \"%s\"}}", units[i][0]);
+		assert_string_equal(kind->progress_unit_of(rq), units[i][1]);
+	}
+	assert_string_equal(kind->progress_unit_of("{\"dynamics\": {}}"), "simulated_ns");
 	assert_non_null(strstr(kind->version(), PRSM_DYN_MODEL_VERSION));
 	cJSON *doc = request(v1_dynamics);
 	kind_run k = {kind, normalised(kind, doc), 0, 0, 0, {0}, PRSM_ERROR_INIT};

@@ -90,9 +90,9 @@ static void test_is_r_minus_s(void **state)
 		prsm_rare_result r;
 		prsm_error err = PRSM_ERROR_INIT;
 		assert_int_equal(prsm_rare_run(&r, PRSM_RARE_IS, &p, &o, &err), 0);
-		printf("IS R-S mu_R=%g: pf %.6g se %.3g cov %.4f [%.6g, %.6g], %zu samples, %zu failures, %zu evaluations "
+		printf("IS R-S mu_R=%g: pf %.6g se %.3g cov %.4f (rel err %.3f) [%.6g, %.6g], %zu samples, %zu failures, %zu evaluations "
 		       "(FORM %zu), exact %.6g\n",
-		       rs_mu[k], r.is.pf, r.is.se, r.is.cov, r.is.lower, r.is.upper, r.is.samples, r.is.failures,
+		       rs_mu[k], r.is.pf, r.is.se, r.is.cov, r.is.cov_rel_error, r.is.lower, r.is.upper, r.is.samples, r.is.failures,
 		       r.evaluations, r.form.evaluations, rs_exact[k]);
 		assert_true(r.has_form && r.has_is);
 		assert_true(r.is.converged);
@@ -165,8 +165,8 @@ static void test_is_sum_of_normals(void **state)
 	prsm_rare_result r;
 	prsm_error err = PRSM_ERROR_INIT;
 	assert_int_equal(prsm_rare_run(&r, PRSM_RARE_IS, &p, &o, &err), 0);
-	printf("IS %d normals: pf %.5g [%.5g, %.5g] cov %.4f, %zu evaluations; exact %.5g\n", N, r.pf, r.lower, r.upper,
-	       r.cov, r.evaluations, exact);
+	printf("IS %d normals: pf %.5g [%.5g, %.5g] cov %.4f (rel err %.3f), %zu evaluations; exact %.5g\n", N, r.pf,
+	       r.lower, r.upper, r.cov, r.is.cov_rel_error, r.evaluations, exact);
 	assert_true(r.converged);
 	assert_true(r.lower <= exact && exact <= r.upper);
 	prsm_rare_result_free(&r);
@@ -205,8 +205,8 @@ static void test_exponentials(void **state)
 	prsm_error err = PRSM_ERROR_INIT;
 	o.max_samples = 30000;
 	assert_int_equal(prsm_rare_run(&r, PRSM_RARE_IS, &p, &o, &err), 0);
-	printf("IS exponentials: pf %.5g se %.3g [%.5g, %.5g] cov %.4f, %zu evaluations, stop %s; exact %.5g (FORM %.5g)\n",
-	       r.pf, r.is.se, r.lower, r.upper, r.cov, r.evaluations, prsm_rare_stop_name(r.stop), exact, r.form.pf);
+	printf("IS exponentials: pf %.5g se %.3g [%.5g, %.5g] cov %.4f (rel err %.3f), %zu evaluations, stop %s; exact %.5g (FORM %.5g)\n",
+	       r.pf, r.is.se, r.lower, r.upper, r.cov, r.is.cov_rel_error, r.evaluations, prsm_rare_stop_name(r.stop), exact, r.form.pf);
 	/* the failure domain is the outside of a convex set: its probability lies far from the design
 	 * point and IS around it is slow (CoV ~0.1 at 30000 samples), but unbiased: within 3 standard
 	 * errors */
@@ -226,6 +226,61 @@ static void test_exponentials(void **state)
 	       s.lower, s.upper, s.levels, s.evaluations, exact);
 	assert_true(s.converged);
 	assert_true(fabs(log(s.pf / exact)) <= 3.0 * s.cov);
+}
+
+/* Three exponentials above 20 (P = 221 e^-20 = 4.56e-7): the failure domain wraps around the
+ * origin, IS around the one design point sees a few heavy weights, and with the CoV alone as
+ * the stop rule it stopped at CoV 0.064 some 20 % low with the exact value outside its
+ * interval. The CoV's own error (the fourth moment) keeps it from claiming convergence, and
+ * prsm_rare_run with the fallback (auto's) hands the rest of the budget to subset simulation,
+ * whose interval holds the exact value. */
+static void test_is_heavy_weights(void **state)
+{
+	(void)state;
+	enum { N = 3 };
+	prsm_mc_variable v[N];
+	for (size_t i = 0; i < N; i++)
+		set_normal(&v[i], 0.0, 1.0);
+	expsum_ctx e = {N, 20.0};
+	double exact = gsl_cdf_gamma_Q(e.t, (double)N, 1.0);
+	prsm_rare_problem p = problem(&e, expsum_g, v, N);
+	prsm_rare_options o = opts();
+	o.target_cov = 0.1;
+	o.max_evaluations = 20000;
+	o.max_samples = 20000;
+	prsm_rare_result r;
+	prsm_error err = PRSM_ERROR_INIT;
+	assert_int_equal(prsm_rare_run(&r, PRSM_RARE_IS, &p, &o, &err), 0);
+	printf("IS 3 exponentials: pf %.5g [%.5g, %.5g] cov %.4f (rel err %.3f), converged %d, stop %s; exact %.5g\n",
+	       r.pf, r.lower, r.upper, r.cov, r.is.cov_rel_error, r.converged, prsm_rare_stop_name(r.stop), exact);
+	assert_true(r.is.cov_rel_error > o.is_max_cov_error);
+	assert_false(r.converged);
+	prsm_rare_result_free(&r);
+
+	o.is_fallback_subset = 1;
+	assert_int_equal(prsm_rare_run(&r, PRSM_RARE_IS, &p, &o, &err), 0);
+	printf("IS then subset: %s pf %.5g [%.5g, %.5g], %zu evaluations; %s\n", prsm_rare_method_name(r.method), r.pf,
+	       r.lower, r.upper, r.evaluations, r.note);
+	assert_int_equal(r.method, PRSM_RARE_SUBSET);
+	assert_true(r.has_is && r.has_subset);
+	assert_true(r.evaluations <= o.max_evaluations);
+	assert_true(r.lower <= exact && exact <= r.upper);
+	prsm_rare_result_free(&r);
+
+	/* a FORM that does not converge (here: one iteration allowed) hands the budget to subset
+	 * simulation instead of sampling around its last iterate */
+	o.form_max_iterations = 1;
+	assert_int_equal(prsm_rare_run(&r, PRSM_RARE_IS, &p, &o, &err), 0);
+	printf("FORM stopped, then subset: %s pf %.5g [%.5g, %.5g], %zu evaluations; %s\n", prsm_rare_method_name(r.method),
+	       r.pf, r.lower, r.upper, r.evaluations, r.note);
+	assert_false(r.form.converged);
+	assert_false(r.has_is);
+	assert_int_equal(r.method, PRSM_RARE_SUBSET);
+	assert_non_null(strstr(r.note, "FORM did not converge"));
+	assert_true(r.form.evaluations <= o.max_evaluations / 4 + 1);
+	assert_true(r.evaluations <= o.max_evaluations);
+	assert_true(r.lower <= exact && exact <= r.upper);
+	prsm_rare_result_free(&r);
 }
 
 /* ---- subset ----------------------------------------------------------------------------------- */
@@ -750,6 +805,7 @@ int main(void)
 		cmocka_unit_test(test_mc_r_minus_s),
 		cmocka_unit_test(test_is_sum_of_normals),
 		cmocka_unit_test(test_exponentials),
+		cmocka_unit_test(test_is_heavy_weights),
 		cmocka_unit_test(test_subset_r_minus_s),
 		cmocka_unit_test(test_subset_cov_scatter),
 		cmocka_unit_test(test_subset_high_dim),

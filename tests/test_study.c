@@ -395,6 +395,48 @@ static void test_ranges(void **state)
 	free(t);
 }
 
+/* The sliding efficiency is efficiency_sliding; its older name, efficiency, gives the same
+ * samples and a warning that it is not analyze's eta with its losses (issue 18). */
+static void test_efficiency_names(void **state)
+{
+	(void)state;
+	double mean[2];
+	const char *names[2] = {"efficiency_sliding", "efficiency"};
+	for (int k = 0; k < 2; k++) {
+		char rest[256];
+		snprintf(rest, sizeof rest,
+		         ", \"outputs\": [\"backlash_um\", \"%s\"], \"specs\": {\"%s\": {\"lower\": 0.85}},"
+		         " \"monte_carlo\": {\"samples\": 64, \"seed\": 3}", names[k], names[k]);
+		char *t = study_text("{\"parameter\": \"friction.screw_roller_mu\", \"distribution\": \"uniform\", "
+		                     "\"lower\": -0.01, \"upper\": 0.02}", rest);
+		cJSON *doc = cJSON_Parse(t);
+		free(t);
+		assert_non_null(doc);
+		prsm_io_study *s = calloc(1, sizeof *s);
+		assert_non_null(s);
+		prsm_problems pr, warn;
+		prsm_problems_init(&pr);
+		prsm_problems_init(&warn);
+		assert_int_equal(prsm_io_study_load(s, doc, &warn, &pr), 0);
+		cJSON_Delete(doc);
+		int older = 0;
+		for (int i = 0; i < warn.count; i++)
+			if (strcmp(warn.items[i].code, "older_name") == 0) {
+				older++;
+				assert_string_equal(warn.items[i].pointer, "/outputs/1");
+				assert_non_null(strstr(warn.items[i].message, "efficiency_with_losses"));
+			}
+		assert_int_equal(older, k == 1 ? 1 : 0);
+		prsm_study_result r;
+		prsm_error err = PRSM_ERROR_INIT;
+		assert_int_equal(prsm_study_run(&r, &s->study, &err), 0);
+		mean[k] = r.out[1].summary.mean;
+		prsm_study_result_free(&r);
+		free(s);
+	}
+	assert_true(mean[0] == mean[1] && mean[0] > 0.85 && mean[0] < 0.95);
+}
+
 int main(void)
 {
 	prsm_global_init();
@@ -406,6 +448,7 @@ int main(void)
 		cmocka_unit_test(test_rss_uniform),
 		cmocka_unit_test(test_ranges),
 		cmocka_unit_test(test_nut_unit_stiffness),
+		cmocka_unit_test(test_efficiency_names),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -169,8 +169,10 @@ static int build_study(void *ctx, prsm_study **study, void **handle, const prsm_
 	prsm_problems_init(pr);
 	rc = prsm_io_study_load(s, od->study, NULL, pr);
 	if (rc) {
-		if (pr->count)
+		if (pr->count && pr->items[0].pointer[0])
 			prsm_error_set(err, rc, NULL, "%s: %s", pr->items[0].pointer, pr->items[0].message);
+		else if (pr->count) /* the whole study: no pointer to put before the message */
+			prsm_error_set(err, rc, NULL, "%s", pr->items[0].message);
 		else
 			prsm_error_set(err, rc, NULL, "the study could not be built");
 		goto fail;

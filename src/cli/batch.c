@@ -569,12 +569,15 @@ int prsm_cli_batch(int argc, char **argv)
 	char *text = NULL;
 	size_t len = 0;
 	if (prsm_file_read(&text, &len, o.path, BATCH_MAX_FILE_BYTES, &err)) {
+		/* a file that cannot be read is a usage error (64, README "Exit codes"), as for the other
+		 * commands; one too large is an invalid request (1) */
+		const int code = err.code == PRSM_EIO ? PRSM_EXIT_USAGE : PRSM_EXIT_INVALID;
 		fprintf(stderr, "prsm batch: %s: %s\n", o.path, err.message);
 		if (par) {
-			dispatch_end(&D, PRSM_EXIT_INVALID);
+			dispatch_end(&D, code);
 			free(D.busy);
 		}
-		return PRSM_EXIT_INVALID;
+		return code;
 	}
 	/* the lines, in place: every '\n' becomes a terminator */
 	size_t n_lines = 0;

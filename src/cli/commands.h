@@ -27,6 +27,7 @@ int prsm_cli_optimize(int argc, char **argv);
 int prsm_cli_allocate(int argc, char **argv);
 int prsm_cli_batch(int argc, char **argv);
 int prsm_cli_simulate(int argc, char **argv);
+int prsm_cli_calibrate(int argc, char **argv);
 
 /* One `prsm bench` entry, value rounded to `decimals` (null when not finite). */
 void prsm_cli_bench_add(cJSON *list, const char *name, double value, const char *unit, int threads,

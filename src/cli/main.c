@@ -31,6 +31,11 @@ static void usage(FILE *out)
 	        "                   frequency_response, basins); JSON result on stdout:\n"
 	        "                   --format json|text, --out FILE, --csv FILE (the series or points),\n"
 	        "                   --threads N (sweeps and basins), --quiet\n"
+	        "  calibrate FILE|- a design with measured data (a TE curve, a cage ratio, an efficiency):\n"
+	        "                   measured - model, the TE lines by spectrum, the line or physical model\n"
+	        "                   calibrated with standard errors and identifiability caveats, friction\n"
+	        "                   and carrier drag (docs/measured-data.md); JSON result on stdout:\n"
+	        "                   --measured CSV (the TE curve), --format json|text, --out FILE\n"
 	        "  validate FILE|-  check a design, analyze or simulation request, study, optimisation or\n"
 	        "                   allocation document, print every problem\n"
 	        "                   --format text|json\n"
@@ -119,6 +124,8 @@ int main(int argc, char **argv)
 		return prsm_cli_optimize(argc - 1, argv + 1);
 	if (strcmp(cmd, "simulate") == 0)
 		return prsm_cli_simulate(argc - 1, argv + 1);
+	if (strcmp(cmd, "calibrate") == 0)
+		return prsm_cli_calibrate(argc - 1, argv + 1);
 	if (strcmp(cmd, "serve") == 0)
 		return prsm_cli_serve(argc - 1, argv + 1);
 	if (strcmp(cmd, "batch") == 0)

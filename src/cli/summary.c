@@ -86,10 +86,20 @@ static void print_analysis(FILE *out, const prsm_analysis *a, const prsm_design 
 		fprintf(out, "  C_0a %.5g N at p_allow %.0f MPa (static safety %.3g); C_a %.5g N (L-P, distribution factor %.3f)\n",
 		        perf->C0a_N, d->life.p_allow_MPa, perf->static_safety, perf->dynamic.C_a_N,
 		        perf->distribution_factor);
-		if (perf->equivalent_load_N > 0.0)
+		if (perf->C0a_truncation_limited)
+			fprintf(out, "  C_0a limited by the contact-ellipse truncation (%.5g N at p_allow alone)\n",
+			        perf->C0a_pressure_N);
+		fprintf(out, "  makers' convention (equal sharing): C_0a %.5g N, C_a %.5g N, C_0a/C_a %.3f; "
+		        "load distribution: C_0a/C_a %.3f\n", perf->makers.C0a_N, perf->makers.C_a_N,
+		        perf->makers.C0a_over_C_a, perf->C0a_over_C_a);
+		if (perf->equivalent_load_N > 0.0 && perf->life.hours > 0.0)
 			fprintf(out, "  L%d life at %.5g N equivalent: %.4g revolutions, %.4g h, %.4g km\n",
 			        100 - perf->life.reliability_percent, perf->equivalent_load_N, perf->life.revolutions,
 			        perf->life.hours, perf->life.distance_km);
+		else if (perf->equivalent_load_N > 0.0) /* the JSON's hours is null: no time at 0 rpm */
+			fprintf(out, "  L%d life at %.5g N equivalent: %.4g revolutions, %.4g km; hours not rated "
+			        "at 0 rpm\n", 100 - perf->life.reliability_percent, perf->equivalent_load_N,
+			        perf->life.revolutions, perf->life.distance_km);
 		if (perf->has_column)
 			fprintf(out, "  column (%.5g mm): critical speed %.5g rpm (catalogue %.5g), buckling %.5g N\n",
 			        perf->column.free_length_mm, perf->column.critical_speed_rpm,

@@ -324,6 +324,15 @@ int prsm_io_step_alloc_constraint(prsm_io_at *at, prsm_problems *pr)
 	if (given != 1)
 		prsm_problems_add(pr, at->pointer, given ? "conflict" : "required",
 		                  "give exactly one of target_yield_percent, target_ppm, assembly_tolerance");
+	if (t->has_yield_method) {
+		if (!d->is_study) {
+			prsm_io_problem(pr, at->pointer, "yield_method", "not_allowed",
+			                "an analytic allocation has no Monte Carlo: yield_method needs a study");
+		} else if (d->study && c->kind_ok && d->opt.output[i] < d->study->study.m &&
+		           strcmp(d->study->study.outputs[d->opt.output[i]].name, d->out_name[i]) == 0) {
+			d->study->study.outputs[d->opt.output[i]].yield_method = t->yield_method;
+		}
+	}
 	if (md->has_target[i] && given == 1 && !d->has_spec[i] && (!d->is_study || c->kind_ok))
 		prsm_problems_add(pr, at->pointer, "required", "a target yield needs a spec: give one here or in the study");
 	return 0;
@@ -366,6 +375,10 @@ int prsm_io_step_alloc_samples(prsm_io_at *at, prsm_problems *pr)
 	for (size_t o = 0; o < d->model.m; o++) {
 		const double p0 = d->target_yield[o];
 		if (!(p0 > 0.0 && p0 < 1.0))
+			continue;
+		/* a rare-event estimate (the output's yield_method) needs no such count */
+		if (c->kind_ok && d->study && d->opt.output[o] < d->study->study.m &&
+		    d->study->study.outputs[d->opt.output[o]].yield_method != PRSM_STUDY_YIELD_MC)
 			continue;
 		const double z2 = PRSM_STATS_Z95 * PRSM_STATS_Z95;
 		const double n_min = ceil(z2 * p0 / (1.0 - p0));

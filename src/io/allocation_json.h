@@ -70,6 +70,7 @@ typedef struct {
 	prsm_spec spec;                              /* the constraint's own spec, when has_spec */
 	int has_spec;
 	double target_yield_percent, target_ppm, assembly_tolerance;
+	int yield_method, has_yield_method;          /* prsm_study_yield_method, when given */
 } prsm_io_alloc_constraint;                      /* constraints/N (its output: the step's) */
 
 /* Read and check doc into *out (owned by the caller: prsm_io_allocation_free): a study is

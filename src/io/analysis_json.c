@@ -19,8 +19,10 @@ cJSON *prsm_io_problem_document(int status, const char *title, const prsm_proble
 	prsm_jw_string(&w, doc, "title", title);
 	prsm_jw_number(&w, doc, "status", status);
 	char detail[PRSM_PROBLEM_POINTER_MAX + PRSM_PROBLEM_MESSAGE_MAX + 8];
-	if (p->count == 1)
+	if (p->count == 1 && p->items[0].pointer[0])
 		snprintf(detail, sizeof detail, "%s: %s", p->items[0].pointer, p->items[0].message);
+	else if (p->count == 1) /* the whole document: no pointer to put before the message */
+		snprintf(detail, sizeof detail, "%s", p->items[0].message);
 	else
 		snprintf(detail, sizeof detail, "%d problems in the request", prsm_problems_total(p));
 	prsm_jw_string(&w, doc, "detail", detail);

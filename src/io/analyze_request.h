@@ -24,9 +24,31 @@
 #include "model/assembly_report.h"
 #include "model/design.h"
 #include "model/errors.h"
+#include "model/nominal.h"
 #include "model/performance.h"
 #include "io/stages_json.h"
 #include "util/problems.h"
+
+/* One alternative of a catalogue size: the same diameter and lead with other starts (nominal.h). */
+typedef struct {
+	int starts;                 /* n */
+	double pitch_mm;            /* P = L / n, mm */
+	double roller_radius_mm;    /* r_r, mm */
+	int rollers, engaged_threads; /* Z, n_t */
+	int valid;                  /* 1 when the design analyses; 0: problem says why */
+	char problem[PRSM_PROBLEM_MESSAGE_MAX]; /* the first problem of an invalid one */
+	double makers_C0a_N, makers_C_a_N, makers_ratio; /* makers' convention, N, N, - */
+	double C0a_N, C_a_N;        /* load distribution (truncation-limited C_0a), N */
+	int truncated;              /* the ellipse truncation limits C_0a */
+} prsm_io_nominal_alternative;
+
+/* What the result's `nominal` member shows (schemas/analysis.schema.json $defs/nominal_result). */
+typedef struct {
+	prsm_nominal given;                       /* as the document gave it (0: by the rules) */
+	prsm_nominal_geometry resolved;           /* the geometry the analysis used */
+	prsm_io_nominal_alternative alternatives[PRSM_NOMINAL_ALTERNATIVES]; /* starts 3 to 6 */
+	int n_alternatives;
+} prsm_io_nominal_result;
 
 typedef struct {
 	int multistage;                /* the multi-stage form (docs/model/kinematics-efficiency-stiffness-life.md): only ms is set */
@@ -41,6 +63,8 @@ typedef struct {
 	prsm_assembly as;              /* the assembly built from the design (with_errors) */
 	prsm_assembly_report report;   /* the error analysis, after prsm_io_analyze_run */
 	prsm_assembly_workspace *ws;   /* its buffers, owned here (prsm_io_analyze_free) */
+	int with_nominal;              /* the design gave `nominal` (a catalogue size) */
+	prsm_io_nominal_result nominal; /* its resolution and alternatives (with_nominal) */
 	int with_dynamics;             /* the request has a `dynamics` object (docs/dynamics.md) */
 	prsm_dyn_options dyn;          /* its options, read and checked (with_dynamics; a chain's
 	                                  couplings copied from the multi-stage document) */

@@ -240,6 +240,7 @@ int prsm_io_design_load(prsm_design *out, prsm_geometry *geom, prsm_problems *wa
 		goto cleanup;
 	prsm_problems_init(errors);
 	rc = prsm_geometry_check(geom ? geom : &local_geom, rule_warnings, errors, out);
+	prsm_geometry_plausibility(rule_warnings, out);
 	prsm_json_problems_append_prefixed(problems, errors, base_pointer);
 	if (warnings != NULL)
 		prsm_json_problems_append_prefixed(warnings, rule_warnings, base_pointer);

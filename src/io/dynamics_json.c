@@ -388,9 +388,9 @@ int prsm_io_step_dynamics_vibration(prsm_io_at *at, prsm_problems *problems)
 		if (prsm_json_string_value(&s, a, ptr, 64, problems) == 0) {
 			if (strcmp(s, "calibrate") == 0)
 				prsm_problems_add(problems, ptr, "not_available",
-				                  "\"calibrate\" is an analysis of the dynamics model that this engine does not run "
-				                  "yet: transient, linear, vibration, sweep, frequency_response or basins "
-				                  "(docs/dynamics.md, docs/vibration.md)");
+				                  "\"calibrate\" runs with prsm calibrate FILE [--measured CSV], a design with its "
+				                  "measured data (docs/measured-data.md); a simulation is transient, linear, vibration, "
+				                  "sweep, frequency_response or basins (docs/dynamics.md, docs/vibration.md)");
 			else
 				prsm_json_enum_value(&v->analysis, a, ptr, analysis_names, problems);
 		}

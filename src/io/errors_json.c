@@ -95,6 +95,28 @@ static const char *const roller_keys[] = {
 	"tilt_tangential_mrad", NULL};
 static const char *const carrier_keys[] = {"runout_um", "runout_phase_deg", NULL};
 
+size_t prsm_io_error_field_names(const char *part, const char **names, size_t cap)
+{
+	const field_spec *t = NULL;
+	size_t n = 0, k = 0;
+	if (strcmp(part, "screw") == 0 || strcmp(part, "nut") == 0) {
+		t = body_fields;
+		n = COUNT(body_fields);
+	} else if (strcmp(part, "roller") == 0) {
+		t = roller_fields;
+		n = COUNT(roller_fields);
+	} else if (strcmp(part, "carrier") == 0) {
+		t = carrier_fields;
+		n = COUNT(carrier_fields);
+	}
+	for (size_t i = 0; i < n && k + 1 < cap; i++)
+		if (t[i].scale != SCALE_DEG)
+			names[k++] = t[i].key;
+	if (cap)
+		names[k] = NULL;
+	return k;
+}
+
 int prsm_io_error_field_find(prsm_io_error_field *out, const char *part, const char *key)
 {
 	const field_spec *t;

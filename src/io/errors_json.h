@@ -96,4 +96,8 @@ typedef struct {
  * not a scalar field). Returns 0 or PRSM_ENOTFOUND. */
 int prsm_io_error_field_find(prsm_io_error_field *out, const char *part, const char *key);
 
+/* The scalar fields of part that a tolerance may name (phases left out), NULL-terminated into
+ * names (cap entries, the last one the NULL). Returns the count (0 for an unknown part). */
+size_t prsm_io_error_field_names(const char *part, const char **names, size_t cap);
+
 #endif

@@ -519,7 +519,7 @@ static int edit_distance(const char *a, const char *b)
 
 /* The allowed name a misspelt key most likely meant, or NULL. A key that is an allowed name
  * without its unit suffix ("pitch" for "pitch_mm") counts as a match. */
-static const char *closest_key(const char *key, const char *const *allowed)
+const char *prsm_json_closest_name(const char *key, const char *const *allowed)
 {
 	size_t klen = strlen(key);
 	if (klen == 0)
@@ -548,7 +548,7 @@ static void report_unknown(prsm_problems *problems, const char *obj_pointer, con
 	const char *key = key_of(child);
 	prsm_json_pointer_append(ptr, sizeof ptr, obj_pointer, key);
 	prsm_json_excerpt(ex, sizeof ex, key);
-	const char *guess = closest_key(key, allowed);
+	const char *guess = prsm_json_closest_name(key, allowed);
 	int len;
 	if (guess)
 		len = snprintf(msg, sizeof msg, "unknown field \"%s\" (did you mean \"%s\"?); allowed: ", ex, guess);

@@ -101,6 +101,10 @@ void prsm_json_excerpt(char *out, size_t cap, const char *s);
 int prsm_json_check_keys(const cJSON *obj, const char *obj_pointer, const char *const *allowed,
                          prsm_problems *problems);
 
+/* The allowed name (NULL-terminated list) a misspelt key most likely meant (a small edit
+ * distance, or the name without its unit suffix), or NULL. */
+const char *prsm_json_closest_name(const char *key, const char *const *allowed);
+
 /* Report duplicate keys only (see prsm_json_check_keys()). */
 int prsm_json_check_duplicates(const cJSON *obj, const char *obj_pointer, prsm_problems *problems);
 

@@ -58,8 +58,19 @@ int prsm_io_step_opt_design(prsm_io_at *at, prsm_problems *pr)
 		c->design_ok = prsm_io_design_from_json(&base, c->design, "/design", pr) == 0;
 	if (!c->design_ok)
 		prsm_design_init(&base);
-	prsm_dp_spec_init(&((prsm_io_optimization *)at->root)->spec, &base);
+	prsm_io_optimization *od = at->root;
+	prsm_dp_spec_init(&od->spec, &base);
+	/* the allowed values of the lead or pitch are members of `variables` only when given */
+	const cJSON *v = cJSON_GetObjectItemCaseSensitive(at->obj, "variables");
+	od->pitch_values_given = cJSON_IsObject(v) && (cJSON_GetObjectItemCaseSensitive(v, "lead_values_mm") ||
+	                                               cJSON_GetObjectItemCaseSensitive(v, "pitch_values_mm"));
 	return 0;
+}
+
+static int ascending(const void *a, const void *b)
+{
+	const double x = *(const double *)a, y = *(const double *)b;
+	return (x > y) - (x < y);
 }
 
 /* ---- the variables -------------------------------------------------------------------------- */
@@ -79,7 +90,25 @@ int prsm_io_step_opt_variables(prsm_io_at *at, prsm_problems *pr)
 			                pairs[k][1]);
 	}
 	s->pitch_is_lead = second[0];
-	prsm_io_get(at, pairs[0][second[0]], pr);
+	const prsm_io_optimization *od = at->root;
+	if (od->pitch_values_given) {
+		/* a list of allowed leads (or pitches) instead of a range: a discrete variable */
+		const int lead = cJSON_GetObjectItemCaseSensitive(at->obj, "lead_values_mm") != NULL;
+		const char *key = lead ? "lead_values_mm" : "pitch_values_mm";
+		if (lead && cJSON_GetObjectItemCaseSensitive(at->obj, "pitch_values_mm"))
+			prsm_io_problem(pr, at->pointer, "pitch_values_mm", "conflict",
+			                "give lead_values_mm or pitch_values_mm, not both");
+		for (int k = 0; k < 2; k++)
+			if (cJSON_GetObjectItemCaseSensitive(at->obj, pairs[0][k]))
+				prsm_io_problem(pr, at->pointer, pairs[0][k], "conflict",
+				                "give %s (a range) or %s (allowed values), not both", pairs[0][k], key);
+		s->pitch_is_lead = lead;
+		prsm_io_get(at, key, pr);
+		if (s->n_pitch_values > 0 && s->n_pitch_values <= PRSM_OPT_MAX_LEVELS)
+			qsort(s->pitch_values, (size_t)s->n_pitch_values, sizeof s->pitch_values[0], ascending);
+	} else {
+		prsm_io_get(at, pairs[0][second[0]], pr);
+	}
 	s->radius_is_screw = second[1];
 	prsm_io_get(at, pairs[1][second[1]], pr);
 	return 0;
@@ -203,7 +232,7 @@ int prsm_io_step_opt_nothing_varies(prsm_io_at *at, prsm_problems *pr)
 	const prsm_io_optimization *od = at->root;
 	const prsm_dp_spec *s = &od->spec;
 	if (!s->pitch.vary && !s->radius.vary && !s->flank_deg.vary && !s->starts.count && !s->rollers.count &&
-	    od->rollers_auto_max < 0 && !s->threads.count)
+	    od->rollers_auto_max < 0 && !s->threads.count && !s->n_pitch_values)
 		prsm_problems_add(pr, at->pointer, "nothing_varies", "give at least one variable a range or values");
 	return 0;
 }

@@ -55,6 +55,8 @@ typedef struct {
 	int points;                       /* Pareto levels */
 	double weight[PRSM_OPT_MAX_OBJECTIVES];
 	int rollers_auto_max;             /* rollers' max defaulted to the Z_max bound */
+	int pitch_values_given;           /* the document gives lead_values_mm or pitch_values_mm (those
+	                                     members exist only then: the readers' parity, docs/ratings.md) */
 	/* robust constraints (the "robust" section) */
 	int has_robust;
 	prsm_robust robust;

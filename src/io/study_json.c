@@ -122,7 +122,13 @@ static int param_find(param_info *pi, const char *path, const prsm_io_study *s, 
 	while (p < 4 && strcmp(part, parts[p]) != 0)
 		p++;
 	if (p == 4) {
-		snprintf(msg, cap, "unknown part '%s': screw, nut, carrier, roller or friction", part);
+		static const char *const all_parts[] = {"screw", "nut", "carrier", "roller", "friction", NULL};
+		const char *guess = prsm_json_closest_name(part, all_parts);
+		if (guess)
+			snprintf(msg, cap, "unknown part '%s' (did you mean '%s'?): screw, nut, carrier, roller or friction", part,
+			         guess);
+		else
+			snprintf(msg, cap, "unknown part '%s': screw, nut, carrier, roller or friction", part);
 		return PRSM_ENOTFOUND;
 	}
 	pi->part = (prsm_part)p;
@@ -137,8 +143,14 @@ static int param_find(param_info *pi, const char *path, const prsm_io_study *s, 
 	}
 	prsm_io_error_field f;
 	if (prsm_io_error_field_find(&f, part, key)) {
-		snprintf(msg, cap, "'%s' is not an error of the %s (see the errors object of the analyze request)",
-		         key, part);
+		const char *names[48];
+		prsm_io_error_field_names(part, names, 48);
+		const char *guess = prsm_json_closest_name(key, names);
+		if (guess)
+			snprintf(msg, cap, "'%s' is not an error of the %s (did you mean '%s.%s'?)", key, part, part, guess);
+		else
+			snprintf(msg, cap, "'%s' is not an error of the %s (see the errors object of the analyze request)",
+			         key, part);
 		return PRSM_ENOTFOUND;
 	}
 	if (f.phase) {
@@ -1246,5 +1258,17 @@ int prsm_io_study_load(prsm_io_study *out, const cJSON *doc, prsm_problems *warn
 		return rc;
 	const int before = prsm_problems_total(pr);
 	check_ranges(out, warnings, pr);
+	/* "efficiency" is the older name of the sliding efficiency: say which efficiency it is, as a
+	 * spec on it is easily read as one on analyze's eta with its losses */
+	for (size_t o = 0; warnings && !out->is_benchmark && o < out->study.m; o++)
+		if (strcmp(out->study.outputs[o].name, "efficiency") == 0) {
+			char op[PRSM_JSON_POINTER_MAX];
+			prsm_json_pointer_append_index(op, sizeof op, "/outputs", (int)o);
+			prsm_problems_add(warnings, op, "older_name",
+			                  "efficiency is the sliding efficiency (friction on the flanks only; case A 0.90467), "
+			                  "not prsm analyze's eta with its losses (efficiency_with_losses, case A 0.89579): "
+			                  "name it efficiency_sliding, or ask for efficiency_with_losses to judge a spec on the "
+			                  "efficiency the analysis shows");
+		}
 	return prsm_problems_total(pr) > before ? PRSM_EINVAL : 0;
 }

@@ -6,6 +6,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "io/write.h"
 #include "prsm_io_writers.h"
@@ -13,13 +14,65 @@
 void prsm_io_whook_output_spec(prsm_jw *w, cJSON *obj, const char *key, const void *at)
 {
 	const prsm_io_study_result_view *v = w->ctx;
-	prsm_io_write(w, obj, key, &v->s->study.outputs[v->o].spec, &prsm_io_w_spec);
+	const prsm_study_output *so = &v->s->study.outputs[v->o];
+	prsm_io_write(w, obj, key, &so->spec, &prsm_io_w_spec);
+	static const char *const names[] = {"mc", "auto", "form", "sorm", "is", "subset"};
+	cJSON *sp = cJSON_GetObjectItemCaseSensitive(obj, key);
+	if (sp && so->yield_method > PRSM_STUDY_YIELD_MC && so->yield_method <= PRSM_STUDY_YIELD_SUBSET)
+		prsm_jw_string(w, sp, "yield_method", names[so->yield_method]);
 }
 
 void prsm_io_whook_rss_interval(prsm_jw *w, cJSON *obj, const char *key, const void *at)
 {
 	const prsm_study_output_result *q = at;
 	prsm_jw_pair(w, obj, key, q->nominal - q->rss, q->nominal + q->rss);
+}
+
+/* The stack figures' caveat (schemas/study-result.schema.json, stack/caveat): the physical range
+ * of the built-in outputs that have one, and the linearity of the output (the SRC fit's R²). */
+void prsm_io_whook_stack_caveat(prsm_jw *w, cJSON *obj, const char *key, const void *at)
+{
+	const prsm_study_output_result *q = at;
+	const prsm_io_study_result_view *v = w->ctx;
+	const char *name = v->s->study.outputs[v->o].name;
+	double lo = -INFINITY, hi = INFINITY;
+	const char *range = NULL;
+	prsm_output_kind k;
+	if (!v->s->is_benchmark && prsm_output_parse(name, &k) == 0) {
+		switch (k) {
+		case PRSM_OUT_SHARING:
+			lo = 1.0;
+			range = "at least 1";
+			break;
+		case PRSM_OUT_STIFFNESS: case PRSM_OUT_STIFFNESS_RATIO: case PRSM_OUT_UNIT_STIFFNESS:
+		case PRSM_OUT_TE_PP: case PRSM_OUT_TE_RMS:
+			lo = 0.0;
+			range = "never negative";
+			break;
+		case PRSM_OUT_EFFICIENCY: case PRSM_OUT_EFFICIENCY_BACK: case PRSM_OUT_EFFICIENCY_LOSSES:
+			lo = 0.0;
+			hi = 1.0;
+			range = "between 0 and 1";
+			break;
+		default:
+			break;
+		}
+	}
+	char msg[600] = "";
+	size_t n = 0;
+	if (range && (q->worst_low < lo || q->worst_high > hi))
+		n += (size_t)snprintf(msg, sizeof msg, "the worst case [%.4g, %.4g] reaches values %s cannot take (it is %s): "
+		                      "the one-at-a-time changes do not add up for it", q->worst_low, q->worst_high, name, range);
+	if (q->has_src && q->src_r2 < 0.9 && n < sizeof msg)
+		snprintf(msg + n, sizeof msg - n, "%s%s is not linear in the tolerances (R² of the linear fit %.2f): sums of "
+		         "one-at-a-time changes misstate its range", n ? "; " : "", n ? "it" : name, q->src_r2);
+	if (msg[0]) {
+		size_t m = strlen(msg);
+		snprintf(msg + m, sizeof msg - m, "; use the Monte Carlo quantiles");
+		prsm_jw_string(w, obj, key, msg);
+	} else {
+		prsm_jw_null(w, obj, key);
+	}
 }
 
 void prsm_io_whook_contributions(prsm_jw *w, cJSON *obj, const char *key, const void *at)
@@ -32,6 +85,54 @@ void prsm_io_whook_contributions(prsm_jw *w, cJSON *obj, const char *key, const 
 		prsm_jw_number(w, t, "variables", (double)st->groups[g].n_vars);
 		prsm_io_write_fields(w, t, at, &prsm_io_w_contribution, g);
 	}
+}
+
+/* One side of a spec in the rare-event phase (schemas/study-result.schema.json, $defs/rare_side);
+ * nothing when the spec has no limit on that side. */
+static void rare_side(prsm_jw *w, cJSON *obj, const char *key, const prsm_study_rare_side *sd)
+{
+	if (!sd->present)
+		return;
+	const prsm_study *st = &((const prsm_io_study_result_view *)w->ctx)->s->study;
+	cJSON *o = prsm_jw_object(w, obj, key);
+	prsm_jw_string(w, o, "method", prsm_rare_method_name(sd->method));
+	prsm_jw_number(w, o, "probability", sd->pf);
+	prsm_jw_number(w, o, "ppm", 1e6 * sd->pf);
+	prsm_jw_pair(w, o, "interval95_ppm", 1e6 * sd->lower, 1e6 * sd->upper);
+	prsm_jw_number(w, o, "coefficient_of_variation", sd->cov);
+	prsm_jw_number(w, o, "reliability_index", sd->beta);
+	prsm_jw_number(w, o, "evaluations", (double)sd->evaluations);
+	prsm_jw_bool(w, o, "converged", sd->converged);
+	prsm_jw_string(w, o, "stop", prsm_rare_stop_name(sd->stop));
+	prsm_jw_string(w, o, "note", sd->note);
+	prsm_jw_number(w, o, "counted", (double)sd->failures);
+	prsm_jw_number(w, o, "samples", (double)sd->n);
+	if (!sd->has_design_point || !sd->x_star)
+		return;
+	cJSON *dp = prsm_jw_object(w, o, "design_point");
+	prsm_jw_number(w, dp, "reliability_index", sd->form_beta);
+	cJSON *tol = prsm_jw_array(w, dp, "tolerances");
+	for (size_t g = 0; tol && g < st->n_groups; g++) {
+		cJSON *t = prsm_jw_object(w, tol, NULL);
+		prsm_jw_string(w, t, "parameter", st->groups[g].name);
+		prsm_jw_number(w, t, "importance_percent", 100.0 * sd->importance[g]);
+	}
+	cJSON *vars = prsm_jw_array(w, dp, "variables");
+	for (size_t v = 0; vars && v < st->d; v++) {
+		cJSON *t = prsm_jw_object(w, vars, NULL);
+		prsm_jw_string(w, t, "name", st->info[v].name);
+		prsm_jw_number(w, t, "value", sd->x_star[v]);
+	}
+}
+
+void prsm_io_whook_rare_lower(prsm_jw *w, cJSON *obj, const char *key, const void *at)
+{
+	rare_side(w, obj, key, &((const prsm_study_output_result *)at)->rare[0]);
+}
+
+void prsm_io_whook_rare_upper(prsm_jw *w, cJSON *obj, const char *key, const void *at)
+{
+	rare_side(w, obj, key, &((const prsm_study_output_result *)at)->rare[1]);
 }
 
 /* The first PRSM_MC_LISTED_FAILURES samples of a status. */

@@ -254,6 +254,8 @@ static void add_live(prsm_jobs *j, prsm_job_view *v)
 	v->interval_width = NAN;
 	v->interval_goal = NAN;
 	v->best = NAN;
+	v->phase = NULL;
+	v->unit = v->row.request && v->kind && v->kind->progress_unit_of ? v->kind->progress_unit_of(v->row.request) : NULL;
 	v->samples_done = v->row.samples_done;
 	v->samples_planned = v->row.samples_planned;
 	if (v->row.state != PRSM_JOB_RUNNING)
@@ -269,6 +271,9 @@ static void add_live(prsm_jobs *j, prsm_job_view *v)
 			v->interval_width = p->interval_width;
 			v->interval_goal = p->interval_goal;
 			v->best = p->best;
+			v->phase = p->phase;
+			if (p->unit)
+				v->unit = p->unit;
 			double elapsed = prsm_clock_seconds() - w->started_clock_s;
 			if (p->done > 0 && p->planned >= p->done)
 				v->eta_s = elapsed * (double)(p->planned - p->done) / (double)p->done;
@@ -340,6 +345,8 @@ int prsm_jobs_get(prsm_jobs *j, prsm_job_view *out, const prsm_job_kind *k, cons
 {
 	memset(out, 0, sizeof *out);
 	out->kind = k;
+	if (k->progress_unit_of) /* the unit of a finished job follows from its request */
+		flags |= PRSM_STORE_WITH_REQUEST;
 	int rc = prsm_store_get(j->store, &out->row, id, flags, err);
 	if (rc)
 		return rc;
@@ -461,11 +468,17 @@ cJSON *prsm_job_view_to_json(const prsm_job_view *v)
 	cJSON *p = cJSON_AddObjectToObject(o, "progress");
 	cJSON_AddNumberToObject(p, "samples_done", (double)v->samples_done);
 	cJSON_AddNumberToObject(p, "samples_planned", (double)v->samples_planned);
-	if (v->samples_planned > 0) /* an optimiser's last checks may run a few evaluations past its budget */
+	if (r->state == PRSM_JOB_DONE) /* finished: all of it, even when a run stopped before its cap */
+		cJSON_AddNumberToObject(p, "fraction", 1.0);
+	else if (v->samples_planned > 0) /* an optimiser's last checks may run a few evaluations past its budget */
 		cJSON_AddNumberToObject(p, "fraction", fmin(1.0, (double)v->samples_done / (double)v->samples_planned));
 	else
 		cJSON_AddNullToObject(p, "fraction");
-	cJSON_AddStringToObject(p, "unit", v->kind->progress_unit ? v->kind->progress_unit : "samples");
+	cJSON_AddStringToObject(p, "unit", v->unit ? v->unit : v->kind->progress_unit ? v->kind->progress_unit : "samples");
+	if (v->phase)
+		cJSON_AddStringToObject(p, "phase", v->phase);
+	else
+		cJSON_AddNullToObject(p, "phase");
 	prsm_json_add_number(p, "interval_width", v->interval_width);
 	prsm_json_add_number(p, "interval_goal", v->interval_goal);
 	prsm_json_add_number(p, "best_objective", v->best);

@@ -52,6 +52,9 @@ typedef struct {
 	double interval_width;           /* the running stop rule's figure (prsm_progress), NAN: none */
 	double interval_goal;            /* its goal, NAN: none */
 	double best;                     /* best objective so far (optimisation), NAN: none */
+	const char *phase;               /* the running phase (prsm_progress.phase), NULL: none */
+	const char *unit;                /* what samples_done counts: the running work's own unit, else
+	                                    the kind's for this request (progress_unit_of), else the kind's */
 	int cache_hit;                   /* the submission was answered from the cache */
 } prsm_job_view;
 

@@ -70,6 +70,9 @@ typedef struct prsm_job_kind {
 	int has_samples_csv;         /* GET /v1/<collection>/{id}/samples.csv exists */
 	const char *progress_unit;   /* what progress counts: "samples", "evaluations" or
 	                                "simulated_ns" (nanoseconds of simulated time) */
+	/* What progress counts for one stored request, when it depends on the request (a static
+	 * string, or NULL: progress_unit); may be NULL. */
+	const char *(*progress_unit_of)(const char *request);
 	/* Engine and model versions of the results (a static string, computed once). */
 	const char *(*version)(void);
 	/* Validate doc (not taken over) against the document's rules and lim; on success *out is

@@ -6,9 +6,8 @@
  * the transient's time series, or the CSV of `prsm simulate --csv` for the analysis), run exactly
  * as `prsm simulate` runs it (app/simulate.h) with the service's per-job time cap, threads and
  * cancel. Progress counts simulated nanoseconds (transient), sweep points (sweep,
- * frequency_response), basin cells (basins) or 1 (linear, vibration); the job's progress.unit is
- * the kind's, "simulated_ns", whatever the analysis (a per-job unit is a change of the job
- * machinery). Normalising builds the model (masses, statics references, the settled state, the
+ * frequency_response), basin cells (basins) or analyses, 1 (linear, vibration); the job's
+ * progress.unit says which (progress_unit_of reads the analysis from the stored request). Normalising builds the model (masses, statics references, the settled state, the
  * vibration model), so every problem a run could find before integrating is a 422 at submission;
  * the service also caps what bounds the stored result: the transient's output grid
  * (PRSM_JOB_SIMULATION_POINTS_MAX points), the recorded values of a sweep
@@ -150,6 +149,24 @@ done:
 	return rc;
 }
 
+/* What progress counts for a stored request: by its dynamics.analysis. */
+static const char *simulation_unit_of(const char *request)
+{
+	cJSON *doc = cJSON_Parse(request);
+	const cJSON *a = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(doc, "dynamics"), "analysis");
+	const char *unit = "simulated_ns";
+	if (cJSON_IsString(a)) {
+		if (strcmp(a->valuestring, "sweep") == 0 || strcmp(a->valuestring, "frequency_response") == 0)
+			unit = "sweep_points";
+		else if (strcmp(a->valuestring, "basins") == 0)
+			unit = "basin_cells";
+		else if (strcmp(a->valuestring, "linear") == 0 || strcmp(a->valuestring, "vibration") == 0)
+			unit = "analyses";
+	}
+	cJSON_Delete(doc);
+	return unit;
+}
+
 const prsm_job_kind prsm_job_kind_simulation = {
 	.name = "simulation",
 	.collection = "simulations",
@@ -157,6 +174,7 @@ const prsm_job_kind prsm_job_kind_simulation = {
 	.result_schema = "dynamics-result.schema.json",
 	.has_samples_csv = 1,
 	.progress_unit = "simulated_ns",
+	.progress_unit_of = simulation_unit_of,
 	.version = simulation_version,
 	.normalise = simulation_normalise,
 	.run = simulation_run,

@@ -14,7 +14,7 @@
 
 static const char *const output_names[PRSM_OUT_COUNT] = {
 	"backlash_um", "backlash_min_um", "backlash_max_um", "load_sharing_factor",
-	"stiffness_N_per_um", "stiffness_ratio", "te_pp_um", "te_rms_um", "efficiency",
+	"stiffness_N_per_um", "stiffness_ratio", "te_pp_um", "te_rms_um", "efficiency_sliding",
 	"efficiency_back", "nut_unit_stiffness_N_per_um", "efficiency_with_losses"};
 
 const char *prsm_output_name(prsm_output_kind k)
@@ -29,6 +29,10 @@ int prsm_output_parse(const char *name, prsm_output_kind *out)
 			*out = (prsm_output_kind)k;
 			return 0;
 		}
+	if (strcmp(name, "efficiency") == 0) { /* the older name of efficiency_sliding */
+		*out = PRSM_OUT_EFFICIENCY;
+		return 0;
+	}
 	return PRSM_ENOTFOUND;
 }
 

@@ -40,7 +40,8 @@ typedef enum {
 	PRSM_OUT_STIFFNESS_RATIO,       /* stiffness_ratio: over the nominal-gap stiffness */
 	PRSM_OUT_TE_PP,                 /* te_pp_um: transmission error p-p over one revolution */
 	PRSM_OUT_TE_RMS,                /* te_rms_um */
-	PRSM_OUT_EFFICIENCY,            /* efficiency: direct, sliding (docs/model/kinematics-efficiency-stiffness-life.md) */
+	PRSM_OUT_EFFICIENCY,            /* efficiency_sliding (older name: efficiency): direct, sliding
+	                                   (docs/model/kinematics-efficiency-stiffness-life.md) */
 	PRSM_OUT_EFFICIENCY_BACK,       /* efficiency_back */
 	PRSM_OUT_UNIT_STIFFNESS,        /* nut_unit_stiffness_N_per_um: the sampled contacts' dF/du in
 	                                   series with the rest of the nut unit's compliance (threads,
@@ -57,7 +58,7 @@ typedef enum {
 /* Every output name, for messages. */
 #define PRSM_OUTPUT_NAMES_TEXT                                                                     \
 	"backlash_um, backlash_min_um, backlash_max_um, load_sharing_factor, stiffness_N_per_um, "    \
-	"stiffness_ratio, te_pp_um, te_rms_um, efficiency, efficiency_back, nut_unit_stiffness_N_per_um, " \
+	"stiffness_ratio, te_pp_um, te_rms_um, efficiency_sliding, efficiency_back, nut_unit_stiffness_N_per_um, " \
 	"efficiency_with_losses"
 
 const char *prsm_output_name(prsm_output_kind k);

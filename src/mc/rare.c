@@ -49,6 +49,8 @@ int prsm_rare_options_check(const prsm_rare_options *o, size_t d, prsm_error *er
 		return prsm_error_set(err, PRSM_EINVAL, NULL, "max evaluations must be >= 1");
 	if (!(o->target_cov > 0.0 && o->target_cov < 1.0))
 		return prsm_error_set(err, PRSM_EINVAL, NULL, "target CoV must be in (0, 1)");
+	if (!(o->is_max_cov_error > 0.0) || !isfinite(o->is_max_cov_error))
+		return prsm_error_set(err, PRSM_EINVAL, NULL, "the IS CoV error limit must be finite and > 0");
 	if (o->form_max_iterations < 1 || o->form_max_iterations > 100000)
 		return prsm_error_set(err, PRSM_EINVAL, NULL, "FORM iterations must be 1..100000");
 	if (!pos_finite(o->form_tol_g) || !pos_finite(o->form_tol_u))
@@ -628,6 +630,29 @@ static void note_add(prsm_rare_result *out, const char *text)
 	snprintf(out->note + n, sizeof out->note - n, "%s%s", n ? "; " : "", text);
 }
 
+/* Subset simulation with the budget left (auto's fallback): its figures become the result's. */
+static int run_subset_rest(prsm_rare_result *out, const prsm_rare_problem *p, const prsm_rare_options *oo,
+                           size_t rest, prsm_error *err)
+{
+	if (rest < oo->subset_samples) {
+		note_add(out, "no budget left for subset simulation");
+		return 0;
+	}
+	prsm_rare_options so = *oo;
+	so.max_evaluations = rest;
+	out->has_subset = 1;
+	out->method = PRSM_RARE_SUBSET;
+	int rc = prsm_rare_subset(&out->subset, p, &so, err);
+	out->evaluations += out->subset.evaluations;
+	out->pf = out->subset.pf;
+	out->cov = out->subset.cov;
+	out->lower = out->subset.lower;
+	out->upper = out->subset.upper;
+	out->converged = out->subset.converged;
+	out->stop = out->subset.stop;
+	return rc;
+}
+
 int prsm_rare_run(prsm_rare_result *out, prsm_rare_method method, const prsm_rare_problem *p,
                   const prsm_rare_options *o, prsm_error *err)
 {
@@ -694,8 +719,20 @@ int prsm_rare_run(prsm_rare_result *out, prsm_rare_method method, const prsm_rar
 	}
 
 	/* FORM, SORM, IS */
+	/* IS with the subset fallback (auto's): FORM gets a quarter of the budget (at least its
+	 * projected cost), and a FORM that does not converge in it (a kinked or noisy limit state, a
+	 * far design point) hands the rest to subset simulation, as IS around its last iterate
+	 * would carry an interval that cannot be trusted */
+	const int fallback = method == PRSM_RARE_IS && (out->requested == PRSM_RARE_AUTO || o->is_fallback_subset);
+	prsm_rare_options fo = oo;
+	if (fallback) {
+		size_t quarter = oo.max_evaluations / 4, need = 10 * (2 * p->d + 1) + 50;
+		fo.max_evaluations = quarter > need ? quarter : need;
+		if (fo.max_evaluations > oo.max_evaluations)
+			fo.max_evaluations = oo.max_evaluations;
+	}
 	out->has_form = 1;
-	rc = prsm_rare_form(&out->form, p, &oo, err);
+	rc = prsm_rare_form(&out->form, p, &fo, err);
 	out->evaluations += out->form.evaluations;
 	if (rc)
 		goto finish;
@@ -705,6 +742,14 @@ int prsm_rare_run(prsm_rare_result *out, prsm_rare_method method, const prsm_rar
 	if (out->form.stop == PRSM_RARE_STOP_CANCELLED || out->form.stop == PRSM_RARE_STOP_TIME_CAP)
 		goto finish;
 	size_t left = oo.max_evaluations > out->form.evaluations ? oo.max_evaluations - out->form.evaluations : 0;
+	if (fallback && out->form.n_points == 0) {
+		char why[PRSM_RARE_REASON_MAX];
+		snprintf(why, sizeof why, "FORM did not converge in %zu evaluations (%s): subset simulation",
+		         out->form.evaluations, prsm_rare_stop_name(out->form.stop));
+		note_add(out, why);
+		rc = run_subset_rest(out, p, &oo, left, err);
+		goto finish;
+	}
 	if (method == PRSM_RARE_SORM) {
 		out->has_sorm = 1;
 		prsm_rare_options so = oo;
@@ -745,10 +790,24 @@ int prsm_rare_run(prsm_rare_result *out, prsm_rare_method method, const prsm_rar
 		}
 		out->has_is = 1;
 		prsm_rare_options io = oo;
-		io.max_evaluations = left;
+		/* auto keeps half of what is left for subset simulation, in case the weights turn out
+		 * heavy-tailed (the failure probability lies far from the design points) */
+		io.max_evaluations = fallback && left >= 4 * o->block_size ? left / 2 : left;
 		rc = prsm_rare_is(&out->is, p, centres, NULL, nc, &io, err);
 		out->evaluations += out->is.evaluations;
 		take_is(out, &out->is);
+		if (rc || !fallback || out->is.converged ||
+		    out->is.stop == PRSM_RARE_STOP_CANCELLED || out->is.stop == PRSM_RARE_STOP_TIME_CAP)
+			goto finish;
+		size_t used = out->form.evaluations + out->is.evaluations;
+		size_t rest = oo.max_evaluations > used ? oo.max_evaluations - used : 0;
+		if (rest < o->subset_samples)
+			goto finish;
+		char why[PRSM_RARE_REASON_MAX];
+		snprintf(why, sizeof why, "IS did not settle (CoV %.3g, its own relative error %.2g): subset simulation",
+		         out->is.cov, out->is.cov_rel_error);
+		note_add(out, why);
+		rc = run_subset_rest(out, p, &oo, rest, err);
 	}
 
 finish:

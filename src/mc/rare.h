@@ -121,6 +121,9 @@ typedef struct {
 	void *progress_ctx;
 	size_t max_evaluations;           /* budget of limit-state evaluations of one call (100000) */
 	double target_cov;                /* MC/IS stop rule: CoV <= this (0.05); auto's MC projection */
+	double is_max_cov_error;          /* IS stop rule also: the CoV's own relative error <= this (0.1) */
+	int is_fallback_subset;           /* prsm_rare_run's IS: keep half the budget and run subset
+	                                     simulation with it when IS does not settle (0; auto: always) */
 	/* FORM */
 	int form_max_iterations;          /* 100 */
 	double form_tol_g;                /* 1e-8: |g(u)| <= tol_g |g(u_0)| (absolute when g(u_0) = 0) */
@@ -150,7 +153,7 @@ typedef struct {
 } prsm_rare_options;
 
 #define PRSM_RARE_OPTIONS_INIT                                                                    \
-	{1, 0, 1, 0.0, NULL, NULL, NULL, 100000, 0.05,                                               \
+	{1, 0, 1, 0.0, NULL, NULL, NULL, 100000, 0.05, 0.1, 0,                                       \
 	 100, 1e-8, 1e-6, 1e-4, 30, 0.1, 0.5, 0, NULL,                                                \
 	 1e-3,                                                                                        \
 	 256, 8, 1000, 10, 100000, 1024,                                                              \
@@ -209,6 +212,9 @@ typedef struct {
 typedef struct {
 	double pf;                        /* the estimate */
 	double se, cov;                   /* its standard error and se / pf (NAN while pf is 0) */
+	double cov_rel_error;             /* the relative standard error of cov itself, from the fourth
+	                                     moment of the weighted indicator (NAN while pf is 0): large
+	                                     when a few heavy weights carry the estimate */
 	double lower, upper;              /* 95 % interval pf -+ 1.96 se, lower clamped at 0 */
 	size_t samples;                   /* kept (the stop rule's prefix of blocks) */
 	size_t failures;                  /* kept samples with g <= 0 */

@@ -104,6 +104,7 @@ double rare_norm(const double *a, size_t n);
 typedef struct {
 	/* running sums of the kept prefix */
 	double s1, s2;                    /* sum of I w and of (I w)^2 */
+	double s3, s4;                    /* of (I w)^3 and (I w)^4: the CoV's own reliability */
 	size_t samples, failures, evaluations;
 	size_t next_block;                /* the next block of the sequence */
 	int done;

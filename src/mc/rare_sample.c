@@ -67,7 +67,7 @@ typedef struct {
 	uint64_t key;
 	size_t first_block;
 	/* per block of the round */
-	double *s1, *s2;
+	double *s1, *s2, *s3, *s4;
 	size_t *nf, *ne, *bad;
 	int *code, *lscode;
 } is_round;
@@ -99,7 +99,7 @@ static void is_block_task(rare_worker *w, size_t t, void *argp)
 	size_t d = r->d, b = r->first_block + t;
 	double *u = w->b;
 	prsm_rng_set_stream(w->rng, o->seed, o->stream_offset + r->key + b);
-	double s1 = 0.0, s2 = 0.0;
+	double s1 = 0.0, s2 = 0.0, s3 = 0.0, s4 = 0.0;
 	size_t nf = 0, ne = 0;
 	r->code[t] = 0;
 	r->lscode[t] = 0;
@@ -129,11 +129,15 @@ static void is_block_task(rare_worker *w, size_t t, void *argp)
 			double wt = r->nc ? exp(is_log_weight(r, u)) : 1.0;
 			s1 += wt;
 			s2 += wt * wt;
+			s3 += wt * wt * wt;
+			s4 += (wt * wt) * (wt * wt);
 			nf++;
 		}
 	}
 	r->s1[t] = s1;
 	r->s2[t] = s2;
+	r->s3[t] = s3;
+	r->s4[t] = s4;
 	r->nf[t] = nf;
 	r->ne[t] = ne;
 }
@@ -150,15 +154,35 @@ static void is_fill(const rare_is_state *st, prsm_rare_is_result *out)
 		var = 0.0;
 	out->se = sqrt(var / n);
 	out->cov = out->pf > 0.0 ? out->se / out->pf : NAN;
+	/* the CoV's own relative standard error, from the fourth central moment of I w:
+	 * se(var^) / var ~ sqrt((mu4 - var^2) / n) / var, halved for the square root */
+	out->cov_rel_error = NAN;
+	if (st->samples > 1 && var > 0.0) {
+		double p = out->pf, m2 = st->s2 / n, m3 = st->s3 / n, m4 = st->s4 / n;
+		double mu4 = m4 - 4.0 * p * m3 + 6.0 * p * p * m2 - 3.0 * p * p * p * p;
+		double vv = (mu4 - var * var) / n;
+		out->cov_rel_error = vv > 0.0 ? 0.5 * sqrt(vv) / var : 0.0;
+	}
 	out->lower = fmax(0.0, out->pf - RARE_Z95 * out->se);
 	out->upper = out->pf + RARE_Z95 * out->se;
+}
+
+/* The stop rule of MC and IS: the CoV target met and, for IS, the CoV itself trustworthy (its
+ * own relative error within is_max_cov_error): a few heavy weights (a failure domain far from
+ * the design point, e.g. the outside of a convex set) can make the sample CoV small while the
+ * estimate is still far off. Plain MC's CoV is the binomial one and needs no such check. */
+static int is_target_met(const prsm_rare_is_result *out, const prsm_rare_options *o, size_t n_centres)
+{
+	if (!(out->cov <= o->target_cov))
+		return 0;
+	return n_centres == 0 || out->cov_rel_error <= o->is_max_cov_error;
 }
 
 /* Blocks of the next round: what the stop rule is projected to need, from the merged prefix
  * (so the same for any thread count), 1..round_blocks: min_samples first, then
  * samples (cov / target)^2 (10 % more) and samples min_failures / failures; round_blocks while
  * nothing can be projected (no failure yet) or without a target (the pilot, its own cap). */
-static size_t is_round_size(const rare_is_state *st, const prsm_rare_options *o, int check_target)
+static size_t is_round_size(const rare_is_state *st, const prsm_rare_options *o, int check_target, size_t n_centres)
 {
 	size_t R = o->round_blocks, B = o->block_size;
 	if (!check_target)
@@ -171,6 +195,9 @@ static size_t is_round_size(const rare_is_state *st, const prsm_rare_options *o,
 		memset(&tmp, 0, sizeof tmp);
 		is_fill(st, &tmp);
 		want = n * 1.1 * (tmp.cov / o->target_cov) * (tmp.cov / o->target_cov);
+		if (n_centres && tmp.cov_rel_error > o->is_max_cov_error)
+			want = fmax(want, n * 1.1 * (tmp.cov_rel_error / o->is_max_cov_error) *
+			                      (tmp.cov_rel_error / o->is_max_cov_error));
 		if (st->failures < o->min_failures)
 			want = fmax(want, n * (double)o->min_failures / (double)st->failures);
 		if (!(want > n))
@@ -226,13 +253,15 @@ int rare_is_advance(rare_is_state *st, prsm_rare_is_result *out, rare_pool *pool
 	}
 	r.s1 = malloc(R * sizeof *r.s1);
 	r.s2 = malloc(R * sizeof *r.s2);
+	r.s3 = malloc(R * sizeof *r.s3);
+	r.s4 = malloc(R * sizeof *r.s4);
 	r.nf = malloc(R * sizeof *r.nf);
 	r.ne = malloc(R * sizeof *r.ne);
 	r.bad = malloc(R * sizeof *r.bad);
 	r.code = malloc(R * sizeof *r.code);
 	r.lscode = malloc(R * sizeof *r.lscode);
 	int rc = 0;
-	if (!r.s1 || !r.s2 || !r.nf || !r.ne || !r.bad || !r.code || !r.lscode) {
+	if (!r.s1 || !r.s2 || !r.s3 || !r.s4 || !r.nf || !r.ne || !r.bad || !r.code || !r.lscode) {
 		rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
 		goto done;
 	}
@@ -241,7 +270,7 @@ int rare_is_advance(rare_is_state *st, prsm_rare_is_result *out, rare_pool *pool
 	if (check_target && !st->done && st->samples >= o->min_samples && st->failures >= o->min_failures) {
 		/* a prefix run before (the auto pilot) may already meet the target */
 		is_fill(st, out);
-		if (out->cov <= o->target_cov) {
+		if (is_target_met(out, o, n_centres)) {
 			st->done = 1;
 			out->stop = PRSM_RARE_STOP_CONVERGED;
 		}
@@ -260,7 +289,7 @@ int rare_is_advance(rare_is_state *st, prsm_rare_is_result *out, rare_pool *pool
 			}
 			break;
 		}
-		size_t nb = is_round_size(st, o, check_target);
+		size_t nb = is_round_size(st, o, check_target, n_centres);
 		size_t need = (cap_samples - st->samples + B - 1) / B;
 		if (need < nb)
 			nb = need;
@@ -294,11 +323,13 @@ int rare_is_advance(rare_is_state *st, prsm_rare_is_result *out, rare_pool *pool
 			}
 			st->s1 += r.s1[t];
 			st->s2 += r.s2[t];
+			st->s3 += r.s3[t];
+			st->s4 += r.s4[t];
 			st->samples += B;
 			st->failures += r.nf[t];
 			if (check_target && st->samples >= o->min_samples && st->failures >= o->min_failures) {
 				is_fill(st, out);
-				if (out->cov <= o->target_cov) {
+				if (is_target_met(out, o, n_centres)) {
 					st->done = 1;
 					out->stop = PRSM_RARE_STOP_CONVERGED;
 				}
@@ -314,6 +345,8 @@ done:
 		rare_progress(pool, st->evaluations, out->cov, 1);
 	free(r.s1);
 	free(r.s2);
+	free(r.s3);
+	free(r.s4);
 	free(r.nf);
 	free(r.ne);
 	free(r.bad);

@@ -5,7 +5,8 @@
  * (mc/stats), SRC and SRRC over the same rows (mc/sens), the worst-case and RSS stack from
  * one-at-a-time changes at the distributions' centres; then, when asked, a Saltelli run on
  * streams of its own for the Sobol indices with bootstrap intervals (random sampling) or
- * randomised-QMC replicate intervals (Sobol' sampling).
+ * randomised-QMC replicate intervals (Sobol' sampling). Between the two, specs that ask for a
+ * rare-event estimate of their out-of-spec probability get it (study_rare.c).
  */
 #include "mc/study.h"
 
@@ -41,8 +42,15 @@ void prsm_sens_options_default(prsm_sens_options *s)
 
 void prsm_study_result_free(prsm_study_result *r)
 {
-	if (r)
-		prsm_mc_result_free(&r->run);
+	if (!r)
+		return;
+	prsm_mc_result_free(&r->run);
+	for (size_t o = 0; o < r->rare_outputs && o < PRSM_MC_MAX_OUTPUTS; o++)
+		for (int k = 0; k < 2; k++) {
+			free(r->out[o].rare[k].x_star);
+			r->out[o].rare[k].x_star = NULL;
+		}
+	r->rare_outputs = 0;
 }
 
 static void warn(prsm_study_result *r, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
@@ -241,6 +249,20 @@ cleanup:
 	return rc;
 }
 
+void prsm_study_progress_relay_fn(void *ctx, const prsm_progress *p)
+{
+	const prsm_study_progress_relay *rl = ctx;
+	prsm_progress q = *p;
+	q.phase = rl->phase;
+	if (rl->unit)
+		q.unit = rl->unit;
+	if (rl->planned) {
+		q.done = rl->offset + p->done;
+		q.planned = rl->planned;
+	}
+	rl->fn(rl->ctx, &q);
+}
+
 /* Seed of randomised-QMC replicate r (replicate 0 keeps the study's seed): splitmix64. */
 static uint64_t replicate_seed(uint64_t seed, size_t r)
 {
@@ -312,6 +334,14 @@ static int sobol(prsm_study_result *r, const prsm_study *s, const prsm_study_run
 		prsm_study_sobol_options(&mo, s, q);
 		if (deadline_s > 0.0)
 			mo.time_cap_s = fmax(deadline_s - prsm_clock_seconds(), 1e-9);
+		/* progress: the phase's base rows, every replicate's in turn */
+		prsm_study_progress_relay relay = {s->mc.progress, s->mc.progress_ctx, "sobol", NULL, 0, N};
+		for (size_t k = 0; k < q; k++)
+			relay.offset += N / R + (k < N % R ? 1 : 0);
+		if (mo.progress) {
+			mo.progress = prsm_study_progress_relay_fn;
+			mo.progress_ctx = &relay;
+		}
 		if (runner && runner->replicate)
 			rc = runner->replicate(&sr, s, q, &mo, runner->ctx, err);
 		else
@@ -422,8 +452,14 @@ int prsm_study_run_with(prsm_study_result *r, const prsm_study *s, const prsm_st
 {
 	result_clear(r, s);
 	double t0 = prsm_clock_seconds();
+	prsm_mc_options mo = s->mc;
+	prsm_study_progress_relay relay = {s->mc.progress, s->mc.progress_ctx, "monte_carlo", NULL, 0, 0};
+	if (mo.progress) {
+		mo.progress = prsm_study_progress_relay_fn;
+		mo.progress_ctx = &relay;
+	}
 	int rc = runner && runner->run ? runner->run(&r->run, s, runner->ctx, err)
-	                               : prsm_mc_run(&r->run, &s->model, s->vars, s->d, s->corr, s->n_corr, &s->mc, err);
+	                               : prsm_mc_run(&r->run, &s->model, s->vars, s->d, s->corr, s->n_corr, &mo, err);
 	if (rc)
 		return rc;
 	r->elapsed_run_s = prsm_clock_seconds() - t0;
@@ -446,7 +482,16 @@ int prsm_study_run_with(prsm_study_result *r, const prsm_study *s, const prsm_st
 		goto fail;
 	}
 	double t1 = prsm_clock_seconds();
+	if (s->mc.progress) { /* the summaries, SRC and stack: no count, but a name */
+		prsm_progress pg = PRSM_PROGRESS_INIT;
+		pg.phase = "summary";
+		s->mc.progress(s->mc.progress_ctx, &pg);
+	}
 	rc = prsm_study_summarise(r, s, err);
+	if (rc)
+		goto fail;
+	/* the rare-event phase (specs with a yield method other than mc), under the same time cap */
+	rc = prsm_study_rare(r, s, s->mc.time_cap_s > 0.0 ? t0 + s->mc.time_cap_s : 0.0, err);
 	if (rc)
 		goto fail;
 	if (s->sens.sobol) {

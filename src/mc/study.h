@@ -13,6 +13,7 @@
 #define PRSM_MC_STUDY_H
 
 #include "mc/engine.h"
+#include "mc/rare.h"
 #include "mc/sens.h"
 #include "mc/stats.h"
 
@@ -29,11 +30,33 @@ typedef struct {
 	size_t first_var, n_vars;        /* its variables: first_var .. first_var + n_vars - 1 */
 } prsm_study_group;
 
+/* How a spec's out-of-spec probability is estimated (issue 21 item 4, docs/rare-events.md): mc
+ * counts the plain run's samples (the default); auto keeps the count when the plain run saw
+ * enough failures on a side for its CoV target and otherwise runs the method
+ * prsm_rare_auto_select picks on those counts; the others always run that rare-event method
+ * on each side of the spec. */
+typedef enum {
+	PRSM_STUDY_YIELD_MC = 0,
+	PRSM_STUDY_YIELD_AUTO = 1,
+	PRSM_STUDY_YIELD_FORM = 2,
+	PRSM_STUDY_YIELD_SORM = 3,
+	PRSM_STUDY_YIELD_IS = 4,
+	PRSM_STUDY_YIELD_SUBSET = 5
+} prsm_study_yield_method;
+
 typedef struct {
 	char name[48];                   /* output name with its unit, e.g. "backlash_um" */
 	int has_spec;
 	prsm_spec spec;
+	int yield_method;                /* prsm_study_yield_method (mc) */
 } prsm_study_output;
+
+/* Settings of the rare-event phase (prsm_study_rare_options_default). */
+typedef struct {
+	size_t max_evaluations;          /* model evaluations per spec side (20000) */
+	double target_cov;               /* IS and auto's projection of plain MC: CoV target (0.1) */
+	size_t subset_samples;           /* subset simulation: samples per level (1000) */
+} prsm_study_rare_options;
 
 typedef struct {
 	int src;                         /* SRC and SRRC (default 1) */
@@ -57,9 +80,11 @@ typedef struct {
 	prsm_study_output outputs[PRSM_MC_MAX_OUTPUTS];
 	prsm_mc_options mc;
 	prsm_sens_options sens;
+	prsm_study_rare_options rare;
 } prsm_study;
 
 void prsm_sens_options_default(prsm_sens_options *s);
+void prsm_study_rare_options_default(prsm_study_rare_options *o);
 
 /* Per output and tolerance. */
 typedef struct {
@@ -68,6 +93,27 @@ typedef struct {
 	double stack_um;                 /* one-at-a-time change over its half-widths, summed |.| (output unit) */
 	prsm_sobol_index sobol;
 } prsm_study_contribution;
+
+/* One side of a spec (lower or upper) in the rare-event phase. */
+typedef struct {
+	int present;                     /* the spec has a limit on this side */
+	int ran;                         /* a rare-event method ran; else the counted figure stands */
+	prsm_rare_method method;         /* what gave pf: PRSM_RARE_MC is the plain run's count */
+	size_t failures, n;              /* the plain run's kept samples beyond this limit, of n */
+	double pf;                       /* P(beyond this limit), dimensionless */
+	double lower, upper;             /* its 95 % interval (Wilson for a count); NAN for FORM/SORM */
+	double cov;                      /* coefficient of variation of pf; NAN when none */
+	double beta;                     /* generalised reliability index -Phi^-1(pf) */
+	size_t evaluations;              /* model evaluations the method used (0 for a count) */
+	int converged;
+	prsm_rare_stop stop;
+	char note[2 * PRSM_RARE_REASON_MAX]; /* why this method (auto), and how it ended */
+	int has_design_point;            /* FORM ran and found one */
+	double form_beta;                /* FORM's reliability index */
+	double importance[PRSM_MC_MAX_GROUPS]; /* FORM's importance by variable summed over each
+	                                    tolerance's variables, dimensionless (sum 1) */
+	double *x_star;                  /* d: the design point in the variables' units (NULL if none) */
+} prsm_study_rare_side;
 
 typedef struct {
 	prsm_stats_summary summary;
@@ -82,12 +128,20 @@ typedef struct {
 	int has_sobol;
 	double sobol_variance;
 	prsm_study_contribution by_group[PRSM_MC_MAX_GROUPS];
+	int has_rare;                    /* the spec asked for a yield method other than mc */
+	prsm_study_rare_side rare[2];    /* [0] below the lower limit, [1] above the upper */
+	double rare_ppm, rare_ppm_low95, rare_ppm_high95; /* out of spec, per million: the sum of the
+	                                    sides' estimates and of their interval ends (NAN when a
+	                                    side has no interval) */
+	int rare_ppm_from_rare;          /* a rare-event method (not only the count) gave a side */
 } prsm_study_output_result;
 
 #define PRSM_STUDY_WARNINGS 8
 
 typedef struct {
 	prsm_mc_result run;              /* the samples (inputs, outputs, status) */
+	size_t rare_outputs;             /* out[0 .. rare_outputs - 1] may hold rare-event design
+	                                    points (prsm_study_rare), freed by prsm_study_result_free */
 	prsm_study_output_result out[PRSM_MC_MAX_OUTPUTS];
 	int has_sobol;
 	size_t sobol_rows, sobol_rows_ok, sobol_evaluations;
@@ -123,6 +177,24 @@ int prsm_study_run_with(prsm_study_result *r, const prsm_study *s, const prsm_st
  * sampler, else 1), and the engine options of replicate q without a time cap. */
 size_t prsm_study_sobol_replicates(const prsm_study *s);
 void prsm_study_sobol_options(prsm_mc_options *mo, const prsm_study *s, size_t q);
+
+/* Progress of a study's phases: each engine run's reports relayed with the phase's name, its
+ * unit when it is not samples, and (planned > 0) counts offset into the phase's own total. */
+typedef struct {
+	prsm_progress_fn fn;
+	void *ctx;
+	const char *phase;               /* "monte_carlo", "rare_events", "sobol" */
+	const char *unit;                /* NULL: samples */
+	size_t offset, planned;          /* planned 0: the run's own counts */
+} prsm_study_progress_relay;
+
+void prsm_study_progress_relay_fn(void *ctx, const prsm_progress *p);
+
+/* The rare-event phase of prsm_study_run: for every output whose spec asks for a yield method
+ * other than mc, each side's probability from the plain run's counts or a rare-event method
+ * (src/mc/study_rare.c). deadline_s: the study's time cap as a prsm_clock_seconds() time, 0 for
+ * none. Returns 0, or the rare engine's error (err names the output and side). */
+int prsm_study_rare(prsm_study_result *r, const prsm_study *s, double deadline_s, prsm_error *err);
 
 /* Summaries, SRC/SRRC and stack figures of an existing plain run (used by prsm_study_run and
  * by split runs merged with prsm_mc_result_concat). */

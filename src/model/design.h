@@ -101,10 +101,20 @@ typedef struct {
 	prsm_design_losses losses;    /* efficiency beyond sliding */
 	prsm_design_stiffness stiffness; /* thread compliance, load distribution, stiffness */
 	prsm_design_life life;        /* capacity, life, column */
+	int derived;                  /* PRSM_DERIVED_* bits: the radii prsm_design_resolve filled by
+	                                 a rule or default (0 until then) */
 	/* operating point */
 	double axial_load_N;          /* F on the nut, N */
 	double screw_speed_rad_s;     /* omega of the screw, rad/s */
 } prsm_design;
+
+/* Which radii prsm_design_resolve derived (model/geometry.h): a problem of a derived radius is
+ * reported at the field the document gave (pitch_mm, roller_radius_mm), not at the radius. */
+enum {
+	PRSM_DERIVED_SCREW_RADIUS = 1, PRSM_DERIVED_NUT_RADIUS = 2, PRSM_DERIVED_ARC_RADIUS = 4,
+	PRSM_DERIVED_SCREW_CREST = 8, PRSM_DERIVED_SCREW_ROOT = 16, PRSM_DERIVED_ROLLER_CREST = 32,
+	PRSM_DERIVED_ROLLER_ROOT = 64, PRSM_DERIVED_NUT_CREST = 128, PRSM_DERIVED_NUT_ROOT = 256
+};
 
 /* Lead L = n P, mm (docs/model/geometry-and-meshing.md). */
 double prsm_design_lead_mm(const prsm_design *d);

@@ -71,6 +71,7 @@ int prsm_design_resolve(prsm_design *d, prsm_problems *errors)
 {
 	int before = prsm_problems_total(errors);
 	double P = d->pitch_mm, rr = d->roller_radius_mm;
+	d->derived = 0;
 	if (isnan(d->screw_radius_mm)) {
 		/* docs/model/geometry-and-meshing.md: r_s = (n - 2) r_r needs n >= 3 */
 		if (d->starts < 3)
@@ -78,23 +79,64 @@ int prsm_design_resolve(prsm_design *d, prsm_problems *errors)
 			                  "the standard rule r_s = (n-2) r_r needs at least 3 starts (got %d); "
 			                  "give screw_radius_mm explicitly for fewer", d->starts);
 		d->screw_radius_mm = (d->starts - 2) * rr;
+		d->derived |= PRSM_DERIVED_SCREW_RADIUS;
 	}
-	if (isnan(d->nut_radius_mm))
+	if (isnan(d->nut_radius_mm)) {
 		d->nut_radius_mm = d->screw_radius_mm + 2.0 * rr; /* pitch circles tangent */
-	if (isnan(d->roller_arc_radius_mm))
+		d->derived |= PRSM_DERIVED_NUT_RADIUS;
+	}
+	if (isnan(d->roller_arc_radius_mm)) {
 		d->roller_arc_radius_mm = rr / sin(d->flank_angle_rad); /* R = r_r / sin beta */
+		d->derived |= PRSM_DERIVED_ARC_RADIUS;
+	}
 	double ha = PRSM_ADDENDUM_PER_PITCH * P, hf = PRSM_DEDENDUM_PER_PITCH * P;
-	if (isnan(d->screw_crest_radius_mm)) d->screw_crest_radius_mm = d->screw_radius_mm + ha;
-	if (isnan(d->screw_root_radius_mm)) d->screw_root_radius_mm = d->screw_radius_mm - hf;
+	if (isnan(d->screw_crest_radius_mm)) {
+		d->screw_crest_radius_mm = d->screw_radius_mm + ha;
+		d->derived |= PRSM_DERIVED_SCREW_CREST;
+	}
+	if (isnan(d->screw_root_radius_mm)) {
+		d->screw_root_radius_mm = d->screw_radius_mm - hf;
+		d->derived |= PRSM_DERIVED_SCREW_ROOT;
+	}
 	if (isnan(d->roller_crest_radius_mm)) {
 		/* keep the default crest inside the arc's domain u < R */
 		double lim = rr + 0.9 * (d->roller_arc_radius_mm - rr);
 		d->roller_crest_radius_mm = fmin(rr + ha, lim);
+		d->derived |= PRSM_DERIVED_ROLLER_CREST;
 	}
-	if (isnan(d->roller_root_radius_mm)) d->roller_root_radius_mm = rr - hf;
-	if (isnan(d->nut_crest_radius_mm)) d->nut_crest_radius_mm = d->nut_radius_mm - ha;
-	if (isnan(d->nut_root_radius_mm)) d->nut_root_radius_mm = d->nut_radius_mm + hf;
+	if (isnan(d->roller_root_radius_mm)) {
+		d->roller_root_radius_mm = rr - hf;
+		d->derived |= PRSM_DERIVED_ROLLER_ROOT;
+	}
+	if (isnan(d->nut_crest_radius_mm)) {
+		d->nut_crest_radius_mm = d->nut_radius_mm - ha;
+		d->derived |= PRSM_DERIVED_NUT_CREST;
+	}
+	if (isnan(d->nut_root_radius_mm)) {
+		d->nut_root_radius_mm = d->nut_radius_mm + hf;
+		d->derived |= PRSM_DERIVED_NUT_ROOT;
+	}
 	return prsm_problems_total(errors) > before ? PRSM_EINVAL : 0;
+}
+
+/* The pointer of a thread-extent problem: the radius's own field when the bound that fails
+ * involves a radius the document gave (root_bad: the root's, crest_bad: the crest's), else
+ * pitch_mm, from which the default crest and root radii follow (geometry.h). */
+static const char *extent_pointer(const prsm_design *d, int crest_bit, int root_bit, int crest_bad,
+                                  int root_bad, const char *own)
+{
+	if ((root_bad && !(d->derived & root_bit)) || (crest_bad && !(d->derived & crest_bit)))
+		return own;
+	return "/geometry/pitch_mm";
+}
+
+/* A note for a problem of derived crest or root radii: which rule made them. */
+static const char *extent_note(const prsm_design *d, int crest_bit, int root_bit)
+{
+	return (d->derived & (crest_bit | root_bit)) == (crest_bit | root_bit)
+		       ? " (the default crest and root radii are the pitch radius + 0.25 P and - 0.30 P: "
+		         "the pitch is too coarse for this radius, or give the crest and root radii)"
+		       : "";
 }
 
 int prsm_geometry_z_max(double roller_crest_radius_mm, double running_clearance_mm,
@@ -136,21 +178,35 @@ int prsm_geometry_check(prsm_geometry *out, prsm_problems *warnings, prsm_proble
 		prsm_problems_add(errors, "/geometry/nut_radius_mm", "nut_radius",
 		                  "nut pitch radius %g mm must exceed screw + roller radius %g mm", rn, rs + rr);
 	if (!(d->screw_root_radius_mm > 0.0 && d->screw_root_radius_mm < rs && rs < d->screw_crest_radius_mm))
-		prsm_problems_add(errors, "/geometry/screw_root_radius_mm", "thread_extent",
-		                  "screw needs 0 < root (%g) < pitch radius (%g) < crest (%g) mm",
-		                  d->screw_root_radius_mm, rs, d->screw_crest_radius_mm);
+		prsm_problems_add(errors,
+		                  extent_pointer(d, PRSM_DERIVED_SCREW_CREST, PRSM_DERIVED_SCREW_ROOT,
+		                                 !(rs < d->screw_crest_radius_mm),
+		                                 !(d->screw_root_radius_mm > 0.0 && d->screw_root_radius_mm < rs),
+		                                 "/geometry/screw_root_radius_mm"),
+		                  "thread_extent", "screw needs 0 < root (%g) < pitch radius (%g) < crest (%g) mm%s",
+		                  d->screw_root_radius_mm, rs, d->screw_crest_radius_mm,
+		                  extent_note(d, PRSM_DERIVED_SCREW_CREST, PRSM_DERIVED_SCREW_ROOT));
 	if (!isnan(d->nut_outer_radius_mm) && !(d->nut_outer_radius_mm > d->nut_root_radius_mm))
 		prsm_problems_add(errors, "/geometry/nut_outer_radius_mm", "nut_wall",
 		                  "nut outer radius %g mm must exceed the nut root radius %g mm",
 		                  d->nut_outer_radius_mm, d->nut_root_radius_mm);
 	if (!(d->roller_root_radius_mm > 0.0 && d->roller_root_radius_mm < rr && rr < d->roller_crest_radius_mm))
-		prsm_problems_add(errors, "/geometry/roller_root_radius_mm", "thread_extent",
-		                  "roller needs 0 < root (%g) < pitch radius (%g) < crest (%g) mm",
-		                  d->roller_root_radius_mm, rr, d->roller_crest_radius_mm);
+		prsm_problems_add(errors,
+		                  extent_pointer(d, PRSM_DERIVED_ROLLER_CREST, PRSM_DERIVED_ROLLER_ROOT,
+		                                 !(rr < d->roller_crest_radius_mm),
+		                                 !(d->roller_root_radius_mm > 0.0 && d->roller_root_radius_mm < rr),
+		                                 "/geometry/roller_root_radius_mm"),
+		                  "thread_extent", "roller needs 0 < root (%g) < pitch radius (%g) < crest (%g) mm%s",
+		                  d->roller_root_radius_mm, rr, d->roller_crest_radius_mm,
+		                  extent_note(d, PRSM_DERIVED_ROLLER_CREST, PRSM_DERIVED_ROLLER_ROOT));
 	if (!(d->nut_crest_radius_mm < rn && rn < d->nut_root_radius_mm))
-		prsm_problems_add(errors, "/geometry/nut_crest_radius_mm", "thread_extent",
-		                  "nut needs crest (%g) < pitch radius (%g) < root (%g) mm (internal thread)",
-		                  d->nut_crest_radius_mm, rn, d->nut_root_radius_mm);
+		prsm_problems_add(errors,
+		                  extent_pointer(d, PRSM_DERIVED_NUT_CREST, PRSM_DERIVED_NUT_ROOT,
+		                                 !(d->nut_crest_radius_mm < rn), !(rn < d->nut_root_radius_mm),
+		                                 "/geometry/nut_crest_radius_mm"),
+		                  "thread_extent", "nut needs crest (%g) < pitch radius (%g) < root (%g) mm (internal thread)%s",
+		                  d->nut_crest_radius_mm, rn, d->nut_root_radius_mm,
+		                  extent_note(d, PRSM_DERIVED_NUT_CREST, PRSM_DERIVED_NUT_ROOT));
 	if (!(R > rr))
 		prsm_problems_add(errors, "/geometry/roller_arc_radius_mm", "arc_radius",
 		                  "roller flank arc radius %g mm must exceed the roller pitch radius %g mm", R, rr);
@@ -160,11 +216,17 @@ int prsm_geometry_check(prsm_geometry *out, prsm_problems *warnings, prsm_proble
 		                  "(the arc domain is too small for the thread height)",
 		                  d->roller_crest_radius_mm, R);
 	if (d->screw_crest_radius_mm + d->roller_root_radius_mm > a)
-		prsm_problems_add(errors, "/geometry/screw_crest_radius_mm", "crest_clearance",
+		prsm_problems_add(errors,
+		                  extent_pointer(d, PRSM_DERIVED_SCREW_CREST, PRSM_DERIVED_ROLLER_ROOT, 1, 1,
+		                                 "/geometry/screw_crest_radius_mm"),
+		                  "crest_clearance",
 		                  "screw crest %g mm + roller root %g mm exceed the orbit radius a = %g mm",
 		                  d->screw_crest_radius_mm, d->roller_root_radius_mm, a);
 	if (d->nut_crest_radius_mm < a + d->roller_root_radius_mm && rn > rs + rr)
-		prsm_problems_add(errors, "/geometry/nut_crest_radius_mm", "crest_clearance",
+		prsm_problems_add(errors,
+		                  extent_pointer(d, PRSM_DERIVED_NUT_CREST, PRSM_DERIVED_ROLLER_ROOT, 1, 1,
+		                                 "/geometry/nut_crest_radius_mm"),
+		                  "crest_clearance",
 		                  "nut crest %g mm must be at least a + roller root = %g mm",
 		                  d->nut_crest_radius_mm, a + d->roller_root_radius_mm);
 	if (d->rollers > out->z_max)
@@ -189,4 +251,52 @@ int prsm_geometry_check(prsm_geometry *out, prsm_problems *warnings, prsm_proble
 		                  "r_s = %g mm differs from the standard rule (n-2) r_r = %g mm", rs,
 		                  (n - 2.0) * rr);
 	return prsm_problems_total(errors) > before ? PRSM_EGEOMETRY : 0;
+}
+
+/* A radius, pitch, load or speed outside what real roller screws have, with the unit slip that
+ * would explain it (geometry.h). */
+static void implausible(prsm_problems *w, const char *pointer, const char *what, double v, double lo,
+                        double hi, const char *unit)
+{
+	if (!(v < lo || v > hi))
+		return;
+	if (v > hi && v / 1000.0 >= lo && v / 1000.0 <= hi)
+		prsm_problems_add(w, pointer, "implausible",
+		                  "%g %s: a value in µm? %s is %g to %g %s in real roller screws (%g µm = %g %s)",
+		                  v, unit, what, lo, hi, unit, v, v / 1000.0, unit);
+	else if (v < lo && v * 25.4 >= lo && v * 25.4 <= hi)
+		prsm_problems_add(w, pointer, "implausible",
+		                  "%g %s: a value in inches? %s is %g to %g %s in real roller screws; %g in "
+		                  "would be %g %s", v, unit, what, lo, hi, unit, v, v * 25.4, unit);
+	else if (v < lo && v * 1000.0 >= lo && v * 1000.0 <= hi)
+		prsm_problems_add(w, pointer, "implausible",
+		                  "%g %s: a value in m? %s is %g to %g %s in real roller screws (%g m = %g %s)",
+		                  v, unit, what, lo, hi, unit, v, v * 1000.0, unit);
+	else
+		prsm_problems_add(w, pointer, "implausible",
+		                  "%g %s is outside the range of real roller screws (%s %g to %g %s): check "
+		                  "the unit", v, unit, what, lo, hi, unit);
+}
+
+void prsm_geometry_plausibility(prsm_problems *warnings, const prsm_design *d)
+{
+	implausible(warnings, "/geometry/roller_radius_mm", "a roller pitch radius", d->roller_radius_mm,
+	            PRSM_PLAUSIBLE_RADIUS_MIN_MM, PRSM_PLAUSIBLE_RADIUS_MAX_MM, "mm");
+	if (!(d->derived & PRSM_DERIVED_SCREW_RADIUS))
+		implausible(warnings, "/geometry/screw_radius_mm", "a screw pitch radius", d->screw_radius_mm,
+		            PRSM_PLAUSIBLE_RADIUS_MIN_MM, PRSM_PLAUSIBLE_RADIUS_MAX_MM, "mm");
+	if (!(d->derived & PRSM_DERIVED_NUT_RADIUS))
+		implausible(warnings, "/geometry/nut_radius_mm", "a nut pitch radius", d->nut_radius_mm,
+		            PRSM_PLAUSIBLE_RADIUS_MIN_MM, PRSM_PLAUSIBLE_RADIUS_MAX_MM, "mm");
+	implausible(warnings, "/geometry/pitch_mm", "the pitch", d->pitch_mm, PRSM_PLAUSIBLE_PITCH_MIN_MM,
+	            PRSM_PLAUSIBLE_PITCH_MAX_MM, "mm");
+	const double F = fabs(d->axial_load_N), rpm = fabs(d->screw_speed_rad_s) * 30.0 / M_PI;
+	if (F > PRSM_PLAUSIBLE_LOAD_MAX_N)
+		prsm_problems_add(warnings, "/operating_point/axial_load_N", "implausible",
+		                  "%g N is above the static ratings of the largest roller screws (about %g N): "
+		                  "a value in mN, or in g?", F, PRSM_PLAUSIBLE_LOAD_MAX_N);
+	if (rpm > PRSM_PLAUSIBLE_SPEED_MAX_RPM)
+		prsm_problems_add(warnings, "/operating_point/screw_speed_rpm", "implausible",
+		                  "%g rpm is above the speeds of real roller screws (at most about %g rpm): a "
+		                  "value in rad/min or in mm/min?", rpm, PRSM_PLAUSIBLE_SPEED_MAX_RPM);
 }

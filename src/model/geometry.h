@@ -42,6 +42,20 @@ int prsm_design_resolve(prsm_design *d, prsm_problems *errors);
 int prsm_geometry_check(prsm_geometry *out, prsm_problems *warnings, prsm_problems *errors,
                         const prsm_design *d);
 
+/* The range of real roller screws (catalogues from about 3 to 300 mm nominal diameter, pitch
+ * 0.5 to 10 mm, static ratings up to a few MN, speeds up to a few thousand rpm); a value outside
+ * it is possible but more likely a unit slip (3250 mm for 3.25 mm given in µm). */
+#define PRSM_PLAUSIBLE_RADIUS_MIN_MM 1.0
+#define PRSM_PLAUSIBLE_RADIUS_MAX_MM 150.0
+#define PRSM_PLAUSIBLE_PITCH_MIN_MM 0.5
+#define PRSM_PLAUSIBLE_PITCH_MAX_MM 10.0
+#define PRSM_PLAUSIBLE_LOAD_MAX_N 5e6
+#define PRSM_PLAUSIBLE_SPEED_MAX_RPM 10000.0
+
+/* Warnings (code "implausible") for radii the document gave, the pitch, the load and the speed
+ * outside that range, each naming the field and the unit slip that would explain it. */
+void prsm_geometry_plausibility(prsm_problems *warnings, const prsm_design *d);
+
 /* Z_max = floor(pi / asin((r_ro + c/2) / a)) (docs/model/geometry-and-meshing.md); 0 when not even one fits. */
 int prsm_geometry_z_max(double roller_crest_radius_mm, double running_clearance_mm,
                         double orbit_radius_mm);

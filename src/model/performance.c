@@ -108,7 +108,29 @@ static int static_capacity_side(double *out_N, prsm_loaddist_workspace *ws,
 	return 0;
 }
 
-static int capacity_and_life(prsm_performance *out, const prsm_design *d,
+/* The ellipse truncation of both sides (model/rating.h) and, at the operating load, of the
+ * most loaded contact of each side. */
+static int truncation(prsm_performance *out, const prsm_design *d, const prsm_analysis *a,
+                      const prsm_loaddist_params *p, prsm_error *err)
+{
+	prsm_truncation_check *tc[2] = {&out->truncation_screw, &out->truncation_nut};
+	const prsm_contact *c[2] = {&a->screw, &a->nut};
+	const int loaded = fabs(d->axial_load_N) > 0.0;
+	for (int s = 0; s < 2; s++) {
+		int rc = prsm_rating_truncation(&tc[s]->t, d, c[s], &p->side[s].reference, s, err);
+		if (rc)
+			return rc;
+		tc[s]->truncated_at_C0a = tc[s]->t.p_limit_MPa < d->life.p_allow_MPa;
+		if (loaded) {
+			const double q = out->dist.side[s].max_normal_N;
+			tc[s]->operating_axis_mm = prsm_truncation_profile_axis_mm(&tc[s]->t, q);
+			tc[s]->truncated_operating = q > tc[s]->t.q_limit_N;
+		}
+	}
+	return 0;
+}
+
+static int capacity_and_life(prsm_performance *out, const prsm_design *d, const prsm_analysis *a,
                              prsm_loaddist_workspace *ws, const prsm_loaddist_params *p,
                              prsm_error *err)
 {
@@ -123,14 +145,29 @@ static int capacity_and_life(prsm_performance *out, const prsm_design *d,
 	    (rc = prsm_life_static_capacity(&out->static_nut, &href[1], p->side[1].axial_component,
 	                                    contacts, 1.0, L->p_allow_MPa, err)))
 		return rc;
-	if ((rc = static_capacity_side(&out->C0a_screw_N, ws, p, &out->static_screw, L->p_allow_MPa,
-	                               PRSM_SIDE_SCREW, err)) ||
-	    (rc = static_capacity_side(&out->C0a_nut_N, ws, p, &out->static_nut, L->p_allow_MPa,
-	                               PRSM_SIDE_NUT, err)))
+	if ((rc = static_capacity_side(&out->C0a_pressure_screw_N, ws, p, &out->static_screw,
+	                               L->p_allow_MPa, PRSM_SIDE_SCREW, err)) ||
+	    (rc = static_capacity_side(&out->C0a_pressure_nut_N, ws, p, &out->static_nut,
+	                               L->p_allow_MPa, PRSM_SIDE_NUT, err)))
 		return rc;
-	out->static_screw.load_factor = out->static_screw.C0a_N / out->C0a_screw_N;
-	out->static_nut.load_factor = out->static_nut.C0a_N / out->C0a_nut_N;
+	out->static_screw.load_factor = out->static_screw.C0a_N / out->C0a_pressure_screw_N;
+	out->static_nut.load_factor = out->static_nut.C0a_N / out->C0a_pressure_nut_N;
+	out->C0a_pressure_N = fmin(out->C0a_pressure_screw_N, out->C0a_pressure_nut_N);
+	/* the ellipse truncation limits C_0a (model/rating.h): the load at which the most loaded
+	 * contact reaches the lower of p_allow and p_limit, solved again only when p_limit is lower */
+	if ((rc = truncation(out, d, a, p, err)))
+		return rc;
+	out->C0a_screw_N = out->C0a_pressure_screw_N;
+	out->C0a_nut_N = out->C0a_pressure_nut_N;
+	const prsm_truncation *tr[2] = {&out->truncation_screw.t, &out->truncation_nut.t};
+	double *side_N[2] = {&out->C0a_screw_N, &out->C0a_nut_N};
+	const prsm_static_capacity *equal[2] = {&out->static_screw, &out->static_nut};
+	for (int s = 0; s < 2; s++)
+		if (tr[s]->p_limit_MPa < L->p_allow_MPa &&
+		    (rc = static_capacity_side(side_N[s], ws, p, equal[s], tr[s]->p_limit_MPa, s, err)))
+			return rc;
 	out->C0a_N = fmin(out->C0a_screw_N, out->C0a_nut_N);
+	out->C0a_truncation_limited = out->C0a_N < out->C0a_pressure_N;
 	out->static_safety = F > 0.0 ? out->C0a_N / F : INFINITY;
 
 	/* dynamic: L-P with the distribution factor of the thread rows at the operating load */
@@ -143,6 +180,14 @@ static int capacity_and_life(prsm_performance *out, const prsm_design *d,
 	prsm_lp_method m = PRSM_LP_METHOD_INIT;
 	m.material_factor = L->lp_material_factor;
 	if ((rc = prsm_life_dynamic_capacity(&out->dynamic, d, &m, out->distribution_factor, err)))
+		return rc;
+	out->C0a_over_C_a = out->C0a_N / out->dynamic.C_a_N;
+	/* the makers' convention: equal sharing everywhere (model/rating.h, MODEL.md §6) */
+	prsm_dynamic_capacity equal_dynamic;
+	if ((rc = prsm_life_dynamic_capacity(&equal_dynamic, d, &m, 1.0, err)) ||
+	    (rc = prsm_rating_makers(&out->makers, out->static_screw.C0a_N, out->static_nut.C0a_N,
+	                             &out->truncation_screw.t, &out->truncation_nut.t, L->p_allow_MPa,
+	                             contacts, equal_dynamic.C_a_N, err)))
 		return rc;
 
 	/* life: cubic mean of the duty cycle (or the operating load), preload, reliability */
@@ -217,7 +262,7 @@ int prsm_performance_compute(prsm_performance *out, const prsm_design *d, const 
 	out->dist.normal_screw_N = out->dist.normal_nut_N = NULL;
 	if (rc)
 		goto cleanup;
-	if ((rc = capacity_and_life(out, d, ws, &p, err)))
+	if ((rc = capacity_and_life(out, d, a, ws, &p, err)))
 		goto cleanup;
 
 	/* the load-deflection curve, on request */

@@ -30,6 +30,7 @@
 #include "model/life.h"
 #include "model/loaddist.h"
 #include "model/losses.h"
+#include "model/rating.h"
 #include "util/error.h"
 
 typedef struct {
@@ -51,10 +52,18 @@ typedef struct {
 	double *curve_load_N, *curve_approach_um, *curve_stiffness_N_per_um;
 	/* capacity */
 	prsm_static_capacity static_screw, static_nut; /* the contact data at p_allow */
-	double C0a_screw_N, C0a_nut_N, C0a_N;        /* from the distribution at p_allow, N */
+	double C0a_screw_N, C0a_nut_N, C0a_N;        /* from the distribution at min(p_allow, the
+	                                                truncation limit p_limit), N */
+	double C0a_pressure_screw_N, C0a_pressure_nut_N, C0a_pressure_N; /* the same at p_allow alone, N */
+	int C0a_truncation_limited;  /* 1 when the ellipse truncation, not p_allow, sets C0a_N */
 	double static_safety;        /* C_0a / F (INFINITY at F = 0) */
 	prsm_dynamic_capacity dynamic;
 	double distribution_factor;  /* L-P factor of the thread-row loads, <= 1 */
+	double C0a_over_C_a;         /* C0a_N / dynamic.C_a_N, - */
+	/* the contact-ellipse truncation check (model/rating.h, MODEL.md §6 static capacity) */
+	prsm_truncation_check truncation_screw, truncation_nut;
+	/* the makers' convention: equal sharing, p_allow, L-P with load factor 1 (model/rating.h) */
+	prsm_makers_rating makers;
 	/* life */
 	double mean_load_N;          /* cubic mean of the duty cycle, or |F|, N */
 	double equivalent_load_N;    /* after the preload derating, N */

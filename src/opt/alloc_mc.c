@@ -324,6 +324,34 @@ static int run_mc(prsm_alloc_step *st, prsm_study *s, const prsm_alloc_model *md
 			st->mc_high95[q] = sm->yield_high95;
 			st->mc_confidence[q] = NAN;
 			st->mc_meets[q] = 1;
+			st->mc_interval[q] = PRSM_ALLOC_YIELD_WILSON;
+			st->mc_method[q] = PRSM_RARE_MC;
+			const prsm_study_output_result *res = &r->out[o->output[q]];
+			if (res->has_rare && res->rare_ppm_from_rare) {
+				/* the rare-event estimate of the spec (study_rare.c): judged on its interval's
+				 * far end, or on the point when FORM/SORM give none */
+				const double p0 = 1.0 - md->out_fraction[q];
+				const double yl = 1.0 - 1e-6 * res->rare_ppm_high95, yh = 1.0 - 1e-6 * res->rare_ppm_low95;
+				const int k = res->rare[1].present && (!res->rare[0].present || res->rare[1].pf >= res->rare[0].pf);
+				st->mc_method[q] = res->rare[k].ran ? (int)res->rare[k].method : (int)res->rare[1 - k].method;
+				st->mc_yield[q] = 1.0 - 1e-6 * res->rare_ppm;
+				st->mc_low95[q] = yl;
+				st->mc_high95[q] = yh;
+				st->mc_interval[q] = isfinite(yl) && isfinite(yh) ? PRSM_ALLOC_YIELD_RARE : PRSM_ALLOC_YIELD_RARE_POINT;
+				if (md->has_target[q]) {
+					if (st->mc_interval[q] == PRSM_ALLOC_YIELD_RARE) {
+						double se = (yh - yl) / (2.0 * PRSM_STATS_Z95);
+						st->mc_meets[q] = yl >= p0;
+						st->mc_confidence[q] = se > 0.0 ? gsl_cdf_ugaussian_P((st->mc_yield[q] - p0) / se)
+						                                : (st->mc_yield[q] >= p0 ? 1.0 : 0.0);
+					} else {
+						st->mc_meets[q] = st->mc_yield[q] >= p0;
+					}
+					if (!st->mc_meets[q])
+						st->meets = 0;
+				}
+				continue;
+			}
 			if (md->has_target[q]) {
 				/* decided on the evidence: the Wilson interval's lower end (see alloc_mc.h) */
 				const double p0 = 1.0 - md->out_fraction[q];

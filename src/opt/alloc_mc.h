@@ -90,10 +90,22 @@ typedef struct {
 	double mc_confidence[PRSM_ALLOC_MAX_CONSTRAINTS];   /* one-sided confidence that the true yield
 	                                                       meets the target (NAN without one) */
 	int mc_meets[PRSM_ALLOC_MAX_CONSTRAINTS];           /* Wilson lower end >= target (no target: 1) */
+	int mc_interval[PRSM_ALLOC_MAX_CONSTRAINTS];        /* prsm_alloc_yield_interval: where the yield came from */
+	int mc_method[PRSM_ALLOC_MAX_CONSTRAINTS];          /* prsm_rare_method: PRSM_RARE_MC for the count */
 	int assembly_ok;                                    /* every given T_asm,o holds (linear stack) */
 	int meets;                                          /* every target met (MC when run: mc_meets,
 	                                                       else linear) and assembly_ok */
 } prsm_alloc_step;
+
+/* The yield a correction step judges a target on (issue 21 item 4): the Monte Carlo count with
+ * its Wilson interval, or, when the study spec's yield_method is not mc, its rare-event
+ * estimate (the study's rare_event section) with the sum of the sides' intervals, or a FORM /
+ * SORM point estimate (judged on the point, as no interval exists). */
+typedef enum {
+	PRSM_ALLOC_YIELD_WILSON = 0,
+	PRSM_ALLOC_YIELD_RARE = 1,
+	PRSM_ALLOC_YIELD_RARE_POINT = 2
+} prsm_alloc_yield_interval;
 
 typedef enum {
 	PRSM_ALLOC_STOP_LINEAR = 0,      /* no Monte Carlo asked for */

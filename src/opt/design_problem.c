@@ -50,19 +50,21 @@ static void continuous_index(const prsm_dp_spec *s, int idx[3])
 	idx[2] = s->flank_deg.vary ? n++ : -1;
 }
 
-/* Index of each discrete variable in levels (-1 when fixed): starts, rollers, threads. */
-static void discrete_index(const prsm_dp_spec *s, int idx[3])
+/* Index of each discrete variable in levels (-1 when fixed): starts, rollers, threads, and the
+ * pitch (or lead) when it takes a list of values. */
+static void discrete_index(const prsm_dp_spec *s, int idx[4])
 {
 	int n = 0;
 	idx[0] = s->starts.count ? n++ : -1;
 	idx[1] = s->rollers.count ? n++ : -1;
 	idx[2] = s->threads.count ? n++ : -1;
+	idx[3] = s->n_pitch_values ? n++ : -1;
 }
 
 void prsm_dp_design_at(prsm_design *out, const prsm_dp_spec *s, const double *x,
                        const double *levels)
 {
-	int ci[3], di[3];
+	int ci[3], di[4];
 	continuous_index(s, ci);
 	discrete_index(s, di);
 	const prsm_design *b = &s->base;
@@ -76,6 +78,8 @@ void prsm_dp_design_at(prsm_design *out, const prsm_dp_spec *s, const double *x,
 	/* pitch, or lead L = n P (docs/model/geometry-and-meshing.md) */
 	if (ci[0] >= 0)
 		out->pitch_mm = s->pitch_is_lead ? x[ci[0]] / n : x[ci[0]];
+	else if (di[3] >= 0) /* one of the allowed values */
+		out->pitch_mm = s->pitch_is_lead ? levels[di[3]] / n : levels[di[3]];
 	else if (s->pitch_is_lead)
 		out->pitch_mm = b->pitch_mm * b->starts / n; /* the base lead kept */
 	if (ci[2] >= 0)
@@ -291,14 +295,20 @@ static int dp_eval(void *ctx, const double *x, const double *levels, double *f, 
 /* Screw pitch radius, nut outer radius and Z_max of the design at one corner of the box. */
 static void corner(const prsm_dp_spec *s, int starts, int mask, double *rs, double *ro, int *z_max)
 {
-	int ci[3];
+	int ci[3], di[4];
 	continuous_index(s, ci);
+	discrete_index(s, di);
 	double x[PRSM_OPT_MAX_CONTINUOUS] = {0};
 	const prsm_dp_range *r[3] = {&s->pitch, &s->radius, &s->flank_deg};
 	for (int v = 0; v < 3; v++)
 		if (ci[v] >= 0)
 			x[ci[v]] = (mask >> v) & 1 ? r[v]->max : r[v]->min;
-	double lv[PRSM_OPT_MAX_DISCRETE] = {starts, 1, 1};
+	double lv[PRSM_OPT_MAX_DISCRETE] = {0};
+	for (int v = 0; v < 3; v++)
+		if (di[v] >= 0)
+			lv[di[v]] = v == 0 ? starts : 1;
+	if (di[3] >= 0) /* the list's ends bracket it as the range's do */
+		lv[di[3]] = mask & 1 ? s->pitch_values[s->n_pitch_values - 1] : s->pitch_values[0];
 	prsm_design d;
 	prsm_dp_design_at(&d, s, x, lv);
 	d.starts = starts;
@@ -330,7 +340,7 @@ static int dp_prune(void *ctx, const double *levels, const double *lower, const 
 	(void)lower;
 	(void)upper;
 	const prsm_dp_spec *s = ctx;
-	int di[3];
+	int di[4];
 	discrete_index(s, di);
 	int starts = di[0] >= 0 ? (int)levels[di[0]] : s->base.starts;
 	int rollers = di[1] >= 0 ? (int)levels[di[1]] : s->base.rollers;
@@ -406,6 +416,23 @@ int prsm_dp_problem(prsm_opt_problem *p, prsm_dp_spec *s, prsm_error *err)
 		rc = add_set(p, &s->rollers, "rollers", err);
 	if (!rc)
 		rc = add_set(p, &s->threads, "engaged_threads", err);
+	if (!rc && s->n_pitch_values) {
+		/* allowed values of P (or L): a discrete variable after the sets */
+		const char *name = s->pitch_is_lead ? "lead_mm" : "pitch_mm";
+		if (s->pitch.vary)
+			return prsm_error_set(err, PRSM_EINVAL, NULL, "%s: a range or a list of values, not both", name);
+		if (s->n_pitch_values < 0 || s->n_pitch_values > PRSM_OPT_MAX_LEVELS)
+			return prsm_error_set(err, PRSM_EINVAL, NULL, "%s: 1..%d values", name, PRSM_OPT_MAX_LEVELS);
+		for (int i = 0; i < s->n_pitch_values; i++)
+			if (!(s->pitch_values[i] > 0.0) || (i > 0 && !(s->pitch_values[i] > s->pitch_values[i - 1])))
+				return prsm_error_set(err, PRSM_EINVAL, NULL, "%s: the values must be positive and "
+				                      "ascending (value %d: %g)", name, i, s->pitch_values[i]);
+		int d = p->n_discrete++;
+		snprintf(p->discrete_name[d], PRSM_OPT_NAME_MAX, "%s", name);
+		p->n_levels[d] = s->n_pitch_values;
+		for (int i = 0; i < s->n_pitch_values; i++)
+			p->levels[d][i] = s->pitch_values[i];
+	}
 	if (rc)
 		return rc;
 	if (s->n_objectives < 1 || s->n_objectives > PRSM_OPT_MAX_OBJECTIVES)

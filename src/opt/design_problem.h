@@ -2,7 +2,8 @@
  * design_problem.h: the PRSM design optimisation as a problem of opt/optimize.h (issue 7).
  *
  * Variables: screw starts n (a set: the nut has n starts too, the rollers one, docs/model/geometry-and-meshing.md),
- * pitch P or lead L = n P (mm, a range), roller pitch radius r_r or screw pitch radius r_s (mm, a
+ * pitch P or lead L = n P (mm, a range, or a list of allowed values such as a catalogue's
+ * standard leads: then a discrete variable, P = L / n for each start count), roller pitch radius r_r or screw pitch radius r_s (mm, a
  * range; the other follows the standard rule r_s = (n - 2) r_r, the nut r_n = r_s + 2 r_r = n r_r,
  * crest, root and arc radii the defaults of model/geometry.c), roller count Z (a set, at most
  * Z_max of the geometry), engaged threads n_t (a set) and optionally the flank half-angle beta
@@ -99,6 +100,9 @@ typedef struct {
 	prsm_dp_set starts;          /* n */
 	prsm_dp_range pitch;         /* P (mm), or L (mm) when pitch_is_lead */
 	int pitch_is_lead;
+	int n_pitch_values;          /* > 0: P (or L) takes only these values (standard leads or
+	                                pitches, a discrete variable) instead of the range */
+	double pitch_values[PRSM_OPT_MAX_LEVELS]; /* mm, ascending */
 	prsm_dp_range radius;        /* r_r (mm), or r_s (mm) when radius_is_screw */
 	int radius_is_screw;
 	prsm_dp_range flank_deg;     /* beta, deg */

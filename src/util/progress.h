@@ -19,9 +19,15 @@ typedef struct {
 	double interval_goal;   /* that target's goal, same unit; NAN when none */
 	double best;            /* optimisation: best feasible objective so far (the kind's unit);
 	                           NAN when none yet or not an optimisation */
+	const char *phase;      /* a static string naming the phase that runs when the work has
+	                           several (a study: "monte_carlo", "rare_events", "sobol"); NULL:
+	                           the work's only phase */
+	const char *unit;       /* a static string: what done and planned count when it is not the
+	                           job kind's unit ("evaluations", "sweep_points", "basin_cells",
+	                           "analyses"); NULL: the kind's */
 } prsm_progress;
 
-#define PRSM_PROGRESS_INIT {0, 0, NAN, NAN, NAN}
+#define PRSM_PROGRESS_INIT {0, 0, NAN, NAN, NAN, NULL, NULL}
 
 /* Called from the thread that runs the work; must be quick and must not call back into it. */
 typedef void (*prsm_progress_fn)(void *ctx, const prsm_progress *p);

@@ -3,9 +3,13 @@
 // by playwright-core. Starts `prsm serve` itself on 127.0.0.1 (a free port, a temporary database),
 // loads the page, loads an example, submits a small study, waits for the result and checks that the
 // plots and numbers are there and agree with the API's JSON fetched directly, checks the export,
-// cancel and that an invalid field shows the API's message next to that field; then, when the
+// cancel and that an invalid field shows the API's message next to that field; the study name
+// (typed, sent, labelling the result, the job and the recent jobs with kind, state and time), the
+// derived C_0a, static safety and torques with their units, the import of one's own file (file input
+// and drag and drop; wrong kinds, broken JSON and a design the service refuses); then, when the
 // service's openapi lists them, the optimisation view (a Pareto sweep: the front's SVG points and a
-// clicked point's design against the API, the best design, cancel), the allocation view (case A
+// clicked point's design against the API, its legend with the selected point, an objective's small
+// span drawn at least 2 % of its value wide and said so, the best design, cancel), the allocation view (case A
 // and LS-1: the tables and charts against the API, cancel) and the simulation view (seed 000's
 // two-stage start-up: both carriers' curves, the settled table and the checks against the API, the
 // CSV download against `prsm simulate --csv` and samples.csv, the JSON download, a refused request's
@@ -372,9 +376,14 @@ async function run(page) {
 
   // an example with one keyboard action
   const study = JSON.parse(fs.readFileSync(path.join(source, 'studies/case-a-tolerances.json'), 'utf8'));
+  const caseADesign = JSON.parse(fs.readFileSync(path.join(source, 'studies/case-a.json'), 'utf8'));
+  check('the study name is an editable, labelled field holding the loaded study\'s name', await page.$eval('#f-study-name', e => e.labels.length === 1 && !e.disabled && !e.readOnly)
+    && await page.inputValue('#f-study-name') === study.name, await page.inputValue('#f-study-name'));
   await page.focus('#examples button[data-example="case-a.json"]');
   await page.keyboard.press('Enter');
   await page.waitForFunction(() => document.querySelector('#examples-note').textContent.includes('case-a.json'));
+  check('loading a design names the study after it (not after the previous example)', await page.inputValue('#f-study-name') === `Tolerance study of ${caseADesign.name}`
+    && (await page.evaluate(() => window.prsm.form.toRequest().name)) === `Tolerance study of ${caseADesign.name}`, await page.inputValue('#f-study-name'));
   await page.focus('#examples button[data-example="case-a-tolerances.json"]');
   await page.keyboard.press('Enter');
   await page.waitForFunction(() => document.querySelector('#examples-note').textContent.includes('case-a-tolerances.json'));
@@ -393,6 +402,19 @@ async function run(page) {
     ['z_max', analysis.geometry.z_max], ['eta', analysis.efficiency.eta]]) {
     check(`derived ${key} = ${want} as the API says`, derived[key] === want, String(derived[key]));
   }
+  // static rating, static safety and torque, with their units
+  // (read in one evaluation: a re-render between a query and its callback would detach the rows)
+  const shownRows = await page.evaluate(() => Object.fromEntries([...document.querySelectorAll('#derived-list dd')]
+    .map(d => [d.dataset.key, { label: d.previousElementSibling ? d.previousElementSibling.textContent : '', text: d.textContent }])));
+  for (const [key, want, label, unitRe] of [
+    ['C0a', analysis.capacity.static.C0a_N, /C_0a/, / N$/],
+    ['static_safety', analysis.capacity.static.safety_factor, /static safety C_0a \/ F/i, /^[\d.]+$/],
+    ['input_torque_Nm', analysis.efficiency.torque_Nm.input, /input torque/i, / N·m$/],
+    ['back_driving_torque_Nm', analysis.efficiency.back_driving_output_torque_Nm, /back-driving torque/i, / N·m$/]]) {
+    const r = shownRows[key];
+    check(`derived ${key} = ${want} as the API says, labelled with its unit`, typeof want === 'number' && derived[key] === want && !!r && label.test(r.label) && unitRe.test(r.text)
+      && near(Number(r.text.replace('−', '-').replace(/ N(·m)?$/, '')), want, 5e-4), r ? `${r.label} = ${r.text}` : 'missing');
+  }
   // live: a non-standard nut radius updates the derived values and shows the API's warning there
   await page.fill('#f-rn', '16.5');
   await page.waitForSelector('#derived-list dd[data-key=nut_radius_mm][data-value="16.5"]');
@@ -404,7 +426,16 @@ async function run(page) {
   await page.waitForFunction(() => !document.querySelector('#f-rn ~ .problems'));
   await shot('01-form.png');
 
+  // a study submitted elsewhere (not from this page): the recent jobs name it from its result
+  const elsewhereName = 'Submitted with curl: case A, 256 samples';
+  const elsewhere = await apiJson('POST', '/v1/studies', { ...study, name: elsewhereName, monte_carlo: { ...study.monte_carlo, samples: 256, targets: undefined }, sensitivity: { src: false, stack: false } });
+  check('a study submitted outside the page is accepted', elsewhere.status === 202 || elsewhere.status === 200, `${elsewhere.status} ${elsewhere.text.slice(0, 200)}`);
+
   // ---- a small study: submit, wait, check against the API ----------------------------------
+  // the study name is typed by the user: it goes into the request and labels the result
+  const studyName = 'Browser test: my own screw, 1024 samples';
+  await page.fill('#f-study-name', studyName);
+  check('the typed study name is in the document sent', (await page.evaluate(() => window.prsm.form.toRequest().name)) === studyName);
   await page.fill('#f-samples', '1024');
   await page.fill('#f-block', '256');
   await page.fill('#f-sobol-n', '64');
@@ -417,6 +448,25 @@ async function run(page) {
   const job = (await apiJson('GET', jobPath)).json;
   const result = job.result;
   log(`study done: ${result.samples.used} samples`);
+  check('the service ran the study under the typed name (result.name)', result.name === studyName, result.name);
+  check('the result is labelled with the typed study name (heading and title line) and its design\'s name', await page.textContent('#result-name') === studyName
+    && await page.textContent('#results-h') === `Results: ${studyName}` && (await page.textContent('#result-title')).includes(`design: ${study.design.name}`)
+    && !(await page.textContent('#result-title')).includes(study.name),
+    `${await page.textContent('#result-title')} | ${await page.textContent('#results-h')}`);
+  check('the job view shows the study name', await page.textContent('#job-name') === studyName, await page.textContent('#job-name'));
+  // recent jobs: name, kind, state and time, the id second
+  const jobId = jobPath.split('/').pop();
+  await page.waitForSelector(`#recent-list li[data-id="${jobId}"][data-state=done]`);
+  const recent = await page.$eval(`#recent-list li[data-id="${jobId}"]`, li => ({ name: li.querySelector('a .job-name').textContent, href: li.querySelector('a').getAttribute('href'),
+    kind: li.querySelector('.job-kind').textContent, state: li.querySelector('.job-state').textContent, time: li.querySelector('time').getAttribute('datetime'),
+    timeText: li.querySelector('time').textContent, id: li.querySelector('.job-id').textContent, text: li.textContent }));
+  check('recent jobs: the study is listed by its name (the link), kind, state and time, the id after them', recent.name === studyName && recent.href === `#${jobPath}`
+    && recent.kind === 'study' && recent.state === 'done' && recent.time === job.finished_at && recent.timeText.includes(job.finished_at.replace('T', ' ').slice(0, 19))
+    && recent.id === jobId.slice(0, 12) && recent.text.indexOf(recent.id) > recent.text.indexOf(recent.timeText), JSON.stringify(recent));
+  const otherId = elsewhere.json && elsewhere.json.id;
+  const otherNamed = await page.waitForSelector(`#recent-list li[data-id="${otherId}"][data-name="${elsewhereName}"]`, { timeout: 15000 }).then(() => true, () => false);
+  check('recent jobs: a study submitted elsewhere is named from its result', otherNamed && (await page.textContent(`#recent-list li[data-id="${otherId}"] .job-name`)) === elsewhereName,
+    otherId && await page.$eval(`#recent-list li[data-id="${otherId}"]`, li => li.textContent).catch(() => 'not listed'));
   check('progress shows the samples done', (await page.textContent('#job-samples')).startsWith(result.samples.run.toLocaleString('en-US')), await page.textContent('#job-samples'));
   const outputs = Object.keys(result.outputs);
   const cards = await page.$$eval('#output-cards .card.output', cs => cs.map(c => c.dataset.output));
@@ -443,7 +493,13 @@ async function run(page) {
       check(`${name}: yield beside the plot`, y === o.yield.fraction);
       check(`${name}: Cpk in the table`, cells.cpk && cells.cpk.v === o.cpk);
     }
+    if (o.stack) {
+      const cav = cells.stack_caveat;
+      check(`${name}: the stack caveat shown exactly when the API gives one`, o.stack.caveat ? cav && cav.text === o.stack.caveat : !cav,
+        cav ? cav.text : 'none');
+    }
   }
+  check('some output carries a stack caveat (load sharing cannot fall below 1)', outputs.some(n => result.outputs[n].stack && result.outputs[n].stack.caveat));
   await shot('03-results.png');
   await page.waitForSelector('#te-plot');
   await a11yAudit(page, 'results');
@@ -526,7 +582,7 @@ async function run(page) {
   await shot('02-running.png');
   const bar = (await axTree(page)).find(x => x.role === 'progressbar');
   check('while running, the progress bar is a progressbar from 0 to 1 with its value, described by the samples done and planned', bar && bar.name === 'Progress'
-    && Number(bar.props.valuemin) === 0 && Number(bar.props.valuemax) === 1 && Number(bar.value) > 0 && /^Samples [\d,]+ of 200,000/.test(bar.description), JSON.stringify(bar && bar.node));
+    && Number(bar.props.valuemin) === 0 && Number(bar.props.valuemax) === 1 && Number(bar.value) > 0 && /^Samples — Monte Carlo run [\d,]+ of 200,000/.test(bar.description), JSON.stringify(bar && bar.node));
   await (await page.$('#job')).screenshot({ path: path.join(artifacts, '02b-progress.png') });
   await page.click('#job-cancel');
   await page.waitForSelector('#job-state[data-state=cancelled]');
@@ -570,6 +626,8 @@ async function run(page) {
   await page.waitForFunction(() => !document.querySelector('#f-pitch ~ .problems .problem-msg.error'));
   check('fixing the pitch clears its problems', true);
 
+  await importChecks(page, study, result);
+
   // ---- the optimisation and allocation views, when the service has them --------------------
   const openapi = (await apiJson('GET', '/v1/openapi.json')).json;
   for (const [collection, section, fn] of [['optimizations', '#optimization', optimisationView], ['allocations', '#allocation', allocationView],
@@ -579,6 +637,105 @@ async function run(page) {
     if (served) await fn(page, shot);
     else console.log(`SKIPPED ${{ '#optimization': 'optimisation', '#allocation': 'allocation', '#simulation': 'simulation' }[section]} view: /v1/${collection} not served`);
   }
+}
+
+// ---- import of one's own file: file input and drag and drop; wrong kinds and bad JSON refused ----
+async function importChecks(page, study, studyResult) {
+  log('import');
+  const formDoc = () => page.evaluate(() => window.prsm.form.toRequest());
+  const upload = async (name, text) => {
+    await page.setInputFiles('#import-file', { name, mimeType: 'application/json', buffer: Buffer.from(text) });
+  };
+  // waits for the import's final word: 'ok', 'error' (refused, or the service refuses the design)
+  const settled = async () => {
+    await page.waitForSelector('#import-msg:not([hidden]):not([data-state=checking])');
+    return { state: await page.getAttribute('#import-msg', 'data-state'), text: await page.textContent('#import-msg') };
+  };
+  const fresh = async () => page.evaluate(() => { const m = document.querySelector('#import-msg'); m.hidden = true; delete m.dataset.state; });
+
+  // a study of one's own, from the file input: the form holds exactly that document
+  const mine = JSON.parse(JSON.stringify(study));
+  mine.name = 'Imported from my-study.json';
+  mine.design.name = 'My own 5-start screw';
+  mine.design.geometry.rollers = 9;
+  mine.tolerances = mine.tolerances.slice(0, 3);
+  mine.monte_carlo.samples = 2048;
+  await fresh();
+  await upload('my-study.json', JSON.stringify(mine, null, 2));
+  let msg = await settled();
+  const got = await formDoc();
+  check('import (file input): a study file fills the form with exactly that document', msg.state === 'ok' && canonical(got) === canonical(mine), `${msg.state}: ${msg.text} | ${JSON.stringify(got).slice(0, 200)}`);
+  check('import: the fields show it (study name, design name, rollers, tolerance rows)', await page.inputValue('#f-study-name') === mine.name && await page.inputValue('#f-name') === mine.design.name
+    && await page.inputValue('#f-z') === '9' && await page.$$eval('#tolerances tbody tr', r => r.length) === 3);
+  check('import: the message says what was loaded and what the service says of its design', msg.text.includes('my-study.json') && msg.text.includes('a study')
+    && msg.text.includes('POST /v1/designs/analyze') && msg.text.includes('accepts its design'), msg.text);
+
+  // a design file dropped on the form: the design is replaced, tolerances and settings kept, and the
+  // study, named by the user, keeps that name
+  const large = fs.readFileSync(path.join(source, 'studies/large-6start.json'), 'utf8');
+  const before = await formDoc();
+  await fresh();
+  const dropped = await page.evaluate(([text, name]) => {
+    const dt = new DataTransfer();
+    dt.items.add(new File([text], name, { type: 'application/json' }));
+    const target = document.querySelector('#study-form');
+    const over = new DragEvent('dragover', { dataTransfer: dt, bubbles: true, cancelable: true });
+    target.dispatchEvent(over);
+    const highlighted = document.querySelector('#study-layout').classList.contains('dragging');
+    const drop = new DragEvent('drop', { dataTransfer: dt, bubbles: true, cancelable: true });
+    target.dispatchEvent(drop);
+    return { accepted: over.defaultPrevented && drop.defaultPrevented, highlighted, after: document.querySelector('#study-layout').classList.contains('dragging') };
+  }, [large, 'large-6start.json']);
+  msg = await settled();
+  const afterDrop = await formDoc();
+  check('import (drag and drop on the form): the drop is taken and the form is highlighted while dragging', dropped.accepted && dropped.highlighted && !dropped.after, JSON.stringify(dropped));
+  check('import (drag and drop): a design file replaces the design, the tolerances and settings are kept', msg.state === 'ok'
+    && canonical(afterDrop.design) === canonical(JSON.parse(large)) && canonical(afterDrop.tolerances) === canonical(before.tolerances)
+    && canonical(afterDrop.monte_carlo) === canonical(before.monte_carlo), `${msg.state}: ${msg.text}`);
+  check('import: a design into an imported study follows the design\'s name (the study name was not typed)', afterDrop.name === `Tolerance study of ${JSON.parse(large).name}`, afterDrop.name);
+  // a typed study name is kept when another design comes in
+  await page.fill('#f-study-name', 'My name, typed');
+  await fresh();
+  await upload('case-a.json', fs.readFileSync(path.join(source, 'studies/case-a.json'), 'utf8'));
+  msg = await settled();
+  check('import: a study name typed by the user is kept when a design is imported', msg.state === 'ok' && (await formDoc()).name === 'My name, typed' && msg.text.includes('kept'), msg.text);
+
+  // refused: the wrong kind of document, not JSON, a result; the form stays as it was
+  const kept = await formDoc();
+  const refusedImport = async (name, text, want, what) => {
+    await fresh();
+    await upload(name, text);
+    const m = await settled();
+    const same = canonical(await formDoc()) === canonical(kept);
+    check(`import: ${what} is refused with a clear message, the form unchanged`, m.state === 'error' && m.text.startsWith(`Not loaded: ${name}`) && want.every(w => (w instanceof RegExp ? w.test(m.text) : m.text.includes(w))) && same,
+      `${m.state}: ${m.text}${same ? '' : ' (the form changed)'}`);
+  };
+  await refusedImport('optimize-case-a-pareto.json', fs.readFileSync(path.join(source, 'studies/optimize-case-a-pareto.json'), 'utf8'), ['an optimisation request', 'optimisation view'], 'an optimisation request (the wrong kind)');
+  await refusedImport('allocate-case-a.json', fs.readFileSync(path.join(source, 'studies/allocate-case-a.json'), 'utf8'), ['allocation request'], 'an allocation request');
+  await refusedImport('result.json', JSON.stringify(studyResult), ['a study result', 'not a study request'], 'a study result');
+  await refusedImport('broken.json', '{\n  "name": "half a study",\n  "tolerances": [,]\n}\n', ['is not valid JSON', /line 3/], 'a file that is not valid JSON (with the line)');
+  await refusedImport('list.json', '[1, 2, 3]', ['an array, not a JSON object'], 'a JSON array');
+  await refusedImport('other.json', '{"hello": "world"}', ['"tolerances"', '"geometry"', '"hello"'], 'an object that is neither a study nor a design');
+  check('import: a refusal is shown as an error', await page.$eval('#import-msg', e => e.classList.contains('error')));
+
+  // a design the service refuses: loaded, and the service's own message shown (and at the field)
+  const badDesign = { ...JSON.parse(large), geometry: { ...JSON.parse(large).geometry, pitch_mm: -3 } };
+  const apiSays = (await apiJson('POST', '/v1/designs/analyze', badDesign)).json.errors.find(e => e.pointer === '/geometry/pitch_mm');
+  await fresh();
+  await upload('bad-pitch.json', JSON.stringify(badDesign));
+  msg = await settled();
+  check('import: a design the service refuses is loaded with the service\'s message, listed with its pointer', !!apiSays && msg.state === 'error' && msg.text.includes('refuses its design')
+    && msg.text.includes(`/design/geometry/pitch_mm: ${apiSays.message}`) && await page.inputValue('#f-pitch') === '-3', msg.text);
+  check('import: the typed study name is still kept at the second design imported', await page.inputValue('#f-study-name') === 'My name, typed', await page.inputValue('#f-study-name'));
+  await page.waitForSelector('#f-pitch ~ .problems .problem-msg.error');
+  check('import: the refused design\'s problem is next to its field', await page.$$eval('#f-pitch ~ .problems .problem-msg.error', (ms, m) => ms.some(x => x.dataset.text === m), apiSays && apiSays.message));
+  await page.locator('#import').screenshot({ path: path.join(artifacts, '08-import-refused.png') });
+
+  // back to the example for what follows
+  await page.click('#examples button[data-example="case-a-tolerances.json"]');
+  await page.waitForFunction(() => document.querySelector('#examples-note').textContent.includes('case-a-tolerances.json'));
+  await page.waitForFunction(() => !document.querySelector('#f-pitch ~ .problems .problem-msg.error'));
+  check('after the imports the example loads again unchanged', canonical(await formDoc()) === canonical(study));
 }
 
 // ---- a service that wants a bearer token: the 401 points at the token field, the token works ----
@@ -776,9 +933,40 @@ async function optimisationView(page, shot) {
   check('each point is a focusable button with a name', circles.every(c => c.role === 'button' && c.tab === '0' && c.label));
   const rows = await page.$$eval('#pareto-table tbody tr', trs => trs.map(tr => [...tr.querySelectorAll('td[data-key]')].map(td => Number(td.dataset.value))));
   check('the front\'s table has the same points', rows.length === pts.length && pts.every((p, i) => rows[i][0] === p.figures[a] && rows[i][1] === p.figures[b]));
+  const optId = jobPath.split('/').pop();
+  const optListed = await page.waitForSelector(`#recent-list li[data-id="${optId}"][data-kind=optimisation][data-state=done]`, { timeout: 15000 }).then(() => true, () => false);
+  check('recent jobs: the optimisation is listed by its name with its kind', optListed && await page.textContent(`#recent-list li[data-id="${optId}"] .job-name`) === example.name,
+    optListed ? await page.textContent(`#recent-list li[data-id="${optId}"]`) : 'not listed');
   const bestIdx = pts.findIndex(p => canonical(p.variables) === canonical(r.best.variables));
   const ringed = await page.$$eval('#pareto-plot circle.point.best', cs => cs.map(c => Number(c.dataset.index)));
   check('the best design is marked on the front', bestIdx < 0 ? ringed.length === 0 : JSON.stringify(ringed) === JSON.stringify([bestIdx]), `${ringed} vs ${bestIdx}`);
+
+  // the legend: feasible, best design and the selected point, whose swatch is drawn as a selected point is
+  const legend = await page.$$eval('#pareto-plot g.legend text[data-entry]', ts => Object.fromEntries(ts.map(t => [t.dataset.entry, t.textContent])));
+  check('the front has a legend with the selected point (and feasible, best design)', /selected point/.test(legend.selected || '') && /feasible/.test(legend.feasible || '')
+    && (bestIdx < 0 || /best design/.test(legend.best || '')), JSON.stringify(legend));
+  // honest axes: an objective spanning less than 2 % of its value is drawn 2 % wide, and says its range
+  for (const [axis, key] of [['x', a], ['y', b]]) {
+    const vals = pts.map(p => p.figures[key]);
+    const lo = Math.min(...vals), hi = Math.max(...vals), span = hi - lo, rel = span / Math.max(Math.abs(lo), Math.abs(hi));
+    const lab = await page.$eval(`#pareto-plot text.axis-label-${axis}`, t => ({ text: t.textContent, span: Number(t.dataset.span), widened: t.dataset.widened }));
+    const drawn = await page.$$eval('#pareto-plot circle.point', (cs, ax) => cs.map(c => Number(c.getAttribute(ax === 'x' ? 'cx' : 'cy'))), axis);
+    const spread = Math.max(...drawn) - Math.min(...drawn);
+    const plotLen = axis === 'x' ? 520 - 60 - 16 : 320 - 34 - 40; // the scatter's plot area (viewBox units)
+    const note = await page.$(`#pareto-caption .span-note[data-axis=${axis}]`);
+    if (rel < 0.02) {
+      const want = plotLen * span / (0.02 * Math.max(Math.abs(lo), Math.abs(hi)) * (axis === 'x' ? 1.12 : 1.16));
+      const noteText = note ? await note.textContent() : '';
+      check(`${key} spans only ${span.toPrecision(2)} (${(100 * rel).toFixed(2)} %): its axis is drawn 2 % of the value wide, the points over ${want.toFixed(1)} units, not the whole axis`,
+        lab.widened === 'true' && lab.span === span && Math.abs(spread - want) < 0.5 && spread < 0.5 * plotLen, `${JSON.stringify(lab)} spread ${spread} want ${want}`);
+      check(`${key}: the axis label and a note under the chart give the small range (range ${Number(span.toPrecision(2))})`, lab.text.includes(`range ${Number(span.toPrecision(2))}`)
+        && noteText.includes(`varies by only ${Number(span.toPrecision(2))}`) && noteText.includes('2 %'), `${lab.text} | ${noteText}`);
+    } else {
+      check(`${key} spans ${(100 * rel).toFixed(1)} % of its value: its axis is fitted to the points, without a note`, lab.widened === 'false' && !note && spread > 0.7 * plotLen, `${JSON.stringify(lab)} spread ${spread}`);
+    }
+  }
+  const effVals = pts.map(p => p.figures[a]);
+  check('the example\'s front spans a small efficiency range (so the note above is exercised)', (Math.max(...effVals) - Math.min(...effVals)) / Math.max(...effVals) < 0.02, JSON.stringify(effVals));
 
   // a point's design: clicked, and by keyboard
   const shownPoint = async i => ({
@@ -804,6 +992,10 @@ async function optimisationView(page, shot) {
   got = await shownPoint();
   check('Enter on point 1 shows its design', samePoint(got, pts[0]));
   check('the pressed point says so (aria-pressed)', await page.getAttribute('#pareto-plot circle.point[data-index="0"]', 'aria-pressed') === 'true');
+  const fills = await page.evaluate(() => ({ point: getComputedStyle(document.querySelector('#pareto-plot circle.point.selected')).fill,
+    swatch: getComputedStyle(document.querySelector('#pareto-plot g.legend .point-swatch.selected')).fill,
+    other: getComputedStyle(document.querySelector('#pareto-plot circle.point:not(.selected):not(.infeasible)') || document.body).fill }));
+  check('the legend\'s selected-point swatch looks like the selected point (and unlike the others)', fills.point === fills.swatch && fills.point !== fills.other, JSON.stringify(fills));
 
   // the best design with its figures and constraints
   const bestDesign = JSON.parse(await page.textContent('#best-point-design'));
@@ -936,6 +1128,8 @@ async function simulationView(page, shot) {
 
   // a refused request: a negative end time, the API's problem next to the end-time field with its pointer
   await page.fill('#sim-f-dynamics-time-end_s', '-1');
+  // (wait for the field's input handler to have rewritten the request: once seen read at once)
+  await page.waitForFunction(() => { try { return JSON.parse(document.querySelector('#sim-request').value).dynamics.time.end_s === -1; } catch { return false; } }, null, { timeout: 5000 }).catch(() => {});
   const bad = JSON.parse(await page.inputValue('#sim-request'));
   check('the end-time field writes its member into the request', bad.dynamics.time.end_s === -1);
   const refused = await apiJson('POST', '/v1/simulations', bad);

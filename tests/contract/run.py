@@ -588,8 +588,8 @@ def suite_design_jobs(client, contract, source):
               str(done and (done["state"], done.get("problem"))))
         if not done or done["state"] != "done":
             continue
-        check(f"{coll}: progress unit {unit}, work counted", done["progress"]["unit"] == unit
-              and done["progress"]["samples_done"] > 0, str(done["progress"]))
+        check(f"{coll}: progress unit {unit}, work counted, all of it once done", done["progress"]["unit"] == unit
+              and done["progress"]["samples_done"] > 0 and done["progress"]["fraction"] == 1, str(done["progress"]))
         check(f"{coll}: result not cancelled", done["result"]["cancelled"] is False)
         again = json.loads(json.dumps(doc), object_pairs_hook=lambda kv: dict(reversed(kv)))
         r = client.post(f"/v1/{coll}", again)
@@ -749,7 +749,8 @@ def suite_vibration(client, contract, source):
     if done and done["state"] == "done":
         p = done["progress"]
         check("sweep: progress in sweep points, all of them (9 points, up and down)",
-              p["samples_done"] == p["samples_planned"] == 18, str(p))
+              p["samples_done"] == p["samples_planned"] == 18 and p["unit"] == "sweep_points"
+              and p["fraction"] == 1 and p["phase"] is None, str(p))
         e = contract.validate(result_schema, done["result"])
         check("sweep: the result matches dynamics-result.schema.json", e == "", e)
         d = done["result"]["dynamics"]

@@ -30,7 +30,7 @@ static const char *const cost_keys[] = {"model", "fixed", "coefficient", "power"
 static const char *const cost_names[] = {"reciprocal", "reciprocal_squared", "reciprocal_power", "exponential", NULL};
 static const char *const bounds_keys[] = {"lower", "upper", NULL};
 static const char *const cons_keys[] = {"output", "spec", "target_yield_percent", "target_ppm",
-                                        "assembly_tolerance", NULL};
+                                        "assembly_tolerance", "yield_method", NULL};
 static const char *const spec_keys[] = {"lower", "upper", NULL};
 static const char *const stack_names[] = {"rss", "worst_case", NULL};
 static const char *const solver_names[] = {"exact", "slsqp", "cobyla", NULL};

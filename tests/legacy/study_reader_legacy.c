@@ -26,7 +26,7 @@
 
 static const char *const study_keys[] = {"name", "design", "model", "errors", "assembly",
                                          "tolerances", "correlations", "outputs", "specs",
-                                         "monte_carlo", "sensitivity", NULL};
+                                         "monte_carlo", "sensitivity", "rare_events", NULL};
 static const char *const model_keys[] = {"benchmark", "a", "b", "coefficients", "constant", NULL};
 static const char *const bench_names[] = {"ishigami", "gfunction", "linear", NULL};
 static const char *const tolerance_keys[] = {
@@ -36,7 +36,9 @@ static const char *const tolerance_keys[] = {
 static const char *const dist_names[] = {"normal", "truncnormal", "uniform", "triangular",
                                          "lognormal", "rayleigh", "exponential", "gamma",
                                          "weibull", "beta", "gumbel", "histogram", NULL}; /* = prsm_dist_kind */
-static const char *const spec_keys[] = {"lower", "upper", NULL};
+static const char *const spec_keys[] = {"lower", "upper", "yield_method", NULL};
+static const char *const yield_method_names[] = {"mc", "auto", "form", "sorm", "is", "subset", NULL};
+static const char *const rare_keys[] = {"max_evaluations", "target_cov", "subset_samples", NULL};
 static const char *const corr_keys[] = {"between", "rho", NULL};
 
 static const prsm_json_range ANY = {-HUGE_VAL, HUGE_VAL, 0, 0};
@@ -136,7 +138,13 @@ static int param_find(param_info *pi, const char *path, const prsm_io_study *s, 
 	else if (strcmp(part, "roller") == 0)
 		pi->part = PRSM_PART_ROLLER;
 	else {
-		snprintf(msg, cap, "unknown part '%s': screw, nut, carrier, roller or friction", part);
+		static const char *const all_parts[] = {"screw", "nut", "carrier", "roller", "friction", NULL};
+		const char *guess = prsm_json_closest_name(part, all_parts);
+		if (guess)
+			snprintf(msg, cap, "unknown part '%s' (did you mean '%s'?): screw, nut, carrier, roller or friction", part,
+			         guess);
+		else
+			snprintf(msg, cap, "unknown part '%s': screw, nut, carrier, roller or friction", part);
 		return PRSM_ENOTFOUND;
 	}
 	pi->per_roller = pi->part == PRSM_PART_ROLLER;
@@ -150,8 +158,14 @@ static int param_find(param_info *pi, const char *path, const prsm_io_study *s, 
 	}
 	prsm_io_error_field f;
 	if (prsm_io_error_field_find(&f, part, key)) {
-		snprintf(msg, cap, "'%s' is not an error of the %s (see the errors object of the analyze request)",
-		         key, part);
+		const char *names[48];
+		prsm_io_error_field_names(part, names, 48);
+		const char *guess = prsm_json_closest_name(key, names);
+		if (guess)
+			snprintf(msg, cap, "'%s' is not an error of the %s (did you mean '%s.%s'?)", key, part, part, guess);
+		else
+			snprintf(msg, cap, "'%s' is not an error of the %s (see the errors object of the analyze request)",
+			         key, part);
 		return PRSM_ENOTFOUND;
 	}
 	if (f.phase) {
@@ -657,7 +671,29 @@ static void read_specs(prsm_io_study *s, const cJSON *doc, prsm_problems *pr)
 			prsm_problems_add(pr, up, "range", "upper must be greater than lower");
 		}
 		s->study.outputs[o].has_spec = spec->has_lower || spec->has_upper;
+		int ym = PRSM_STUDY_YIELD_MC;
+		prsm_json_get_enum(&ym, it, sp, "yield_method", PRSM_JSON_OPTIONAL, yield_method_names, pr);
+		s->study.outputs[o].yield_method = ym;
 	}
+}
+
+/* rare_events (issue 21): the settings of the rare-event estimates */
+static void read_rare_events(prsm_io_study *s, const cJSON *doc, prsm_problems *pr)
+{
+	prsm_study_rare_options *ro = &s->study.rare;
+	prsm_study_rare_options_default(ro);
+	const cJSON *re = NULL;
+	char rp[PRSM_JSON_POINTER_MAX];
+	if (prsm_json_get_section(&re, rp, sizeof rp, doc, "", "rare_events", PRSM_JSON_OPTIONAL, rare_keys, pr) !=
+	    PRSM_JSON_PRESENT)
+		return;
+	int n = 0;
+	if (prsm_json_get_int(&n, re, rp, "max_evaluations", PRSM_JSON_OPTIONAL, 100, 10000000, pr) == PRSM_JSON_PRESENT)
+		ro->max_evaluations = (size_t)n;
+	prsm_json_range cov = {0.0, 0.5, 1, 0};
+	prsm_json_get_number(&ro->target_cov, re, rp, "target_cov", PRSM_JSON_OPTIONAL, cov, pr);
+	if (prsm_json_get_int(&n, re, rp, "subset_samples", PRSM_JSON_OPTIONAL, 100, 1000000, pr) == PRSM_JSON_PRESENT)
+		ro->subset_samples = (size_t)n;
 }
 
 
@@ -810,6 +846,7 @@ int prsm_legacy_study_load(prsm_io_study *out, const cJSON *doc, prsm_problems *
 	read_specs(out, doc, pr);
 	prsm_legacy_study_mc_from_json(out, doc, pr);
 	prsm_legacy_study_sensitivity_from_json(out, doc, pr);
+	read_rare_events(out, doc, pr);
 
 	/* variables, once everything they depend on is valid */
 	prsm_study *st = &out->study;

@@ -10,6 +10,7 @@ import { fmt } from './plots.js';
 import { setupOptimization } from './optimization.js';
 import { setupAllocation } from './allocation.js';
 import { setupSimulation } from './simulation.js';
+import { setupImport } from './importdoc.js';
 
 const $ = sel => document.querySelector(sel);
 const REQUESTS_KEY = 'prsm.requests';
@@ -36,6 +37,15 @@ function duration(s) {
 }
 const count = n => (typeof n === 'number' ? n.toLocaleString('en-US') : '—');
 const simulated = ns => (typeof ns === 'number' && ns > 0 ? `${fmt(ns * 1e-9, 6)} s` : typeof ns === 'number' ? '0 s' : '—');
+
+// A job's name: the request's own name (a study's, an optimisation's ...), else the name its
+// result echoes, else the name of the design it is about; '' when none is known.
+function nameOf(doc, result) {
+  const str = v => (typeof v === 'string' && v.trim() ? v.trim() : '');
+  const d = doc && typeof doc === 'object' ? doc : {};
+  return str(d.name) || str(result && result.name) || str(d.design && d.design.name) || str(d.study && d.study.name)
+    || str(d.study && d.study.design && d.study.design.name);
+}
 
 // ---- derived values (POST /v1/designs/analyze, debounced) ---------------------------------
 function derivedView(form) {
@@ -68,6 +78,21 @@ function derivedView(form) {
     if (a.stiffness) row('stiffness', 'Axial stiffness', a.stiffness.axial_N_per_um, 'N/µm');
     if (a.hertz && a.hertz.screw_roller) row('p_max', 'p_max screw side (equal share)', a.hertz.screw_roller.p_max_MPa, 'MPa');
     if (a.capacity && a.capacity.dynamic) row('C_a', 'Dynamic rating C_a', a.capacity.dynamic.C_a_N, 'N');
+    if (a.capacity && a.capacity.static) {
+      const st = a.capacity.static;
+      row('C0a', 'Static rating C_0a', st.C0a_N, 'N');
+      // C_0a / F, dimensionless; null without an axial load
+      row('static_safety', 'Static safety C_0a / F (–)', st.safety_factor === null ? 'no load' : st.safety_factor);
+    }
+    if (a.efficiency && a.efficiency.torque_Nm) {
+      const tq = a.efficiency.torque_Nm;
+      // null when friction locks the drive (efficiency.drive_locked)
+      row('input_torque_Nm', 'Input torque (screw)', tq.input === null ? 'none: the drive locks' : tq.input, 'N·m');
+    }
+    if (a.efficiency && 'back_driving_output_torque_Nm' in a.efficiency) {
+      const b = a.efficiency.back_driving_output_torque_Nm;
+      row('back_driving_torque_Nm', 'Back-driving torque (screw)', b === null ? '—' : b, 'N·m');
+    }
     if (a.life) row('L10_h', 'L10 life', a.life.hours, 'h');
     warn.textContent = '';
     const ws = a.warnings || [];
@@ -210,6 +235,7 @@ class JobView {
     $('#results').hidden = true;
     $('#job-link').href = path;
     $('#job-link').textContent = path.split('/').pop();
+    this.showName();
     $('#job-state').textContent = '—';
     delete $('#job-state').dataset.state;
     $('#job-best-row').hidden = true;
@@ -248,7 +274,15 @@ class JobView {
     }, 250);
   }
 
+  showName(result) {
+    const name = nameOf(this.study, result);
+    $('#job-name').textContent = name || `unnamed ${KIND_NAMES[this.collection] || 'job'}`;
+    $('#job-name').dataset.name = name;
+    return name;
+  }
+
   render(job) {
+    this.showName(job.result);
     const p = job.progress || {};
     const bar = $('#job-progress');
     if (typeof p.fraction === 'number') bar.value = Math.min(1, Math.max(0, p.fraction));
@@ -258,7 +292,12 @@ class JobView {
     const unit = p.unit || 'samples';
     $('#job-state').textContent = job.state;
     $('#job-state').dataset.state = job.state;
-    $('#job-unit').textContent = unit === 'evaluations' ? 'Evaluations' : unit === 'simulated_ns' ? 'Simulated time' : 'Samples';
+    const unitLabel = {evaluations: 'Evaluations', simulated_ns: 'Simulated time', sweep_points: 'Sweep points',
+      basin_cells: 'Basin cells', analyses: 'Analyses'}[unit] || 'Samples';
+    const phaseLabel = {monte_carlo: 'Monte Carlo run', summary: 'summaries, SRC and stack',
+      rare_events: 'rare-event estimates', sobol: 'Sobol indices (Saltelli run)'}[p.phase];
+    $('#job-unit').textContent = phaseLabel ? `${unitLabel} — ${phaseLabel}` : unitLabel;
+    $('#job-unit').dataset.phase = p.phase || '';
     $('#job-samples').textContent = unit === 'simulated_ns' // nanoseconds of simulated time, shown in s
       ? `${simulated(p.samples_done)} of ${simulated(p.samples_planned)}${pct ? ` (${pct})` : ''}`
       : `${count(p.samples_done)} of ${count(p.samples_planned)}${pct ? ` (${pct})` : ''}`;
@@ -295,6 +334,8 @@ class JobView {
   showResult(job) {
     const res = $('#results');
     res.hidden = false;
+    const name = this.showName(job.result);
+    $('#results-h').textContent = name ? `Results: ${name}` : 'Results';
     const body = $('#results-body');
     if (this.collection === 'studies') renderStudyResult(body, job, this.study);
     else if (this.renderers[this.collection]) this.renderers[this.collection](body, job);
@@ -372,23 +413,72 @@ function showExport(kind, doc, collection = 'studies') {
 }
 
 // ---- recent jobs (every collection the service has) ----------------------------------------------
-const KIND_NAMES = { studies: 'study', optimizations: 'optimisation', allocations: 'allocation', simulations: 'simulation' };
+// Each job by its name, kind, state and time, the id second. The job list has no names: a job
+// submitted from this browser has its request remembered (localStorage, by id); for the others the
+// name their result echoes is read once from the finished job (GET, kept for the page's life).
+const KIND_NAMES = { studies: 'study', optimizations: 'optimisation', allocations: 'allocation', simulations: 'simulation', analyses: 'analysis' };
+const JOB_KINDS = { study: 'study', optimization: 'optimisation', allocation: 'allocation', simulation: 'simulation', analysis: 'analysis' };
 let recentCollections = ['studies'];
+const resultNames = new Map(); // job id -> name from its result ('' when it has none)
+const utc = t => (typeof t === 'string' ? `${t.replace('T', ' ').slice(0, 19)} UTC` : '—');
+function recentName(li, name, kind, id) {
+  const span = li.querySelector('.job-name');
+  span.textContent = name || `unnamed ${kind}`;
+  span.classList.toggle('unnamed', !name);
+  li.dataset.name = name;
+  li.querySelector('a').setAttribute('aria-label', `${name || `unnamed ${kind}`}: ${kind}, ${li.dataset.state}, job ${id.slice(0, 12)}`);
+}
 async function refreshRecent() {
   const ul = $('#recent-list');
   try {
     const lists = await Promise.all(recentCollections.map(c => api.list(c, 8).then(l => (l.items || []).map(j => ({ ...j, collection: c })))));
     const items = lists.flat().sort((a, b) => (a.created_at < b.created_at ? 1 : a.created_at > b.created_at ? -1 : 0)).slice(0, 10);
     ul.textContent = '';
+    const lookups = [];
     for (const j of items) {
+      const kind = JOB_KINDS[j.kind] || KIND_NAMES[j.collection] || j.kind || j.collection;
       const li = document.createElement('li');
+      li.dataset.id = j.id;
+      li.dataset.kind = kind;
+      li.dataset.state = j.state;
       const a = document.createElement('a');
       a.href = `#${j.links.self}`;
-      a.textContent = `${KIND_NAMES[j.collection] || j.collection} ${j.id.slice(0, 12)}`;
-      li.append(a, ` ${j.state}, ${j.created_at.replace('T', ' ').slice(0, 19)} UTC`);
+      const nm = document.createElement('span');
+      nm.className = 'job-name';
+      a.appendChild(nm);
+      const k = document.createElement('span');
+      k.className = 'job-kind';
+      k.textContent = kind;
+      const st = document.createElement('span');
+      st.className = 'job-state';
+      st.dataset.state = j.state;
+      st.textContent = j.state;
+      const when = document.createElement('time');
+      const t = j.finished_at || j.created_at;
+      when.dateTime = t;
+      when.textContent = `${j.finished_at ? 'finished' : 'submitted'} ${utc(t)}`;
+      const id = document.createElement('code');
+      id.className = 'job-id';
+      id.title = `job id ${j.id}`;
+      id.textContent = j.id.slice(0, 12);
+      li.append(a, ' · ', k, ' · ', st, ' · ', when, ' · ', id);
       ul.appendChild(li);
+      const remembered = nameOf(recalledRequest(j.id));
+      if (remembered || resultNames.has(j.id)) recentName(li, remembered || resultNames.get(j.id), kind, j.id);
+      else {
+        recentName(li, '', kind, j.id);
+        if (j.state === 'done' || j.state === 'cancelled') lookups.push([li, kind, j]);
+      }
     }
     if (!ul.children.length) ul.innerHTML = '<li>None yet.</li>';
+    // names of jobs this browser did not submit, from their results
+    await Promise.all(lookups.map(async ([li, kind, j]) => {
+      try {
+        const full = await api.job(j.links.self);
+        resultNames.set(j.id, nameOf(null, full.result));
+        if (li.isConnected) recentName(li, resultNames.get(j.id), kind, j.id);
+      } catch { /* keep it unnamed */ }
+    }));
   } catch (e) {
     ul.textContent = `Cannot list the jobs: ${describe(e)}`;
   }
@@ -408,6 +498,47 @@ async function main() {
   const jobs = new JobView(refreshRecent);
   window.prsm = { form, jobs, api }; // for the console and the browser test
 
+  // A design into the study form, its tolerances and settings kept (extra: members to set too, such
+  // as an error set). The study name follows the design ("Tolerance study of <design name>") unless
+  // the user typed one of their own: a study of another design must not stay labelled with the
+  // previous example's name. Returns what it says about the name.
+  let nameTyped = false; // the study name was typed here since the last whole study was loaded
+  $('#f-study-name').addEventListener('input', () => { nameTyped = true; });
+  const loadStudy = doc => { form.load(doc); nameTyped = false; };
+  const loadDesign = (design, extra, source) => {
+    const current = form.toRequest();
+    const typed = nameTyped && !!current.name;
+    const doc = { ...current, design };
+    for (const [k, v] of Object.entries(extra || {})) doc[k] = v;
+    if (!typed) {
+      const label = (design && typeof design.name === 'string' && design.name.trim()) || source;
+      if (label) doc.name = `Tolerance study of ${label}`.slice(0, 100);
+    }
+    form.load(doc);
+    $('#error-summary').hidden = true;
+    return doc.name ? `study name “${doc.name}”${typed ? ' kept' : ': edit it in “Study name”'}` : 'no study name: give it one in “Study name”';
+  };
+
+  // import of one's own study or design file (file input, or dropped on the box or the form)
+  setupImport({
+    zone: $('#import'), dropTargets: [$('#study-layout')], input: $('#import-file'), message: $('#import-msg'),
+    load: (kind, doc, file) => {
+      if (kind === 'study') {
+        loadStudy(doc);
+        $('#error-summary').hidden = true;
+        $('#examples-note').textContent = '';
+        return doc.name ? `the whole study, study name “${doc.name}”` : 'the whole study; it has no name: give it one in “Study name”';
+      }
+      $('#examples-note').textContent = '';
+      const design = kind === 'design' ? doc : doc.design;
+      const extra = {};
+      if (kind === 'errors') for (const k of ['errors', 'assembly']) if (k in doc) extra[k] = doc[k];
+      return `tolerances and settings kept; ${loadDesign(design, extra, file)}`;
+    },
+    check: design => api.analyze(design),
+    showProblems: errors => form.showProblems(errors, { prefix: '/design', source: 'analyze' }),
+  });
+
   // examples: one click each
   const bar = $('#examples');
   for (const ex of examples.examples.filter(e => ['study', 'design', 'errors'].includes(e.kind))) {
@@ -418,11 +549,11 @@ async function main() {
     b.addEventListener('click', async () => {
       try {
         const doc = await api.example(ex.file);
-        const current = form.toRequest();
-        if (ex.kind === 'study') form.load(doc);
-        else if (ex.kind === 'design') form.load({ ...current, design: doc });
-        else form.load({ ...current, design: doc.design, errors: doc.errors, assembly: doc.assembly });
-        $('#examples-note').textContent = `Loaded ${ex.file} (${ex.kind === 'study' ? 'the whole study' : ex.kind === 'design' ? 'the design; tolerances and settings kept' : 'its design, error set and assembly options'}).`;
+        let named = '';
+        if (ex.kind === 'study') loadStudy(doc);
+        else if (ex.kind === 'design') named = loadDesign(doc, {}, ex.file);
+        else named = loadDesign(doc.design, { errors: doc.errors, assembly: doc.assembly }, ex.file);
+        $('#examples-note').textContent = `Loaded ${ex.file} (${ex.kind === 'study' ? 'the whole study' : ex.kind === 'design' ? 'the design; tolerances and settings kept' : 'its design, error set and assembly options'}${named ? `; ${named}` : ''}).`;
       } catch (e) {
         $('#examples-note').textContent = `Cannot load ${ex.file}: ${describe(e)}`;
       }
@@ -468,10 +599,11 @@ async function main() {
   };
   window.addEventListener('hashchange', route);
 
-  const ctx = { jobs, form, examples: examples.examples, submitted: (r, doc, c) => jobs.submitted(r, doc, c) };
+  const ctx = { jobs, form, loadDesign, examples: examples.examples, submitted: (r, doc, c) => jobs.submitted(r, doc, c) };
   if (setupOptimization(openapi, ctx)) recentCollections.push('optimizations');
   if (setupAllocation(openapi, ctx)) recentCollections.push('allocations');
   if (setupSimulation(openapi, ctx)) recentCollections.push('simulations');
+  if (openapi && openapi.paths && openapi.paths['/v1/analyses']) recentCollections.push('analyses');
   api.version().then(v => { $('#version').textContent = `prsm ${v.prsm || v.version || ''}`.trim(); }).catch(() => {});
   refreshRecent();
 

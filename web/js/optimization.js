@@ -31,6 +31,16 @@ const unit = key => (NAMES[key] ? NAMES[key][1] : '');
 const withUnit = (v, key) => `${fmt(v)}${unit(key) && typeof v === 'number' ? ` ${unit(key)}` : ''}`;
 const axisLabel = key => `${label(key)}${unit(key) ? ` (${unit(key)})` : ''}`;
 
+// An objective whose points span less than this fraction of their value is drawn that wide (about
+// their middle) instead of over the whole axis, and the chart says so.
+const MIN_REL_SPAN = 0.02;
+function spanText(pts, k) {
+  const key = k === 'x' ? pts[0].xKey : pts[0].yKey;
+  const v = pts.map(q => q[k]);
+  const lo = Math.min(...v), hi = Math.max(...v);
+  return `${label(key)} from ${fmt(lo, 5)} to ${fmt(hi, 5)}${unit(key) ? ` ${unit(key)}` : ''} (range ${fmt(hi - lo, 2)})`;
+}
+
 // The Pareto front of a result: pareto.points (sorted by objective_a), x = objective_a and
 // y = objective_b (efficiency and stiffness for the issue's sweep), read from each point's figures
 // (its objectives as a fallback). best: the point that is the result's best design.
@@ -134,10 +144,18 @@ export function renderOptimizationResult(container, job) {
         label: `Point ${q.index + 1}: ${label(q.xKey)} ${withUnit(q.x, q.xKey)}, ${label(q.yKey)} ${withUnit(q.y, q.yKey)}, ${q.point.variables.starts} starts, ${q.point.variables.rollers} rollers${q.best ? ' (best design)' : ''}` })),
       xLabel: axisLabel(p.objective_a), yLabel: axisLabel(p.objective_b),
       title: `Pareto front: ${label(p.objective_a)} against ${label(p.objective_b)}`,
-      desc: `${pts.length} non-dominated designs from ${p.levels} ε-constraint levels (${p.epsilon_runs_feasible} of ${p.epsilon_runs} runs feasible, ${p.dominated_removed} dominated removed); the ringed point is the best design. Each point is a button showing its design; the same points are in the table beside the chart.`,
+      desc: `${pts.length} non-dominated designs from ${p.levels} ε-constraint levels (${p.epsilon_runs_feasible} of ${p.epsilon_runs} runs feasible, ${p.dominated_removed} dominated removed); ${spanText(pts, 'x')}; ${spanText(pts, 'y')}. The ringed point is the best design, the selected point is filled red. Each point is a button showing its design; the same points are in the table beside the chart.`,
       onSelect: select,
+      legend: true,
+      minRelSpan: MIN_REL_SPAN,
     });
     svg.id = 'pareto-plot';
+    // an objective that hardly changes along the front is said so in words, not only drawn
+    const narrow = ['x', 'y'].filter(k => svg.spans[k].widened).map(k => {
+      const key = k === 'x' ? p.objective_a : p.objective_b, sp = svg.spans[k];
+      return h('span', { class: 'span-note', 'data-axis': k, 'data-span': String(sp.span) },
+        `${label(key)} varies by only ${fmt(sp.span, 2)}${unit(key) ? ` ${unit(key)}` : ''} along the front (range ${fmt(sp.lo, 5)} to ${fmt(sp.hi, 5)}, ${fmt(100 * sp.relative, 2)} % of its value): its axis is drawn ${fmt(100 * MIN_REL_SPAN, 2)} % of the value wide, not stretched over the whole plot, so this small difference does not look like a large trade-off. `);
+    });
     for (const q of pts) {
       const b = h('button', { type: 'button', 'data-index': q.index, 'aria-label': `Show point ${q.index + 1}` }, 'Show');
       b.addEventListener('click', () => {
@@ -158,7 +176,7 @@ export function renderOptimizationResult(container, job) {
       rowsBody);
     container.append(h('section', { class: 'card', id: 'pareto-card', 'aria-labelledby': 'pareto-h' },
       h('h3', { id: 'pareto-h' }, `Pareto front: ${label(p.objective_a)} against ${label(p.objective_b)}`),
-      h('div', { class: 'figure-row' }, h('figure', { class: 'plot-box' }, svg, h('figcaption', {}, 'Filled: feasible; hollow: a constraint violated; ringed: the best design (closest to the ideal point).')), h('div', { class: 'table-box' }, table)),
+      h('div', { class: 'figure-row' }, h('figure', { class: 'plot-box' }, svg, h('figcaption', { id: 'pareto-caption' }, narrow, 'Filled: feasible; hollow: a constraint violated; ringed: the best design (closest to the ideal point); red: the selected point, whose design is shown below.')), h('div', { class: 'table-box' }, table)),
       live, detail));
   }
   const best = h('section', { class: 'card', id: 'best-card', 'aria-labelledby': 'best-h' },
@@ -176,9 +194,8 @@ export function setupOptimization(openapi, ctx) {
   section.hidden = false;
   document.getElementById('nav-optimization').hidden = false;
   useDesign = design => {
-    ctx.form.load({ ...ctx.form.toRequest(), design });
-    document.getElementById('error-summary').hidden = true;
-    document.getElementById('examples-note').textContent = 'Loaded the optimised design into the study form (tolerances and settings kept).';
+    const named = ctx.loadDesign(design, {}, 'an optimised design');
+    document.getElementById('examples-note').textContent = `Loaded the optimised design into the study form (tolerances and settings kept; ${named}).`;
     document.getElementById('study-form').scrollIntoView();
     document.getElementById('f-starts').focus();
   };

@@ -60,6 +60,15 @@ function outputTable(name, o, unit) {
       numRow('worst case', null, 'worst_case', o.stack.worst_case ? `${fmt(o.stack.worst_case[0])} to ${fmt(o.stack.worst_case[1])}` : '—'),
       numRow('RSS', null, 'rss', o.stack.rss ? `${fmt(o.stack.rss[0])} to ${fmt(o.stack.rss[1])}` : '—'),
     );
+    if (o.stack.caveat) rows.push(numRow('⚠ worst case / RSS', null, 'stack_caveat', o.stack.caveat));
+  }
+  if (o.rare_event) {
+    const re = o.rare_event, iv = re.ppm_interval95;
+    const side = s => s ? `${s.method}: ${fmt(s.ppm, 4)} ppm${s.interval95_ppm && typeof s.interval95_ppm[0] === 'number' ? ` [${fmt(s.interval95_ppm[0], 3)}, ${fmt(s.interval95_ppm[1], 3)}]` : ''}, ${s.evaluations} evaluations` : '—';
+    rows.push(
+      numRow('ppm out of spec (rare-event estimate)', null, 'rare_ppm', `${fmt(re.ppm, 4)}${iv && typeof iv[0] === 'number' ? ` [${fmt(iv[0], 3)}, ${fmt(iv[1], 3)}]` : ''}`),
+      numRow('below / above', null, 'rare_sides', `${side(re.lower)} / ${side(re.upper)}`),
+    );
   }
   return h('table', { class: 'numbers', 'data-output': name },
     h('caption', {}, `${name}${unit ? ` (${unit})` : ''}`),
@@ -290,8 +299,15 @@ export function renderStudyResult(container, job, study) {
   const r = job.result;
   container.textContent = '';
   const samples = r.samples || {};
+  // the result is labelled with the study's name (the form's "Study name", echoed by the service)
+  // and the name of its design (from the request, when this page knows it)
+  const studyName = r.name || (study && study.name) || '';
+  const designName = study && study.design && typeof study.design.name === 'string' ? study.design.name : '';
+  container.append(h('p', { class: 'result-title', id: 'result-title', 'data-name': studyName },
+    'Study: ', h('strong', { id: 'result-name' }, studyName || 'unnamed study (give it a name in the form’s “Study name”)'),
+    designName ? ` · design: ${designName}` : null));
   const summary = h('dl', { class: 'summary', id: 'result-summary' },
-    [['Study', r.name || '—'], ['Stop reason', r.stop_reason], ['Converged', r.converged ? 'yes' : 'no'],
+    [['Stop reason', r.stop_reason], ['Converged', r.converged ? 'yes' : 'no'],
       ['Samples used / run / cap', `${samples.used} / ${samples.run} / ${samples.cap}`],
       ['Failed, edge contact', `${samples.failed}, ${samples.edge_contact} (${samples.edge_contact_policy})`],
       ['Sampler', r.sampler ? `${r.sampler.used}${r.sampler.used !== r.sampler.requested ? ` (asked ${r.sampler.requested})` : ''}` : '—'],
