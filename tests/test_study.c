@@ -437,6 +437,55 @@ static void test_efficiency_names(void **state)
 	assert_true(mean[0] == mean[1] && mean[0] > 0.85 && mean[0] < 0.95);
 }
 
+/* A study's design given as a catalogue size (nominal diameter x lead, issue 18) samples exactly
+ * as the same study with the geometry the rules resolve it to written out; a bad size is
+ * reported at the nominal member the user wrote. */
+static void test_catalogue_size(void **state)
+{
+	(void)state;
+	const char *rest = "\"tolerances\": [{\"parameter\": \"roller.pitch_radius_um\", \"tol_um\": 3},"
+	                   " {\"parameter\": \"nut.runout_um\", \"tol_um\": 8}],"
+	                   " \"outputs\": [\"backlash_um\", \"load_sharing_factor\"], \"monte_carlo\": {\"samples\": 500, \"seed\": 4}}";
+	const char *op = "\"operating_point\": {\"axial_load_N\": 7000, \"screw_speed_rpm\": 955}, \"target_axial_clearance_um\": 20";
+	char text[2048];
+	snprintf(text, sizeof text, "{\"design\": {\"nominal\": {\"diameter_mm\": 30, \"lead_mm\": 10}, %s}, %s", op, rest);
+	prsm_problems pr;
+	prsm_io_study *a = load(text, &pr);
+	assert_non_null(a);
+	/* the rules of MODEL.md section 1: 5 starts, P = L / n, r_r = r_s / (n - 2), n_t = round(d / P) */
+	assert_int_equal(a->design.starts, 5);
+	assert_true(a->design.pitch_mm == 2.0);
+	assert_true(fabs(a->design.roller_radius_mm - 5.0) < 1e-12);
+	assert_int_equal(a->design.engaged_threads, 15);
+	snprintf(text, sizeof text,
+	         "{\"design\": {\"geometry\": {\"starts\": %d, \"pitch_mm\": %.17g, \"roller_radius_mm\": %.17g,"
+	         " \"rollers\": %d, \"engaged_threads\": %d}, %s}, %s",
+	         a->design.starts, a->design.pitch_mm, a->design.roller_radius_mm, a->design.rollers, a->design.engaged_threads,
+	         op, rest);
+	prsm_io_study *b = load(text, &pr);
+	assert_non_null(b);
+	prsm_study_result ra, rb;
+	prsm_error err = PRSM_ERROR_INIT;
+	assert_int_equal(prsm_study_run(&ra, &a->study, &err), 0);
+	assert_int_equal(prsm_study_run(&rb, &b->study, &err), 0);
+	assert_int_equal(ra.run.n, rb.run.n);
+	assert_memory_equal(ra.run.y, rb.run.y, ra.run.n * a->study.m * sizeof(double));
+	prsm_study_result_free(&ra);
+	prsm_study_result_free(&rb);
+	free(a);
+	free(b);
+	/* refused at the member written */
+	snprintf(text, sizeof text, "{\"design\": {\"nominal\": {\"diameter_mm\": 30, \"lead_mm\": -10},"
+	         " \"geometry\": {\"starts\": 4}, %s}, %s", op, rest);
+	assert_null(load(text, &pr));
+	int lead = 0, starts = 0;
+	for (int i = 0; i < pr.count; i++) {
+		lead |= strcmp(pr.items[i].pointer, "/design/nominal/lead_mm") == 0;
+		starts |= strcmp(pr.items[i].pointer, "/design/geometry/starts") == 0;
+	}
+	assert_true(lead && starts);
+}
+
 int main(void)
 {
 	prsm_global_init();
@@ -449,6 +498,7 @@ int main(void)
 		cmocka_unit_test(test_ranges),
 		cmocka_unit_test(test_nut_unit_stiffness),
 		cmocka_unit_test(test_efficiency_names),
+		cmocka_unit_test(test_catalogue_size),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -197,6 +197,41 @@ static int expand_nominal(cJSON **expanded, prsm_analyze_request *rq, const cJSO
 	return 0;
 }
 
+int prsm_io_design_load_sized(prsm_design *out, prsm_geometry *geom, prsm_problems *warnings, const cJSON *design,
+                              const char *base, prsm_problems *problems, prsm_nominal_geometry *resolved)
+{
+	if (!cJSON_IsObject(design) || !cJSON_GetObjectItemCaseSensitive(design, "nominal"))
+		return prsm_io_design_load(out, geom, warnings, design, base, problems);
+	prsm_nominal given;
+	int rc = read_nominal(&given, design, base, problems);
+	if (rc)
+		return rc;
+	const cJSON *geometry = cJSON_GetObjectItemCaseSensitive(design, "geometry");
+	const double beta = geometry_number(geometry, "flank_angle_deg", 45.0) * M_PI / 180.0;
+	const double clearance = geometry_number(geometry, "running_clearance_mm", 0.1);
+	prsm_problems *errors = malloc(sizeof *errors);
+	if (errors == NULL)
+		return PRSM_ENOMEM;
+	prsm_problems_init(errors);
+	prsm_nominal_geometry g;
+	rc = prsm_nominal_resolve(&g, &given, beta, clearance, errors);
+	prsm_json_problems_append_prefixed(problems, errors, base);
+	free(errors);
+	if (rc)
+		return rc;
+	if (resolved)
+		*resolved = g;
+	cJSON *expanded = nominal_expanded(design, &g);
+	if (expanded == NULL)
+		return PRSM_ENOMEM;
+	const int from_problems = problems->count, from_warnings = warnings ? warnings->count : 0;
+	rc = prsm_io_design_load(out, geom, warnings, expanded, base, problems);
+	nominal_repoint(problems, from_problems, base);
+	nominal_repoint(warnings, from_warnings, base);
+	cJSON_Delete(expanded);
+	return rc;
+}
+
 /* The `dynamics` object of doc, when there is one, for a chain of `stages` stages. */
 static void read_dynamics(prsm_analyze_request *rq, const cJSON *doc, int stages, prsm_problems *problems)
 {
@@ -233,7 +268,7 @@ static int load_document(prsm_analyze_request *rq, prsm_geometry *g, prsm_proble
 		return rc;
 	}
 	prsm_json_check_keys(doc, "", request_keys, problems);
-	rc = prsm_io_design_load(&rq->d, g, warnings, design, "/design", problems);
+	rc = prsm_io_design_load_sized(&rq->d, g, warnings, design, "/design", problems, NULL);
 	const cJSON *errors = NULL, *opts = NULL;
 	char ep[PRSM_JSON_POINTER_MAX], op[PRSM_JSON_POINTER_MAX];
 	prsm_json_get_object(&errors, doc, "", "errors", PRSM_JSON_OPTIONAL, problems);

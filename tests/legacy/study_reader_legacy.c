@@ -16,6 +16,7 @@
 
 #include <gsl/gsl_cdf.h>
 
+#include "io/analyze_request.h"
 #include "io/design_json.h"
 #include "io/errors_json.h"
 #include "io/json_util.h"
@@ -237,7 +238,7 @@ static int read_design(prsm_io_study *s, const cJSON *doc, prsm_problems *warnin
 {
 	prsm_geometry g;
 	const cJSON *design = cJSON_GetObjectItemCaseSensitive(doc, "design");
-	int rc = prsm_io_design_load(&s->design, &g, warnings, design, "/design", pr);
+	int rc = prsm_io_design_load_sized(&s->design, &g, warnings, design, "/design", pr, NULL);
 	prsm_design unknown;
 	prsm_design_init(&unknown);
 	unknown.rollers = unknown.starts = 0;
