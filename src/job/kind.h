@@ -99,5 +99,6 @@ extern const prsm_job_kind prsm_job_kind_optimization;
 extern const prsm_job_kind prsm_job_kind_allocation;
 extern const prsm_job_kind prsm_job_kind_analysis;
 extern const prsm_job_kind prsm_job_kind_simulation;
+extern const prsm_job_kind prsm_job_kind_calibration;
 
 #endif

@@ -12,6 +12,7 @@ const prsm_job_kind *const prsm_job_kinds[] = {
 	&prsm_job_kind_allocation,
 	&prsm_job_kind_analysis,
 	&prsm_job_kind_simulation,
+	&prsm_job_kind_calibration,
 };
 
 const size_t prsm_job_kind_count = sizeof prsm_job_kinds / sizeof prsm_job_kinds[0];

@@ -136,6 +136,7 @@ function examplesAreCopies() {
   const manifest = JSON.parse(fs.readFileSync(path.join(source, 'web/examples/index.json'), 'utf8'));
   check('web/examples/index.json lists examples', manifest.examples.length > 0);
   for (const ex of manifest.examples) {
+    if (ex.kind === 'calibration') { calibrationExampleIsV6(ex.file); continue; }
     const a = path.join(source, 'web/examples', ex.file), b = path.join(source, 'studies', ex.file);
     check(`web/examples/${ex.file} is identical to studies/${ex.file}`, fs.existsSync(a) && fs.existsSync(b) && fs.readFileSync(a).equals(fs.readFileSync(b)));
   }
@@ -631,11 +632,11 @@ async function run(page) {
   // ---- the optimisation and allocation views, when the service has them --------------------
   const openapi = (await apiJson('GET', '/v1/openapi.json')).json;
   for (const [collection, section, fn] of [['optimizations', '#optimization', optimisationView], ['allocations', '#allocation', allocationView],
-    ['simulations', '#simulation', simulationView]]) {
+    ['simulations', '#simulation', simulationView], ['calibrations', '#calibration', calibrationView]]) {
     const served = !!openapi.paths[`/v1/${collection}`];
     check(`the ${section.slice(1)} view is shown exactly when openapi lists /v1/${collection}`, served === await page.isVisible(section));
     if (served) await fn(page, shot);
-    else console.log(`SKIPPED ${{ '#optimization': 'optimisation', '#allocation': 'allocation', '#simulation': 'simulation' }[section]} view: /v1/${collection} not served`);
+    else console.log(`SKIPPED ${{ '#optimization': 'optimisation', '#allocation': 'allocation', '#simulation': 'simulation', '#calibration': 'calibration' }[section]} view: /v1/${collection} not served`);
   }
 }
 
@@ -854,9 +855,9 @@ async function tokenRun(page, token) {
 async function loadExample(page, view, file) {
   await page.focus(`${view} button[data-example="${file}"]`);
   await page.keyboard.press('Enter');
-  const prefix = { '#optimization': 'opt', '#allocation': 'alloc', '#simulation': 'sim' }[view];
+  const prefix = { '#optimization': 'opt', '#allocation': 'alloc', '#simulation': 'sim', '#calibration': 'cal' }[view];
   await page.waitForFunction(([id, f]) => document.getElementById(id).textContent.includes(f), [`${prefix}-note`, file]);
-  const want = JSON.parse(fs.readFileSync(path.join(source, 'studies', file), 'utf8'));
+  const want = JSON.parse(fs.readFileSync(path.join(source, view === '#calibration' ? 'web/examples' : 'studies', file), 'utf8'));
   const got = JSON.parse(await page.inputValue(`#${prefix}-request`));
   check(`${file}: the example loads into the request editor unchanged`, canonical(got) === canonical(want));
   return want;
@@ -1326,6 +1327,92 @@ async function vibrationViews(page) {
   await a11yAudit(page, 'vibration');
   await contrastAudit(page, 'vibration');
   await layoutAudit(page, 'vibration');
+}
+
+
+// ---- calibration against measured data (issue 17 item 5): validation case V6 ----------------------
+// The web example is tests/data/calibrate-case-a-v6.json with the curve of tests/data/v6-measured-te.csv
+// inlined as measured.te arrays (the service takes no CSV file): the same members, the same numbers.
+function calibrationExampleIsV6(file) {
+  const got = JSON.parse(fs.readFileSync(path.join(source, 'web/examples', file), 'utf8'));
+  const base = JSON.parse(fs.readFileSync(path.join(source, 'tests/data/calibrate-case-a-v6.json'), 'utf8'));
+  const rows = fs.readFileSync(path.join(source, 'tests/data/v6-measured-te.csv'), 'utf8').split('\n').map(l => l.trim()).filter(l => l && !l.startsWith('#')).map(l => l.split(','));
+  const te = Object.fromEntries(rows[0].map((name, i) => [name, rows.slice(1).map(r => Number(r[i]))]));
+  const want = { ...base, measured: { ...base.measured, te } };
+  check(`web/examples/${file} is tests/data/calibrate-case-a-v6.json with tests/data/v6-measured-te.csv inlined`, canonical(got) === canonical(want));
+}
+
+async function calibrationView(page, shot) {
+  log('calibration view');
+  check('the calibration view is in the navigation', await page.isVisible('#nav-calibration'));
+  const file = 'calibrate-case-a-v6.json';
+  const example = await loadExample(page, '#calibration', file);
+  check('the settings show the example\'s model and noise', await page.inputValue('#cal-f-dynamics-calibrate-model') === 'line'
+    && Number(await page.inputValue('#cal-f-measured-te_noise_sd_um')) === example.measured.te_noise_sd_um);
+
+  // a refused request: an unknown model, the API's problem next to the model field with its pointer
+  await page.selectOption('#cal-f-dynamics-calibrate-model', 'physical');
+  // (the request holds the curve, some 100 kB of text: set at once, with the input event a person's edit fires)
+  await page.evaluate(() => {
+    const t = document.getElementById('cal-request'), doc = JSON.parse(t.value);
+    doc.dynamics.calibrate.model = 'spline';
+    doc.design.geometry.pitch_mm = -2;
+    t.value = JSON.stringify(doc, null, 2);
+    t.dispatchEvent(new Event('input', { bubbles: true }));
+  });
+  const bad = JSON.parse(await page.inputValue('#cal-request'));
+  const refused = await apiJson('POST', '/v1/calibrations', bad);
+  check('the service refuses the invalid calibration (422)', refused.status === 422, String(refused.status));
+  const before = await page.evaluate(() => location.hash.slice(1));
+  await page.click('#cal-submit');
+  await page.waitForSelector('#cal-problems:not([hidden])');
+  const listed = await page.$$eval('#cal-problems li', ls => ls.map(l => l.dataset.pointer));
+  check('a refused calibration lists every problem with its pointer', refused.json && refused.json.errors.every(e => listed.includes(e.pointer))
+    && listed.includes('/dynamics/calibrate/model') && listed.includes('/design/geometry/pitch_mm'), JSON.stringify(listed));
+  check('the model problem is next to the model field', await page.$eval('#cal-f-dynamics-calibrate-model', e => e.getAttribute('aria-invalid') === 'true'));
+
+  // V6 as it is: submitted, done, drawn
+  await page.evaluate(() => { document.getElementById('cal-note').textContent = ''; });
+  await loadExample(page, '#calibration', file);
+  await page.click('#cal-submit');
+  const { job } = await waitJob(page, 'calibrations', 'done', '#cal-estimates', 120000, before);
+  const r = job.result, cal = r.calibration;
+  log(`calibration done: k ${cal.carrier_ratio.estimate}`);
+  const series = await page.$$eval('#cal-overlay-plot path.xy-line', ps => ps.map(q => ({ key: q.dataset.series, points: Number(q.dataset.points), d: q.getAttribute('d').length })));
+  check('overlay: two series, measured and model, each with every point of the curve', series.length === 2 && series.map(q => q.key).join() === 'measured,model'
+    && series.every(q => q.points === example.measured.te.te_um.length && q.d > 100), JSON.stringify(series));
+  const axes = await page.$$eval('#cal-overlay-plot text.label', ts => ts.map(t => t.textContent));
+  check('overlay: the axes say what and in which unit', axes.some(t => t.includes('travel') && t.includes('(mm)')) && axes.some(t => t.includes('transmission error') && t.includes('(µm)')), JSON.stringify(axes));
+  const rms = Number(await page.getAttribute('#cal-overlay-rms', 'data-value'));
+  const n = example.measured.te.te_um.length, p = cal.parameters.length;
+  check('overlay: the model curve is the fit (its RMS residual gives the result\'s s)', Math.abs(rms * Math.sqrt(n / (n - p)) / cal.residual_sd_um - 1) < 1e-6, `${rms} ${cal.residual_sd_um}`);
+  await page.selectOption('#cal-x-axis', 'angle');
+  const axes2 = await page.$$eval('#cal-overlay-plot text.label', ts => ts.map(t => t.textContent));
+  check('overlay: against the screw angle on request', axes2.some(t => t.includes('screw angle') && t.includes('(rev)'))
+    && (await page.$$('#cal-overlay-plot path.xy-line')).length === 2, JSON.stringify(axes2));
+
+  const named = r.identification.lines.filter(l => !l.above_nyquist);
+  const stems = await page.$$eval('#cal-spectrum-plot line.stem', ls => ls.map(l => ({ name: l.dataset.name, value: Number(l.dataset.value) })));
+  const labels = (await page.$$eval('#cal-spectrum-plot text.stem-label', ts => ts.map(t => t.dataset.names.split(' ')))).flat();
+  check('spectrum: every named line is marked with its amplitude and labelled', named.length >= 6 && named.every(l => stems.some(s => s.name === l.name && s.value === l.amplitude_um) && labels.includes(l.name)),
+    JSON.stringify({ stems, labels }));
+  check('spectrum: the detrended spectrum is drawn with every bin', Number(await page.getAttribute('#cal-spectrum-plot path.xy-line', 'data-points')) === r.identification.spectrum.amplitude_um.length);
+
+  const rows = await page.$$eval('#cal-estimates tbody tr', trs => trs.map(tr => ({ name: tr.dataset.name,
+    estimate: Number(tr.querySelector('[data-key=estimate]').dataset.value), se: Number(tr.querySelector('[data-key=standard_error]').dataset.value) })));
+  check('estimates: the table holds every parameter with the API\'s estimate and standard error', rows.length === cal.parameters.length
+    && cal.parameters.every((q, i) => rows[i].name === q.name && rows[i].estimate === q.estimate && rows[i].se === q.standard_error), JSON.stringify(rows).slice(0, 300));
+  const kRow = rows.find(q => q.name === 'carrier_ratio');
+  check('estimates: k as the API gives it', !!kRow && kRow.estimate === cal.carrier_ratio.estimate && Math.abs(kRow.estimate - 0.3724934) < 2e-7, JSON.stringify(kRow));
+  const whiskers = await page.$$('#cal-estimates-plot line.whisker');
+  check('estimates: a chart of the lines with ± one standard error', (await page.$$('#cal-estimates-plot circle.marker')).length === cal.lines.length && whiskers.length === 3 * cal.lines.length);
+  const cav = await page.$$eval('#cal-caveats li', ls => ls.map(l => ({ code: l.dataset.code, triggered: l.dataset.triggered === 'true' })));
+  check('caveats: every caveat listed, marked as the API says', cav.length === cal.caveats.length && cal.caveats.every((c, i) => cav[i].code === c.code && cav[i].triggered === c.triggered), JSON.stringify(cav));
+  await shot('18-calibration.png');
+  await (await page.$('#results')).screenshot({ path: path.join(artifacts, '18b-calibration-results.png') });
+  await a11yAudit(page, 'calibration');
+  await contrastAudit(page, 'calibration');
+  await layoutAudit(page, 'calibration');
 }
 
 main().then(() => {

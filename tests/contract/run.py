@@ -728,6 +728,100 @@ def suite_simulations(client, contract, source):
     suite_vibration(client, contract, source)
 
 
+def suite_calibrations(client, contract, source, prsm=None):
+    """/v1/calibrations (issue 17 item 5): validation case V6 (tests/data/calibrate-case-a-v6.json
+    with the curve of tests/data/v6-measured-te.csv inlined as arrays, as web/examples/ has it) as a
+    job: 202 or 200, done, the result against measured-result.schema.json (checked for every job
+    document by the client), k as `prsm calibrate` gives it for the CSV file (within 1e-6), the
+    cache; a bad request refused with 422 at every pointer; list, unknown id, DELETE of a done job."""
+    req = load_json(os.path.join(source, "web", "examples", "calibrate-case-a-v6.json"))
+    base = load_json(os.path.join(source, "tests", "data", "calibrate-case-a-v6.json"))
+    csv_path = os.path.join(source, "tests", "data", "v6-measured-te.csv")
+    with open(csv_path, encoding="utf-8") as f:
+        rows = [l.strip().split(",") for l in f if l.strip() and not l.startswith("#")]
+    inlined = copy.deepcopy(base)
+    cols = {name: [float(r[i]) for r in rows[1:]] for i, name in enumerate(rows[0])}
+    inlined["measured"]["te"] = cols
+    check("web/examples/calibrate-case-a-v6.json is the V6 request with the CSV curve inlined",
+          req["measured"].get("te") == cols and {k: v for k, v in req.items() if k != "measured"}
+          == {k: v for k, v in base.items() if k != "measured"}
+          and {k: v for k, v in req["measured"].items() if k != "te"} == base["measured"])
+    cli_k = None
+    if prsm:
+        out = subprocess.run([prsm, "calibrate", os.path.join(source, "tests", "data", "calibrate-case-a-v6.json"),
+                              "--measured", csv_path], capture_output=True, timeout=120)
+        if check("prsm calibrate V6 with the CSV file: exit 0", out.returncode == 0, out.stderr.decode()[:300]):
+            cli_k = json.loads(out.stdout)["calibration"]["carrier_ratio"]["estimate"]
+    r = client.post("/v1/calibrations", req)
+    check("submit calibration V6: 202 or 200", r.status in (200, 202), f"{r.status} {r.body[:300]!r}")
+    if r.status not in (200, 202):
+        return
+    job = r.json()
+    loc = f"/v1/calibrations/{job['id']}"
+    check("calibration: kind and links", job["kind"] == "calibration"
+          and job["links"].get("result_schema", "").endswith("measured-result.schema.json"), json.dumps(job["links"]))
+    if r.status == 202:
+        check("calibration: Location names the job", r.headers.get("location") == loc, str(r.headers.get("location")))
+    done = wait_job(client, loc, timeout=120)
+    check("calibration: the job finishes", done is not None and done["state"] == "done",
+          str(done and (done["state"], done.get("problem"))))
+    if done and done["state"] == "done":
+        res = done["result"]
+        err = contract.validate(contract.schemas["measured-result.schema.json"], res)
+        check("calibration: the result validates against measured-result.schema.json", not err, err)
+        p = done["progress"]
+        check("calibration: progress counts one analysis", p["unit"] == "analyses"
+              and p["samples_done"] == p["samples_planned"] == 1, str(p))
+        k = res["calibration"]["carrier_ratio"]["estimate"]
+        if cli_k is not None:
+            check("calibration: k as prsm calibrate gives it (1e-6)", abs(k - cli_k) < 1e-6, f"{k} vs {cli_k}")
+        check("calibration: V6's k and slope (docs/measured-data.md)", abs(k - 0.3724934) < 2e-7
+              and abs(res["calibration"]["estimates"]["slope_um_per_300mm"] - 12.316) < 1e-3, str(k))
+        check("calibration: the curve came as JSON, 960 points", res["measured"]["source"] == "json"
+              and res["measured"]["points"] == 960, json.dumps(res["measured"]))
+        again = json.loads(json.dumps(req), object_pairs_hook=lambda kv: dict(reversed(kv)))
+        r = client.post("/v1/calibrations", again)
+        check("calibration: identical request answered from the cache", r.status == 200 and r.json()["id"] == job["id"]
+              and r.json()["cache_hit"] is True, str(r.status))
+        r = client.delete(loc)
+        check("DELETE a done calibration: 409", r.status == 409, str(r.status))
+    r = client.get("/v1/calibrations?limit=5")
+    check("list calibrations: the job is there", r.status == 200 and job["id"] in [j["id"] for j in r.json()["items"]])
+    r = client.get("/v1/calibrations/" + "0" * 32)
+    check("unknown calibration: 404", r.status == 404)
+    bad = copy.deepcopy(req)
+    bad["measured"]["te"]["te_um"] = bad["measured"]["te"]["te_um"][:-5]
+    bad["measured"]["cage_ratio_sd"] = 0.001
+    bad["dynamics"]["calibrate"]["model"] = "spline"
+    bad["design"]["geometry"]["pitch_mm"] = -2
+    r = client.post("/v1/calibrations", bad)
+    check("invalid calibration: 422", r.status == 422, f"{r.status} {r.body[:300]!r}")
+    if r.status == 422:
+        ptrs = {e["pointer"] for e in r.json()["errors"]}
+        check("invalid calibration: every problem with its pointer", {"/design/geometry/pitch_mm",
+              "/dynamics/calibrate/model"} <= ptrs and any(q.startswith("/measured") for q in ptrs), str(ptrs))
+    short = copy.deepcopy(req)
+    for key in ("screw_angle_rad", "travel_mm", "te_um"):
+        short["measured"]["te"][key] = short["measured"]["te"][key][:150]
+    r = client.post("/v1/calibrations", short)
+    check("a curve of fewer than four revolutions: 422 under /measured/te", r.status == 422
+          and any(e["pointer"].startswith("/measured/te") for e in r.json()["errors"]), f"{r.status} {r.body[:300]!r}")
+    r = client.post("/v1/calibrations", {"design": req["design"], "measured": {}, "dynamics": {"analysis": "linear"}})
+    check("a calibration without a curve and with another analysis: 422", r.status == 422
+          and "/dynamics/analysis" in [e["pointer"] for e in r.json()["errors"]], f"{r.status} {r.body[:300]!r}")
+    with open(csv_path, encoding="utf-8") as f:
+        r = client.post("/v1/calibrations", f.read(), content_type="text/csv")
+    check("a CSV body: 415 (the curve goes into the JSON request)", r.status == 415, str(r.status))
+    # cancel: a distinct request (the cache would answer V6), cancelled at once; it may finish first
+    other = copy.deepcopy(req)
+    other["dynamics"]["calibrate"]["grid_points"] = 2001 + 2 * random.randrange(1, 500)
+    r = client.post("/v1/calibrations", other)
+    if check("another calibration: 202", r.status == 202, f"{r.status} {r.body[:200]!r}"):
+        x = client.delete(r.headers["location"])
+        check("cancel a calibration: 200 cancelled, or 409 when it had finished", (x.status == 200 and x.json()["state"] == "cancelled")
+              or x.status == 409, str(x.status))
+
+
 def suite_vibration(client, contract, source):
     """The vibration analyses on /v1/simulations (docs/vibration.md)."""
     result_schema = contract.schemas["dynamics-result.schema.json"]
@@ -1113,6 +1207,7 @@ def main():
         suite_studies(client, contract, source)
         suite_design_jobs(client, contract, source)
         suite_simulations(client, contract, source)
+        suite_calibrations(client, contract, source, args.prsm)
         suite_slow_client(client, timeout)
         if srv:
             code = srv.stop()

@@ -1,6 +1,7 @@
 /*
  * fuzz_document.h: the body shared by the fuzz targets of the service's job documents
- * (fuzz_study.c, fuzz_optimization.c, fuzz_allocation.c, fuzz_dynamics.c). Each target only
+ * (fuzz_study.c, fuzz_optimization.c, fuzz_allocation.c, fuzz_dynamics.c, fuzz_calibration.c). Each
+ * target only
  * names its job kind (src/job/kind.h) and the command line's check of the same document.
  *
  * For the bytes of one input, prsm_fuzz_document() follows both readers a document reaches:

@@ -31,11 +31,13 @@ export function classify(doc) {
   if (isObject(doc.outputs) && isObject(doc.samples) && 'stop_reason' in doc) return { error: 'it is a study result (what the service answers for a study), not a study request: a study request has "tolerances" and a "design".' };
   if (has(doc, 'method', 'best', 'evaluations')) return { error: 'it is an optimisation result, not a request: its designs can be put into the study form from the optimisation view (“Study this design’s tolerances”).' };
   if (has(doc, 'total_cost', 'correction')) return { error: 'it is an allocation result, not a request.' };
+  if (has(doc, 'engine', 'calibration') || has(doc, 'engine', 'identification')) return { error: 'it is a calibration result, not a request.' };
   if (has(doc, 'engine', 'dynamics')) return { error: 'it is a simulation result, not a request.' };
   if ('engine' in doc && (has(doc, 'geometry', 'backlash_um') || 'stages' in doc)) return { error: 'it is an analysis result (what prsm analyze and POST /v1/designs/analyze answer), not a design: import the design that was analysed.' };
   // requests of the other views
   if (has(doc, 'variables', 'objectives')) return { error: 'it is an optimisation request (it has "variables" and "objectives"): paste it into the optimisation view’s request (“Design optimisation” below), not the study form.' };
   if (has(doc, 'allocate', 'constraints')) return { error: 'it is a tolerance allocation request (it has "allocate" and "constraints"): paste it into the allocation view’s request (“Tolerance allocation” below).' };
+  if (isObject(doc.measured) && isObject(doc.design)) return { error: 'it is a calibration request (it has "measured"): paste it into the calibration view’s request (“Calibration against measured data” below).' };
   if ('dynamics' in doc || 'gear_pair' in doc || (isObject(doc.design) && 'dynamics' in doc.design)) return { error: 'it is a simulation request (it has "dynamics"): paste it into the simulation view’s request (“Start-up simulation” below).' };
   if ('stages' in doc || (isObject(doc.design) && 'stages' in doc.design)) return { error: 'it is a multi-stage design (it has "stages"): the study form takes a single-stage design; a chain is simulated in the simulation view.' };
   // what the study form takes

@@ -1,6 +1,6 @@
 // The page: examples, the study form with live derived values, submit, the job view with progress
-// and cancel, and the results; the optimisation, allocation and simulation views when the service
-// has them (optimization.js, allocation.js, simulation.js), run through the same job view. Uses only
+// and cancel, and the results; the optimisation, allocation, simulation and calibration views when
+// the service has them (optimization.js, allocation.js, simulation.js, calibration.js), run through the same job view. Uses only
 // prsm serve's API (same origin).
 
 import { api, ApiError, describe, getToken, setToken } from './api.js';
@@ -10,6 +10,7 @@ import { fmt } from './plots.js';
 import { setupOptimization } from './optimization.js';
 import { setupAllocation } from './allocation.js';
 import { setupSimulation } from './simulation.js';
+import { setupCalibration } from './calibration.js';
 import { setupImport } from './importdoc.js';
 
 const $ = sel => document.querySelector(sel);
@@ -209,7 +210,7 @@ class JobView {
     this.lastAnnounced = '';
     this.renderers = {}; // collection -> (container, job) for the kinds other than studies
     // the job and results sections follow the view whose request they run
-    this.anchors = { studies: $('#study-layout'), optimizations: $('#optimization'), allocations: $('#allocation'), simulations: $('#simulation') };
+    this.anchors = { studies: $('#study-layout'), optimizations: $('#optimization'), allocations: $('#allocation'), simulations: $('#simulation'), calibrations: $('#calibration') };
     $('#job-cancel').addEventListener('click', () => this.cancel());
   }
 
@@ -338,7 +339,7 @@ class JobView {
     $('#results-h').textContent = name ? `Results: ${name}` : 'Results';
     const body = $('#results-body');
     if (this.collection === 'studies') renderStudyResult(body, job, this.study);
-    else if (this.renderers[this.collection]) this.renderers[this.collection](body, job);
+    else if (this.renderers[this.collection]) this.renderers[this.collection](body, job, this.study);
     else body.textContent = `No view for ${this.collection}: see the result as JSON at ${job.links.self}.`;
   }
 
@@ -416,8 +417,8 @@ function showExport(kind, doc, collection = 'studies') {
 // Each job by its name, kind, state and time, the id second. The job list has no names: a job
 // submitted from this browser has its request remembered (localStorage, by id); for the others the
 // name their result echoes is read once from the finished job (GET, kept for the page's life).
-const KIND_NAMES = { studies: 'study', optimizations: 'optimisation', allocations: 'allocation', simulations: 'simulation', analyses: 'analysis' };
-const JOB_KINDS = { study: 'study', optimization: 'optimisation', allocation: 'allocation', simulation: 'simulation', analysis: 'analysis' };
+const KIND_NAMES = { studies: 'study', optimizations: 'optimisation', allocations: 'allocation', simulations: 'simulation', calibrations: 'calibration', analyses: 'analysis' };
+const JOB_KINDS = { study: 'study', optimization: 'optimisation', allocation: 'allocation', simulation: 'simulation', calibration: 'calibration', analysis: 'analysis' };
 let recentCollections = ['studies'];
 const resultNames = new Map(); // job id -> name from its result ('' when it has none)
 const utc = t => (typeof t === 'string' ? `${t.replace('T', ' ').slice(0, 19)} UTC` : '—');
@@ -603,6 +604,7 @@ async function main() {
   if (setupOptimization(openapi, ctx)) recentCollections.push('optimizations');
   if (setupAllocation(openapi, ctx)) recentCollections.push('allocations');
   if (setupSimulation(openapi, ctx)) recentCollections.push('simulations');
+  if (setupCalibration(openapi, ctx)) recentCollections.push('calibrations');
   if (openapi && openapi.paths && openapi.paths['/v1/analyses']) recentCollections.push('analyses');
   api.version().then(v => { $('#version').textContent = `prsm ${v.prsm || v.version || ''}`.trim(); }).catch(() => {});
   refreshRecent();
