@@ -166,44 +166,15 @@ cleanup:
 	free(scratch);
 }
 
-/* design (at base) through its catalogue size: *expanded the design with the geometry the
- * rules give (owned by the caller), rq->nominal its echo and alternatives. Returns 0,
- * PRSM_EINVAL or PRSM_ENOMEM. */
-static int expand_nominal(cJSON **expanded, prsm_analyze_request *rq, const cJSON *design,
-                          const char *base, prsm_problems *problems)
-{
-	*expanded = NULL;
-	rq->with_nominal = 1;
-	prsm_io_nominal_result *r = &rq->nominal;
-	int rc = read_nominal(&r->given, design, base, problems);
-	if (rc)
-		return rc;
-	const cJSON *geometry = cJSON_GetObjectItemCaseSensitive(design, "geometry");
-	const double beta = geometry_number(geometry, "flank_angle_deg", 45.0) * M_PI / 180.0;
-	const double clearance = geometry_number(geometry, "running_clearance_mm", 0.1);
-	prsm_problems *errors = malloc(sizeof *errors);
-	if (errors == NULL)
-		return PRSM_ENOMEM;
-	prsm_problems_init(errors);
-	rc = prsm_nominal_resolve(&r->resolved, &r->given, beta, clearance, errors);
-	prsm_json_problems_append_prefixed(problems, errors, base);
-	free(errors);
-	if (rc)
-		return rc;
-	*expanded = nominal_expanded(design, &r->resolved);
-	if (*expanded == NULL)
-		return PRSM_ENOMEM;
-	nominal_alternatives(r, design, beta, clearance);
-	return 0;
-}
-
 int prsm_io_design_load_sized(prsm_design *out, prsm_geometry *geom, prsm_problems *warnings, const cJSON *design,
-                              const char *base, prsm_problems *problems, prsm_nominal_geometry *resolved)
+                              const char *base, prsm_problems *problems, prsm_io_nominal_result *nominal)
 {
 	if (!cJSON_IsObject(design) || !cJSON_GetObjectItemCaseSensitive(design, "nominal"))
 		return prsm_io_design_load(out, geom, warnings, design, base, problems);
 	prsm_nominal given;
 	int rc = read_nominal(&given, design, base, problems);
+	if (nominal)
+		nominal->given = given;
 	if (rc)
 		return rc;
 	const cJSON *geometry = cJSON_GetObjectItemCaseSensitive(design, "geometry");
@@ -219,8 +190,10 @@ int prsm_io_design_load_sized(prsm_design *out, prsm_geometry *geom, prsm_proble
 	free(errors);
 	if (rc)
 		return rc;
-	if (resolved)
-		*resolved = g;
+	if (nominal) {
+		nominal->resolved = g;
+		nominal_alternatives(nominal, design, beta, clearance);
+	}
 	cJSON *expanded = nominal_expanded(design, &g);
 	if (expanded == NULL)
 		return PRSM_ENOMEM;
@@ -249,23 +222,12 @@ static int load_document(prsm_analyze_request *rq, prsm_geometry *g, prsm_proble
 	int rc;
 	rq->with_errors = cJSON_IsObject(doc) && cJSON_GetObjectItemCaseSensitive(doc, "design") != NULL;
 	const cJSON *design = rq->with_errors ? cJSON_GetObjectItemCaseSensitive(doc, "design") : doc;
-	const char *base = rq->with_errors ? "/design" : "";
-	cJSON *expanded = NULL;
-	const int from_problems = problems->count, from_warnings = warnings ? warnings->count : 0;
-	/* a catalogue size is a form of the plain design document (analyze-request.schema.json) */
-	if (!rq->with_errors && cJSON_IsObject(design) && cJSON_GetObjectItemCaseSensitive(design, "nominal")) {
-		if ((rc = expand_nominal(&expanded, rq, design, base, problems)))
-			return rc;
-		design = expanded;
-	}
+	/* a catalogue size (analyze-request.schema.json $defs/catalogue_design): the plain design
+	 * document also lists its alternatives with 3 to 6 starts */
 	if (!rq->with_errors) {
-		rc = prsm_io_design_load(&rq->d, g, warnings, design, "", problems);
-		if (expanded) {
-			nominal_repoint(problems, from_problems, base);
-			nominal_repoint(warnings, from_warnings, base);
-		}
-		cJSON_Delete(expanded);
-		return rc;
+		rq->with_nominal = cJSON_IsObject(design) && cJSON_GetObjectItemCaseSensitive(design, "nominal") != NULL;
+		return prsm_io_design_load_sized(&rq->d, g, warnings, design, "", problems,
+		                                 rq->with_nominal ? &rq->nominal : NULL);
 	}
 	prsm_json_check_keys(doc, "", request_keys, problems);
 	rc = prsm_io_design_load_sized(&rq->d, g, warnings, design, "/design", problems, NULL);

@@ -100,9 +100,11 @@ int prsm_io_analyze(cJSON **out, const cJSON *doc, prsm_problems *problems);
 /* prsm_io_design_load for a design document that may give its geometry as a catalogue size
  * (`nominal`: diameter x lead, resolved by the standard rules, model/nominal.h): the design at
  * base is read with the geometry the rules give, every problem of a geometry member the size
- * set is reported at the nominal member the user wrote; *resolved (may be NULL) gets the
- * resolution. Without `nominal` it is prsm_io_design_load. Returns its codes, or PRSM_ENOMEM. */
+ * set is reported at the nominal member the user wrote. nominal (may be NULL) gets the size as
+ * given, its resolution and the alternatives with 3 to 6 starts (each analysed: what the plain
+ * analysis lists). Without `nominal` it is prsm_io_design_load. Returns its codes, or
+ * PRSM_ENOMEM. */
 int prsm_io_design_load_sized(prsm_design *out, prsm_geometry *geom, prsm_problems *warnings, const cJSON *design,
-                              const char *base, prsm_problems *problems, prsm_nominal_geometry *resolved);
+                              const char *base, prsm_problems *problems, prsm_io_nominal_result *nominal);
 
 #endif

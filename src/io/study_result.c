@@ -16,10 +16,9 @@ void prsm_io_whook_output_spec(prsm_jw *w, cJSON *obj, const char *key, const vo
 	const prsm_io_study_result_view *v = w->ctx;
 	const prsm_study_output *so = &v->s->study.outputs[v->o];
 	prsm_io_write(w, obj, key, &so->spec, &prsm_io_w_spec);
-	static const char *const names[] = {"mc", "auto", "form", "sorm", "is", "subset"};
 	cJSON *sp = cJSON_GetObjectItemCaseSensitive(obj, key);
-	if (sp && so->yield_method > PRSM_STUDY_YIELD_MC && so->yield_method <= PRSM_STUDY_YIELD_SUBSET)
-		prsm_jw_string(w, sp, "yield_method", names[so->yield_method]);
+	if (sp && so->yield_method != PRSM_STUDY_YIELD_MC)
+		prsm_jw_string(w, sp, "yield_method", prsm_study_yield_method_name(so->yield_method));
 }
 
 void prsm_io_whook_rss_interval(prsm_jw *w, cJSON *obj, const char *key, const void *at)

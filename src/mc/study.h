@@ -51,6 +51,9 @@ typedef struct {
 	int yield_method;                /* prsm_study_yield_method (mc) */
 } prsm_study_output;
 
+/* The document's name of a yield method ("mc", "auto", "form", ...; "mc" for any other value). */
+const char *prsm_study_yield_method_name(int yield_method);
+
 /* Settings of the rare-event phase (prsm_study_rare_options_default). */
 typedef struct {
 	size_t max_evaluations;          /* model evaluations per spec side (20000) */

@@ -56,6 +56,12 @@ static prsm_rare_method rare_method_of(int yield_method)
 	}
 }
 
+const char *prsm_study_yield_method_name(int yield_method)
+{
+	/* prsm_rare_method_name's, but for the spec's own enum: mc is its default, auto is not */
+	return yield_method == PRSM_STUDY_YIELD_MC ? "mc" : prsm_rare_method_name(rare_method_of(yield_method));
+}
+
 /* The side as the plain run counted it: pf = failures / n with its Wilson 95 % interval. */
 static void side_counted(prsm_study_rare_side *sd)
 {
