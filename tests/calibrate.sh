@@ -175,6 +175,31 @@ ok "non-monotonic travel in the document: its pointer" grep -qF "/measured/te/tr
 $py -c 'import json,sys; d=json.load(open(sys.argv[1])); del d["measured"]; json.dump(d,open(sys.argv[2],"w"))' "$v6doc" "$tmp/bad.json"
 "$prsm" calibrate "$tmp/bad.json" > /dev/null 2> "$tmp/err"; check "nothing measured" 1 $?
 ok "nothing measured: said so" grep -qF "/measured: nothing measured" "$tmp/err"
+# ---- the curve as CSV text in the request (measured.te_csv, what a service upload becomes) ----
+$py -c 'import json,sys; d=json.load(open(sys.argv[1])); d["measured"]["te_csv"]=open(sys.argv[3]).read(); json.dump(d,open(sys.argv[2],"w"))' "$v6doc" "$tmp/te_csv.json" "$v6csv"
+"$prsm" calibrate "$tmp/te_csv.json" > "$tmp/te_csv.out" 2> "$tmp/err"; check "V6 with measured.te_csv" 0 $?
+ok "measured.te_csv: the same estimates as --measured, the source csv without a file" $py - "$tmp/v6.json" "$tmp/te_csv.out" <<'PY'
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+assert a["calibration"] == b["calibration"], "the calibrations differ"
+assert b["measured"]["source"] == "csv" and "file" not in b["measured"] and a["measured"]["file"].endswith(".csv")
+PY
+$py -c 'import json,sys; d=json.load(open(sys.argv[1])); d["measured"]["te_csv"]=open(sys.argv[3]).read().replace("\n0.19", "\n0.1q", 1); json.dump(d,open(sys.argv[2],"w"))' "$v6doc" "$tmp/bad.json" "$v6csv"
+"$prsm" calibrate "$tmp/bad.json" > /dev/null 2> "$tmp/err"; check "a bad measured.te_csv" 1 $?
+ok "a bad measured.te_csv: at /measured/te_csv with line and column" grep -qF "/measured/te_csv: line 5, column 1 (screw_angle_rad)" "$tmp/err"
+$py -c 'import json,sys; d=json.load(open(sys.argv[1])); d["measured"]["te_csv"]="x"; d["measured"]["te"]={"te_um":[1]}; json.dump(d,open(sys.argv[2],"w"))' "$v6doc" "$tmp/bad.json"
+"$prsm" calibrate "$tmp/bad.json" > /dev/null 2> "$tmp/err"; check "te and te_csv both" 1 $?
+ok "te and te_csv both: said at /measured/te_csv" grep -qF "/measured/te_csv: the TE curve is given twice" "$tmp/err"
+
+# ---- prsm validate knows a calibration request ----
+"$prsm" validate "$v6doc" --measured "$v6csv" --format text > "$tmp/out" 2>&1; check "validate V6 with its CSV" 0 $?
+"$prsm" validate "$tmp/te_csv.json" > "$tmp/out" 2>&1; check "validate V6 with te_csv" 0 $?
+ok "validate: valid" grep -qF "te_csv.json: valid" "$tmp/out"
+"$prsm" validate "$v6doc" --format text > "$tmp/out" 2>&1; check "validate V6 without a curve" 1 $?
+ok "validate V6 without a curve: nothing measured" grep -qF "/measured: nothing measured" "$tmp/out"
+$py -c 'import json,sys; d=json.load(open(sys.argv[1])); d["dynamics"]["calibrate"]["grid_pointz"]=3; json.dump(d,open(sys.argv[2],"w"))' "$v6doc" "$tmp/bad.json"
+"$prsm" validate "$tmp/bad.json" --measured "$v6csv" --format text > "$tmp/out" 2>&1; check "validate a misspelt calibration option" 1 $?
+ok "validate: did you mean grid_points" grep -qF 'did you mean "grid_points"' "$tmp/out"
 "$prsm" calibrate > /dev/null 2>&1; check "usage" 64 $?
 "$prsm" calibrate "$v6doc" --format xml > /dev/null 2>&1; check "bad format" 64 $?
 

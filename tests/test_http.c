@@ -3,7 +3,7 @@
  * object with its problems) and a server on a free loopback port over a temporary database
  * and data directory: health, a schema, the landing page, 404 and 405 (with Allow) as
  * problem documents, two Content-Length refused, a symbolic link out of web/ not followed, a
- * POST without a token when one is required.
+ * POST without a token when one is required; a calibration sent as multipart/form-data.
  */
 #include "test_support.h"
 
@@ -226,11 +226,124 @@ static void test_server(void **state)
 	prsm_jobs_close(jobs);
 }
 
+/* A calibration form: the boundary from its Content-Type, the parts split at it (a preamble,
+ * headers, a part without headers, the closing delimiter), the CSV part into measured.te_csv
+ * and every malformation a problem. */
+static void test_multipart(void **state)
+{
+	(void)state;
+	char b[PRSM_HTTP_BOUNDARY_MAX + 1];
+	assert_int_equal(prsm_http_multipart_boundary("multipart/form-data; boundary=abc-1", b, sizeof b), 1);
+	assert_string_equal(b, "abc-1");
+	assert_int_equal(prsm_http_multipart_boundary("Multipart/Form-Data;charset=utf-8; boundary=\"a b:c\"", b, sizeof b), 1);
+	assert_string_equal(b, "a b:c");
+	assert_int_equal(prsm_http_multipart_boundary("multipart/form-data", b, sizeof b), -1);
+	assert_int_equal(prsm_http_multipart_boundary("multipart/form-data; boundary=", b, sizeof b), -1);
+	assert_int_equal(prsm_http_multipart_boundary("multipart/form-data; boundary=\"unclosed", b, sizeof b), -1);
+	assert_int_equal(prsm_http_multipart_boundary("multipart/form-data; boundary=a<b", b, sizeof b), -1);
+	char longb[128];
+	snprintf(longb, sizeof longb, "multipart/form-data; boundary=%071d", 7);
+	assert_int_equal(prsm_http_multipart_boundary(longb, b, sizeof b), -1);
+	assert_int_equal(prsm_http_multipart_boundary("multipart/form-dataX; boundary=a", b, sizeof b), 0);
+	assert_int_equal(prsm_http_multipart_boundary("application/json", b, sizeof b), 0);
+	assert_int_equal(prsm_http_multipart_boundary(NULL, b, sizeof b), 0);
+
+	static const char form[] =
+		"preamble, ignored\r\n"
+		"--XyZ\r\n"
+		"Content-Disposition: form-data; name=\"request\"; filename=\"cal.json\"\r\n"
+		"Content-Type: application/json\r\n"
+		"\r\n"
+		"{\"design\": {\"name\": \"x\"}, \"measured\": {\"cage_ratio\": 0.37}}\r\n"
+		"--XyZ  \r\n"
+		"content-disposition: form-data; name=measured\r\n"
+		"\r\n"
+		"screw_angle_rad,te_um\r\n0,1.5\r\n--XyZ not the boundary\r\n1,2.5\r\n"
+		"--XyZ--\r\n"
+		"epilogue";
+	prsm_problems p;
+	prsm_problems_init(&p);
+	prsm_http_part parts[4];
+	int n = -1;
+	assert_int_equal(prsm_http_multipart_parse(parts, 4, &n, form, sizeof form - 1, "XyZ", &p), 0);
+	assert_int_equal(n, 2);
+	assert_string_equal(parts[0].name, "request");
+	assert_string_equal(parts[0].filename, "cal.json");
+	assert_int_equal(parts[0].len, strlen("{\"design\": {\"name\": \"x\"}, \"measured\": {\"cage_ratio\": 0.37}}"));
+	assert_string_equal(parts[1].name, "measured");
+	assert_string_equal(parts[1].filename, "");
+	static const char csv[] = "screw_angle_rad,te_um\r\n0,1.5\r\n--XyZ not the boundary\r\n1,2.5";
+	assert_int_equal(parts[1].len, sizeof csv - 1);
+	assert_memory_equal(parts[1].data, csv, sizeof csv - 1);
+	assert_int_equal(p.count, 0);
+	/* one part too many for the caller's array */
+	assert_int_equal(prsm_http_multipart_parse(parts, 1, &n, form, sizeof form - 1, "XyZ", &p), 400);
+	assert_int_equal(p.count, 1);
+
+	cJSON *doc = NULL;
+	prsm_problems_init(&p);
+	assert_int_equal(prsm_http_calibration_form(&doc, form, sizeof form - 1, "XyZ", &p), 0);
+	const cJSON *m = cJSON_GetObjectItemCaseSensitive(doc, "measured");
+	assert_true(cJSON_GetObjectItemCaseSensitive(m, "cage_ratio")->valuedouble == 0.37);
+	assert_string_equal(cJSON_GetObjectItemCaseSensitive(m, "te_csv")->valuestring, csv);
+	cJSON_Delete(doc);
+
+	/* malformed forms: each refused with its problem, nothing returned */
+	static const struct {
+		const char *body;
+		int status;
+		const char *needle;
+	} bad[] = {
+		{"no delimiter at all", 400, "no \"--XyZ\" line"},
+		{"--XyZ\r\nContent-Disposition: form-data; name=\"request\"\r\n\r\n{}\r\n", 400, "no closing"},
+		{"--XyZ\r\nContent-Disposition: form-data; name=\"request\"\r\n{}\r\n--XyZ--", 400, "blank line"},
+		{"--XyZ\r\nContent-Type: text/csv\r\n\r\na\r\n--XyZ--", 400, "no Content-Disposition"},
+		{"--XyZ\r\nContent-Disposition: attachment; name=\"a\"\r\n\r\na\r\n--XyZ--", 400, "not form-data"},
+		{"--XyZ\r\nContent-Disposition: form-data; name=\"request\"\r\n\r\n{}\r\n--XyZ--", 400, "no part \"measured\""},
+		{"--XyZ\r\nContent-Disposition: form-data; name=\"measured\"\r\n\r\na\r\n--XyZ--", 400, "no part \"request\""},
+		{"--XyZ\r\nContent-Disposition: form-data; name=\"notes\"\r\n\r\na\r\n"
+		 "--XyZ\r\nContent-Disposition: form-data; name=\"request\"\r\n\r\n{}\r\n"
+		 "--XyZ\r\nContent-Disposition: form-data; name=\"measured\"\r\n\r\na\r\n--XyZ--", 400, "part \"notes\""},
+		{"--XyZ\r\nContent-Disposition: form-data; name=\"request\"\r\n\r\n{}\r\n"
+		 "--XyZ\r\nContent-Disposition: form-data; name=\"request\"\r\n\r\n{}\r\n"
+		 "--XyZ\r\nContent-Disposition: form-data; name=\"measured\"\r\n\r\na\r\n--XyZ--", 400, "twice"},
+		{"--XyZ\r\nContent-Disposition: form-data; name=\"request\"\r\n\r\n{\r\n"
+		 "--XyZ\r\nContent-Disposition: form-data; name=\"measured\"\r\n\r\na\r\n--XyZ--", 400, ""},
+		{"--XyZ\r\nContent-Disposition: form-data; name=\"request\"\r\n\r\n[1]\r\n"
+		 "--XyZ\r\nContent-Disposition: form-data; name=\"measured\"\r\n\r\na\r\n--XyZ--", 422, "must be an object"},
+		{"--XyZ\r\nContent-Disposition: form-data; name=\"request\"\r\n\r\n{\"measured\": 3}\r\n"
+		 "--XyZ\r\nContent-Disposition: form-data; name=\"measured\"\r\n\r\na\r\n--XyZ--", 422, "measured is"},
+		{"--XyZ\r\nContent-Disposition: form-data; name=\"request\"\r\n\r\n{\"measured\": {\"te\": {}}}\r\n"
+		 "--XyZ\r\nContent-Disposition: form-data; name=\"measured\"\r\n\r\na\r\n--XyZ--", 422, "must not give"},
+		{"--XyZ\r\nContent-Disposition: form-data; name=\"request\"\r\n\r\n{}\r\n"
+		 "--XyZ\r\nContent-Disposition: form-data; name=\"measured\"\r\n\r\na\xff\r\n--XyZ--", 400, "UTF-8"},
+	};
+	for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+		prsm_problems_init(&p);
+		doc = (cJSON *)1;
+		assert_int_equal(prsm_http_calibration_form(&doc, bad[i].body, strlen(bad[i].body), "XyZ", &p), bad[i].status);
+		assert_null(doc);
+		assert_true(p.count >= 1);
+		int found = 0;
+		for (int j = 0; j < p.count; j++)
+			found |= strstr(p.items[j].message, bad[i].needle) != NULL;
+		if (!found)
+			fail_msg("case %zu: no problem says \"%s\" (first: %s)", i, bad[i].needle, p.items[0].message);
+	}
+	/* a NUL byte in the CSV part (the body is bytes, not a C string) */
+	static const char nul[] = "--XyZ\r\nContent-Disposition: form-data; name=\"request\"\r\n\r\n{}\r\n"
+	                          "--XyZ\r\nContent-Disposition: form-data; name=\"measured\"\r\n\r\na\0b\r\n--XyZ--";
+	prsm_problems_init(&p);
+	assert_int_equal(prsm_http_calibration_form(&doc, nul, sizeof nul - 1, "XyZ", &p), 400);
+	assert_non_null(strstr(p.items[0].message, "NUL"));
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_framing_and_types),
 		cmocka_unit_test(test_parse_body),
+		cmocka_unit_test(test_multipart),
 		cmocka_unit_test_setup_teardown(test_server, setup, teardown),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -150,18 +150,34 @@ int prsm_app_calibration_load(prsm_app_calibration **out, const cJSON *doc, cons
 	prsm_io_measured_read(&c->meas, item(doc, "measured"), problems);
 	prsm_io_calibrate_options_read(&c->options, item(dyn, "calibrate"), problems);
 	c->out.lead_mm = design_ok ? c->rq.d.starts * c->rq.d.pitch_mm : NAN;
-	/* the curve: the CSV file, else the document's arrays */
-	if (csv_path) {
-		const int crc = prsm_io_measured_csv_read(&c->csv_curve, &c->origin, csv_path, problems);
+	/* the curve: the CSV file, else the document's CSV text (measured.te_csv, e.g. a service
+	 * upload), else its arrays (measured.te) */
+	const cJSON *te_csv = item(item(doc, "measured"), "te_csv");
+	if (te_csv && !cJSON_IsString(te_csv)) {
+		prsm_problems_add(problems, "/measured/te_csv", "type",
+		                  "te_csv is the TE curve as CSV text (a header row naming screw_angle_rad, travel_mm "
+		                  "and te_um), a string");
+		te_csv = NULL;
+	} else if (te_csv && item(item(doc, "measured"), "te") && !csv_path) {
+		prsm_problems_add(problems, "/measured/te_csv", "one_curve",
+		                  "the TE curve is given twice: as arrays (measured.te) and as CSV text (measured.te_csv); "
+		                  "give one");
+		te_csv = NULL;
+	}
+	const char *csv_source = csv_path ? csv_path : te_csv ? "/measured/te_csv" : NULL;
+	if (csv_source) {
+		const int crc = csv_path ? prsm_io_measured_csv_read(&c->csv_curve, &c->origin, csv_path, problems)
+		                         : prsm_io_measured_csv_parse(&c->csv_curve, &c->origin, te_csv->valuestring,
+		                                                      strlen(te_csv->valuestring), csv_source, problems);
 		if (crc == 0) {
-			if (c->meas.has_te)
-				prsm_problems_add(&c->out.warnings, "/measured/te", "replaced",
+			if (csv_path && (c->meas.has_te || te_csv))
+				prsm_problems_add(&c->out.warnings, te_csv ? "/measured/te_csv" : "/measured/te", "replaced",
 				                  "the TE curve of %s replaces the one in the document", csv_path);
 			c->curve = &c->csv_curve;
-			c->out.source_csv = 1;
-			snprintf(c->out.source, sizeof c->out.source, "%s", csv_path);
+			c->out.source_csv = csv_path ? 1 : 2;
+			snprintf(c->out.source, sizeof c->out.source, "%s", csv_source);
 			if (design_ok)
-				prsm_io_measured_curve_check(&c->csv_curve, &c->origin, csv_path, c->out.lead_mm, problems);
+				prsm_io_measured_curve_check(&c->csv_curve, &c->origin, csv_source, c->out.lead_mm, problems);
 		} else if (rc == 0) {
 			rc = crc;
 		}
@@ -174,11 +190,13 @@ int prsm_app_calibration_load(prsm_app_calibration **out, const cJSON *doc, cons
 	if (c->curve == NULL && isnan(c->meas.efficiency) && isnan(c->meas.cage_ratio) &&
 	    prsm_problems_total(problems) == before)
 		prsm_problems_add(problems, "/measured", "required",
-		                  "nothing measured: give the TE curve (measured.te, or prsm calibrate --measured FILE.csv), "
+		                  "nothing measured: give the TE curve (measured.te, measured.te_csv, or prsm calibrate --measured "
+		                  "FILE.csv), "
 		                  "a cage ratio or an efficiency");
 	if (c->curve == NULL && c->options.model == PRSM_CALIB_MODEL_PHYSICAL && item(item(dyn, "calibrate"), "model"))
 		prsm_problems_add(problems, "/dynamics/calibrate/model", "needs_te",
-		                  "the physical model is calibrated on a TE curve: give measured.te or --measured FILE.csv");
+		                  "the physical model is calibrated on a TE curve: give measured.te, measured.te_csv or --measured "
+		                  "FILE.csv");
 	/* the physical model's fields */
 	if (design_ok && c->options.model == PRSM_CALIB_MODEL_PHYSICAL) {
 		for (int i = 0; i < c->options.fields; i++) {

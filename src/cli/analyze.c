@@ -12,6 +12,7 @@
 #include "cli/summary.h"
 #include "io/global.h"
 #include "app/allocate.h"
+#include "app/calibrate.h"
 #include "app/simulate.h"
 #include "io/allocation_json.h"
 #include "io/analysis_json.h"
@@ -25,6 +26,7 @@
 typedef struct {
 	const char *path;
 	const char *out_path;
+	const char *measured_path; /* validate --measured CSV: a calibration's curve */
 	int text;   /* --format text */
 } options;
 
@@ -43,8 +45,10 @@ static int parse_options(options *o, int argc, char **argv, int text_default)
 				fprintf(stderr, "prsm: --format must be json or text (got '%s')\n", f);
 				return -1;
 			}
-		} else if (strcmp(argv[i], "--out") == 0 && i + 1 < argc) {
+		} else if (strcmp(argv[i], "--out") == 0 && i + 1 < argc && strcmp(argv[0], "analyze") == 0) {
 			o->out_path = argv[++i];
+		} else if (strcmp(argv[i], "--measured") == 0 && i + 1 < argc && strcmp(argv[0], "validate") == 0) {
+			o->measured_path = argv[++i];
 		} else if (argv[i][0] == '-' && argv[i][1] != '\0') {
 			fprintf(stderr, "prsm %s: unknown option '%s'\n", argv[0], argv[i]);
 			return -1;
@@ -57,7 +61,7 @@ static int parse_options(options *o, int argc, char **argv, int text_default)
 	}
 	if (o->path == NULL) {
 		fprintf(stderr, "usage: prsm %s FILE|- [--format json|text]%s\n", argv[0],
-		        strcmp(argv[0], "analyze") == 0 ? " [--out FILE]" : "");
+		        strcmp(argv[0], "analyze") == 0 ? " [--out FILE]" : " [--measured CSV]");
 		return -1;
 	}
 	return 0;
@@ -110,6 +114,33 @@ int prsm_cli_read_document(cJSON **doc, const char *path, prsm_problems *problem
 	return *doc ? 0 : PRSM_EXIT_INVALID;
 }
 
+/* A calibration request: it has measured data or asks for the analysis "calibrate". */
+static int is_calibration(const cJSON *doc)
+{
+	if (!cJSON_IsObject(doc))
+		return 0;
+	if (cJSON_GetObjectItemCaseSensitive(doc, "measured"))
+		return 1;
+	const cJSON *an = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(doc, "dynamics"), "analysis");
+	return cJSON_IsString(an) && strcmp(an->valuestring, "calibrate") == 0;
+}
+
+/* Read a calibration request as prsm calibrate does (with the curve of the CSV file csv_path,
+ * NULL: none); its warnings into warnings. Returns the exit code. */
+static int validate_calibration(const cJSON *doc, const char *csv_path, prsm_problems *warnings,
+                                prsm_problems *problems)
+{
+	prsm_app_calibration *c = NULL;
+	int rc = prsm_app_calibration_load(&c, doc, csv_path, problems);
+	if (rc == 0) {
+		const prsm_problems *w = &prsm_app_calibration_data(c)->warnings;
+		for (int i = 0; i < w->count; i++)
+			prsm_problems_add(warnings, w->items[i].pointer, w->items[i].code, "%s", w->items[i].message);
+		prsm_app_calibration_free(c);
+	}
+	return prsm_error_exit_code(rc);
+}
+
 int prsm_cli_validate(int argc, char **argv)
 {
 	options o;
@@ -124,8 +155,10 @@ int prsm_cli_validate(int argc, char **argv)
 	cJSON *doc;
 	int rc = prsm_cli_read_document(&doc, o.path, &problems);
 	/* the document's kind by its members: an allocation (allocate), an optimisation
-	 * (variables, objectives), a study (tolerances), a simulation request (dynamics: checked
-	 * as `prsm simulate` reads it, the model built), else a design or analyze request */
+	 * (variables, objectives), a study (tolerances), a calibration request (measured, or
+	 * dynamics.analysis "calibrate": read as `prsm calibrate` reads it, the curve checked), a
+	 * simulation request (dynamics: checked as `prsm simulate` reads it, the model built), else a
+	 * design or analyze request */
 	if (rc == 0 && cJSON_IsObject(doc) && cJSON_GetObjectItemCaseSensitive(doc, "allocate"))
 		rc = prsm_error_exit_code(prsm_app_allocation_check(doc, 0, &warnings, &problems));
 	else if (rc == 0 && cJSON_IsObject(doc) && cJSON_GetObjectItemCaseSensitive(doc, "variables") &&
@@ -133,6 +166,8 @@ int prsm_cli_validate(int argc, char **argv)
 		rc = prsm_error_exit_code(prsm_app_optimization_check(doc, 0, &warnings, &problems));
 	else if (rc == 0 && cJSON_IsObject(doc) && cJSON_GetObjectItemCaseSensitive(doc, "tolerances"))
 		rc = prsm_cli_study_check(doc, &warnings, &problems);
+	else if (rc == 0 && (is_calibration(doc) || o.measured_path))
+		rc = validate_calibration(doc, o.measured_path, &warnings, &problems);
 	else if (rc == 0 && cJSON_IsObject(doc) && cJSON_GetObjectItemCaseSensitive(doc, "dynamics"))
 		rc = prsm_error_exit_code(prsm_app_simulation_check(doc, &warnings, &problems));
 	else if (rc == 0)

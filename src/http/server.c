@@ -100,6 +100,8 @@ typedef struct {
 	size_t len, cap;
 	int too_large, over_budget;
 	size_t discarded;
+	int form;                   /* a calibration sent as multipart/form-data (docs/service.md) */
+	char boundary[PRSM_HTTP_BOUNDARY_MAX + 1];
 } request;
 
 /* ---- responses ---------------------------------------------------------------------------- */
@@ -346,9 +348,23 @@ static int precheck(prsm_http *h, struct MHD_Connection *c, const char *url, con
 	}
 	if (strcmp(method, "POST") == 0) {
 		const char *type = prsm_mhd.lookup_connection_value(c, MHD_HEADER_KIND, MHD_HTTP_HEADER_CONTENT_TYPE);
-		if (!prsm_http_is_json_type(type)) {
-			*ret = send_problem(c, 415, "", "media_type", "Accept-Post", "application/json",
-			                    "Content-Type %.80s: send application/json", type ? type : "(none)");
+		/* a calibration may come as a form: its JSON request and the bench's CSV file */
+		const int takes_form = r->rt.kind == R_COLLECTION && r->rt.job_kind == &prsm_job_kind_calibration;
+		const int form = takes_form ? prsm_http_multipart_boundary(type, r->boundary, sizeof r->boundary) : 0;
+		if (form < 0) {
+			*ret = send_problem(c, 400, "", "media_type", NULL, NULL,
+			                    "Content-Type %.80s: multipart/form-data needs a boundary parameter of 1 to %d "
+			                    "characters (RFC 2046)", type, PRSM_HTTP_BOUNDARY_MAX);
+			return 1;
+		}
+		r->form = form == 1;
+		if (!r->form && !prsm_http_is_json_type(type)) {
+			const char *accept = takes_form ? "application/json, multipart/form-data" : "application/json";
+			*ret = send_problem(c, 415, "", "media_type", "Accept-Post", accept,
+			                    takes_form ? "Content-Type %.80s: send application/json, or multipart/form-data with "
+			                                 "the parts request (JSON) and measured (the TE curve as CSV)"
+			                               : "Content-Type %.80s: send application/json",
+			                    type ? type : "(none)");
 			return 1;
 		}
 		if (f.content_length_value) {
@@ -542,7 +558,16 @@ static enum MHD_Result on_analyze(prsm_http *h, struct MHD_Connection *c, reques
 static enum MHD_Result on_submit(prsm_http *h, struct MHD_Connection *c, request *r)
 {
 	enum MHD_Result ret = MHD_NO;
-	cJSON *doc = body_doc(h, c, r, &ret);
+	cJSON *doc = NULL;
+	if (r->form) {
+		prsm_problems p;
+		prsm_problems_init(&p);
+		int status = prsm_http_calibration_form(&doc, r->body ? r->body : "", r->len, r->boundary, &p);
+		if (status)
+			return send_problems(c, (unsigned)status, &p, NULL, NULL);
+	} else {
+		doc = body_doc(h, c, r, &ret);
+	}
 	if (!doc)
 		return ret;
 	ret = submit_and_answer(h, c, r->rt.job_kind, doc);

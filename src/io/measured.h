@@ -69,8 +69,9 @@ int prsm_io_calibrate_options_read(prsm_calib_options *o, const cJSON *obj, prsm
 /* Everything a calibration computed (filled by app/calibrate.c, written here). */
 typedef struct {
 	char name[256];              /* the design's name, "" when none */
-	char source[256];            /* the CSV path, or "/measured/te" */
-	int source_csv;              /* 1: the curve came from a CSV file */
+	char source[256];            /* the CSV path, "/measured/te_csv" or "/measured/te" */
+	int source_csv;              /* 1: the curve came from a CSV file, 2: from CSV text in the request
+	                              * (measured.te_csv), 0: from its arrays */
 	double lead_mm;              /* L = n P */
 	const prsm_meas_data *measured;
 	const prsm_meas_curve *curve;/* NULL: no TE curve */

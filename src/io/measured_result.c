@@ -151,7 +151,7 @@ cJSON *prsm_io_calibration_to_json(const prsm_io_calibration *c)
 	cJSON *mo = prsm_jw_object(&w, root, "measured");
 	if (c->curve) {
 		prsm_jw_string(&w, mo, "source", c->source_csv ? "csv" : "json");
-		if (c->source_csv)
+		if (c->source_csv == 1)
 			prsm_jw_string(&w, mo, "file", c->source);
 		prsm_jw_number(&w, mo, "points", (double)c->curve->n);
 		prsm_jw_number(&w, mo, "revolutions", prsm_meas_revolutions(c->curve));

@@ -1332,7 +1332,8 @@ async function vibrationViews(page) {
 
 // ---- calibration against measured data (issue 17 item 5): validation case V6 ----------------------
 // The web example is tests/data/calibrate-case-a-v6.json with the curve of tests/data/v6-measured-te.csv
-// inlined as measured.te arrays (the service takes no CSV file): the same members, the same numbers.
+// inlined as measured.te arrays: the same members, the same numbers. (The file itself is picked with the
+// view's file input below: its text becomes measured.te_csv.)
 function calibrationExampleIsV6(file) {
   const got = JSON.parse(fs.readFileSync(path.join(source, 'web/examples', file), 'utf8'));
   const base = JSON.parse(fs.readFileSync(path.join(source, 'tests/data/calibrate-case-a-v6.json'), 'utf8'));
@@ -1410,6 +1411,24 @@ async function calibrationView(page, shot) {
   check('caveats: every caveat listed, marked as the API says', cav.length === cal.caveats.length && cal.caveats.every((c, i) => cav[i].code === c.code && cav[i].triggered === c.triggered), JSON.stringify(cav));
   await shot('18-calibration.png');
   await (await page.$('#results')).screenshot({ path: path.join(artifacts, '18b-calibration-results.png') });
+
+  // the bench file picked as it is: its text becomes measured.te_csv, the service reads it, the
+  // overlay draws it; the same k as the inlined arrays
+  await page.evaluate(() => { document.getElementById('cal-note').textContent = ''; });
+  await loadExample(page, '#calibration', file);
+  await page.setInputFiles('#cal-csv', path.join(source, 'tests/data/v6-measured-te.csv'));
+  await page.waitForFunction(() => document.getElementById('cal-request').value.includes('te_csv'));
+  const withCsv = JSON.parse(await page.inputValue('#cal-request'));
+  check('a picked CSV file goes into measured.te_csv in place of the arrays', typeof withCsv.measured.te_csv === 'string'
+    && withCsv.measured.te_csv === fs.readFileSync(path.join(source, 'tests/data/v6-measured-te.csv'), 'utf8') && !('te' in withCsv.measured));
+  const before2 = await page.evaluate(() => location.hash.slice(1));
+  await page.click('#cal-submit');
+  const done2 = await waitJob(page, 'calibrations', 'done', '#cal-estimates', 120000, before2);
+  const r2 = done2.job.result;
+  check('the CSV calibration: source csv, 960 points, the same k', r2.measured.source === 'csv' && r2.measured.points === 960
+    && r2.calibration.carrier_ratio.estimate === cal.carrier_ratio.estimate, JSON.stringify(r2.measured));
+  const series2 = await page.$$eval('#cal-overlay-plot path.xy-line', ps => ps.map(q => Number(q.dataset.points)));
+  check('the CSV calibration: the overlay draws the file\'s 960 points, measured and model', series2.length === 2 && series2.every(n => n === 960), JSON.stringify(series2));
   await a11yAudit(page, 'calibration');
   await contrastAudit(page, 'calibration');
   await layoutAudit(page, 'calibration');

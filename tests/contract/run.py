@@ -810,8 +810,52 @@ def suite_calibrations(client, contract, source, prsm=None):
     check("a calibration without a curve and with another analysis: 422", r.status == 422
           and "/dynamics/analysis" in [e["pointer"] for e in r.json()["errors"]], f"{r.status} {r.body[:300]!r}")
     with open(csv_path, encoding="utf-8") as f:
-        r = client.post("/v1/calibrations", f.read(), content_type="text/csv")
-    check("a CSV body: 415 (the curve goes into the JSON request)", r.status == 415, str(r.status))
+        csv_text = f.read()
+    r = client.post("/v1/calibrations", csv_text, content_type="text/csv")
+    check("a CSV body alone: 415 naming the two forms taken", r.status == 415
+          and "multipart/form-data" in r.headers.get("accept-post", ""), f"{r.status} {r.headers.get('accept-post')}")
+    # the bench file uploaded as it is: multipart/form-data with the parts request and measured
+    boundary = "prsm-" + "%016x" % random.getrandbits(64)
+
+    def form(parts, b=boundary):
+        out = []
+        for name, ctype, text in parts:
+            out.append(f'--{b}\r\nContent-Disposition: form-data; name="{name}"; filename="{name}.x"\r\n'
+                       f'Content-Type: {ctype}\r\n\r\n{text}\r\n')
+        return "".join(out) + f"--{b}--\r\n"
+    ftype = f'multipart/form-data; boundary="{boundary}"'
+    r = client.post("/v1/calibrations", form([("request", "application/json", json.dumps(base)),
+                                              ("measured", "text/csv", csv_text)]), content_type=ftype)
+    check("calibration as a form (request + measured CSV): 202 or 200", r.status in (200, 202), f"{r.status} {r.body[:300]!r}")
+    if r.status in (200, 202):
+        done = wait_job(client, f"/v1/calibrations/{r.json()['id']}", timeout=120)
+        ok = done is not None and done["state"] == "done"
+        check("calibration as a form: done", ok, str(done and (done["state"], done.get("problem"))))
+        if ok:
+            res = done["result"]
+            k = res["calibration"]["carrier_ratio"]["estimate"]
+            check("calibration as a form: the curve came as CSV (960 points), k as the CLI's (1e-12)",
+                  res["measured"]["source"] == "csv" and res["measured"]["points"] == 960 and "file" not in res["measured"]
+                  and (cli_k is None or abs(k - cli_k) <= 1e-12), f"{json.dumps(res['measured'])} {k} {cli_k}")
+    bad_csv = csv_text.replace("\n0.", "\nx.", 3)
+    r = client.post("/v1/calibrations", form([("request", "application/json", json.dumps(base)),
+                                              ("measured", "text/csv", bad_csv)]), content_type=ftype)
+    check("a form with a bad CSV: 422 at /measured/te_csv with its line and column", r.status == 422
+          and any(e["pointer"] == "/measured/te_csv" and "line " in e["message"] and "column " in e["message"]
+                  for e in r.json()["errors"]), f"{r.status} {r.body[:300]!r}")
+    r = client.post("/v1/calibrations", form([("request", "application/json", json.dumps(base))]), content_type=ftype)
+    check("a form without its CSV part: 400", r.status == 400 and "measured" in r.json()["errors"][0]["message"],
+          f"{r.status} {r.body[:200]!r}")
+    r = client.post("/v1/calibrations", form([("request", "application/json", "{")] + [("measured", "text/csv", csv_text)]),
+                    content_type=ftype)
+    check("a form whose request is not JSON: 400", r.status == 400, str(r.status))
+    r = client.post("/v1/calibrations", form([("request", "application/json", json.dumps(base)),
+                                              ("measured", "text/csv", csv_text)])[:-40], content_type=ftype)
+    check("a form cut short: 400", r.status == 400, str(r.status))
+    r = client.post("/v1/calibrations", "x", content_type="multipart/form-data")
+    check("multipart without a boundary: 400", r.status == 400, str(r.status))
+    r = client.post("/v1/studies", form([("request", "application/json", "{}")]), content_type=ftype)
+    check("a form on another collection: 415", r.status == 415, str(r.status))
     # cancel: a distinct request (the cache would answer V6), cancelled at once; it may finish first
     other = copy.deepcopy(req)
     other["dynamics"]["calibrate"]["grid_points"] = 2001 + 2 * random.randrange(1, 500)

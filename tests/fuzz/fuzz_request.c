@@ -4,7 +4,7 @@
  * an object at the top), then, for a document, both readers a POST reaches — the study
  * kind's validation with the service's limits and the synchronous analysis — and the
  * canonical JSON of what parsed; the bytes also as header values (framing, media type,
- * token). Nothing may crash, leak or read out of bounds; run it under ASan.
+ * token, a form's boundary) and as a calibration form (multipart/form-data, boundary "b"). Nothing may crash, leak or read out of bounds; run it under ASan.
  *
  * Built by CMake as fuzz_request_replay (with replay.c: every corpus file once, a CTest
  * test) and, when the compiler is clang, as fuzz_request (libFuzzer).
@@ -58,5 +58,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	prsm_http_check_framing(1, header, 0, &problems);
 	prsm_http_is_json_type(header);
 	prsm_http_bearer_ok(header, "token");
+	char boundary[PRSM_HTTP_BOUNDARY_MAX + 1];
+	prsm_http_multipart_boundary(header, boundary, sizeof boundary);
+	/* the bytes as a calibration form with the boundary "b" (the corpus' form-*.txt seeds) */
+	prsm_problems_init(&problems);
+	cJSON *form = NULL;
+	if (prsm_http_calibration_form(&form, body, size, "b", &problems) == 0)
+		cJSON_Delete(form);
 	return 0;
 }

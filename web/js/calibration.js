@@ -1,6 +1,6 @@
 // The calibration view: appears only when GET /v1/openapi.json lists /v1/calibrations. The request
 // (schemas/measured-request.schema.json: a design, optionally its error set, the measured TE curve
-// as arrays and the calibration options) is edited as JSON with a few settings as fields, and run
+// as arrays or as a bench CSV file's text, picked with the file input, and the calibration options) is edited as JSON with a few settings as fields, and run
 // in the page's job view. The result (schemas/measured-result.schema.json, docs/measured-data.md):
 // the measured TE and the calibrated model's TE overlaid against travel or screw angle, the
 // detrended spectrum with the named lines marked, the calibrated estimates with their standard
@@ -22,9 +22,33 @@ const LINE_LABELS = {
 const SHORT = { screw_rev: 'screw rev', roller_spin: 'roller spin', roller_pass_nut: 'pass nut', roller_pass_screw: 'pass screw' };
 const numTd = (key, v, shown) => h('td', { 'data-key': key, 'data-value': typeof v === 'number' ? String(v) : undefined }, shown !== undefined ? shown : fmt(v));
 
-// The measured curve of the request: angle (rad) and travel (mm), the one missing from the lead.
+// The columns of a bench CSV (measured.te_csv): a header row naming them, '#' comments and blank
+// lines skipped, RFC 4180 quotes around a field; every value a number. null when it is not such a
+// table (the service says why when the request is submitted).
+export function csvColumns(text) {
+  if (typeof text !== 'string') return null;
+  const split = line => {
+    const out = []; let cur = '', q = false;
+    for (let i = 0; i < line.length; i++) {
+      const c = line[i];
+      if (q) { if (c === '"' && line[i + 1] === '"') { cur += '"'; i++; } else if (c === '"') q = false; else cur += c; }
+      else if (c === '"') q = true; else if (c === ',') { out.push(cur.trim()); cur = ''; } else cur += c;
+    }
+    out.push(cur.trim());
+    return out;
+  };
+  const rows = text.split(/\r?\n/).filter(l => l.trim() && !l.startsWith('#')).map(split);
+  if (rows.length < 2) return null;
+  const cols = {};
+  rows[0].forEach((name, i) => { cols[name] = rows.slice(1).map(r => Number(r[i])); });
+  return Object.values(cols).every(c => c.every(Number.isFinite)) ? cols : null;
+}
+
+// The measured curve of the request (measured.te arrays, or the CSV text of measured.te_csv):
+// angle (rad) and travel (mm), the one missing from the lead.
 export function measuredCurve(request, leadMm) {
-  const te = request && request.measured && request.measured.te;
+  const m = request && request.measured;
+  const te = m && (m.te || csvColumns(m.te_csv));
   if (!te || !Array.isArray(te.te_um)) return null;
   const n = te.te_um.length;
   const L = typeof leadMm === 'number' && leadMm > 0 ? leadMm : NaN;
@@ -224,6 +248,25 @@ export function setupCalibration(openapi, ctx) {
     ],
     onSubmitted: (r, doc) => ctx.submitted(r, doc, COLLECTION),
   });
+  // a bench file as it is: its text into measured.te_csv (the service reads it with line and column
+  // in every problem), in place of any curve the request held
+  const csvInput = h('input', { type: 'file', id: 'cal-csv', accept: '.csv,text/csv,text/plain' });
+  const csvNote = h('span', { class: 'hint', id: 'cal-csv-note', role: 'status' });
+  csvInput.addEventListener('change', async () => {
+    const f = csvInput.files && csvInput.files[0];
+    if (!f) return;
+    let doc;
+    try { doc = editor.getDoc(); } catch (e) { csvNote.textContent = 'The request below is not JSON yet: load an example or fix it first.'; return; }
+    const text = await f.text();
+    doc.measured = doc.measured && typeof doc.measured === 'object' ? doc.measured : {};
+    delete doc.measured.te;
+    doc.measured.te_csv = text;
+    const cols = csvColumns(text);
+    editor.setDoc(doc, `Loaded ${f.name} into measured.te_csv${cols && cols.te_um ? ` (${cols.te_um.length} points)` : ''}.`);
+    csvNote.textContent = `${f.name}: ${text.length} characters`;
+  });
+  document.getElementById('calibration-body').prepend(h('p', { class: 'file-pick' },
+    h('label', { for: 'cal-csv' }, 'Measured TE from a bench CSV file (columns screw_angle_rad or travel_mm, and te_um): '), csvInput, ' ', csvNote));
   if (examples.length) api.example(examples[0].file).then(doc => { if (!editor.textarea.value) editor.setDoc(doc, `Loaded ${examples[0].file}; pick another example or edit the request.`); }).catch(() => {});
   return true;
 }
