@@ -92,6 +92,26 @@ A = json.load(open(sys.argv[1]))["calibration"]; B = json.load(open(sys.argv[2])
 a, b, se = A["estimates"], B["estimates"], A["standard_errors"]
 assert a.keys() == b.keys() and all(abs(a[k] - b[k]) <= 1e-6 * se[k] for k in a), (a, b)' "$tmp/v6.json" "$tmp/v6a.json"
 
+ok "V6: the fitted curve is the line model at every point (an independent evaluation) and gives s" $py - "$tmp/v6.json" "$v6csv" <<'PY'
+import csv, json, math, sys
+d = json.load(open(sys.argv[1]))
+c = d["calibration"]
+rows = [r for r in csv.reader(l for l in open(sys.argv[2]) if not l.startswith("#"))]
+cols = {n: [float(r[i]) for r in rows[1:]] for i, n in enumerate(rows[0])}
+th, s, te, f = cols["screw_angle_rad"], cols["travel_mm"], cols["te_um"], c["fitted_te_um"]
+e = c["estimates"]
+worst = 0.0
+for i in range(len(te)):
+    v = e["offset_um"] + e["slope_um_per_300mm"] * s[i] / 300
+    for l in c["lines"]:
+        v += e[l["name"] + "_cos_um"] * math.cos(l["order_per_rev"] * th[i]) + e[l["name"] + "_sin_um"] * math.sin(l["order_per_rev"] * th[i])
+    worst = max(worst, abs(v - f[i]))
+assert worst < 1e-9, worst
+n, p = len(te), len(c["parameters"])
+sd = math.sqrt(sum((m - y) ** 2 for m, y in zip(te, f)) / (n - p))
+assert abs(sd / c["residual_sd_um"] - 1) < 1e-9, (sd, c["residual_sd_um"])
+PY
+
 # ---- the physical model, friction, carrier drag ----
 $py - "$v6doc" "$tmp/phys.json" <<'PY'
 import json, sys
@@ -118,6 +138,25 @@ assert abs(d["comparison"]["efficiency"]["axial_load_N"] - 5230) < 1e-9
 k = d["carrier_drag"]
 assert k["found"] and not k["above_min_slip"] and k["carrier_drag_Nm_s_per_rad"] > 0, k
 assert d["comparison"]["cage_ratio"]["z_min_slip"] < 0
+PY
+ok "physical model: the fitted curve is the calibrated lead error's straight line, and gives s" $py - "$tmp/phys-out.json" "$v6csv" <<'PY'
+import csv, json, math, sys
+d = json.load(open(sys.argv[1]))
+c = d["calibration"]
+rows = [r for r in csv.reader(l for l in open(sys.argv[2]) if not l.startswith("#"))]
+cols = {n: [float(r[i]) for r in rows[1:]] for i, n in enumerate(rows[0])}
+s, te, f = cols["travel_mm"], cols["te_um"], c["fitted_te_um"]
+assert len(f) == len(te) == 960
+# a lead error alone moves the nut in proportion to the travel: the fitted TE is a straight line
+# whose slope is the estimate per 300 mm (least squares, independent of the engine)
+n = len(s); ms, mf = sum(s) / n, sum(f) / n
+b = sum((x - ms) * (y - mf) for x, y in zip(s, f)) / sum((x - ms) ** 2 for x in s)
+dev = max(abs(y - (mf + b * (x - ms))) for x, y in zip(s, f))
+assert dev < 1e-6, dev
+assert abs(b * 300 - c["estimates"]["screw.lead_deviation_um_per_300mm"]) < 1e-6, (b * 300, c["estimates"])
+p = len(c["parameters"])
+sd = math.sqrt(sum((m - y) ** 2 for m, y in zip(te, f)) / (n - p))
+assert abs(sd / c["residual_sd_um"] - 1) < 1e-9, (sd, c["residual_sd_um"])
 PY
 $py -c 'import json,sys; d=json.load(open(sys.argv[1])); d["measured"]["cage_ratio"]=0.3781; json.dump(d,open(sys.argv[2],"w"))' "$tmp/phys.json" "$tmp/above.json"
 "$prsm" calibrate "$tmp/above.json" --measured "$v6csv" > "$tmp/above-out.json"; check "cage ratio above k*" 0 $?

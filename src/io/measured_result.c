@@ -248,6 +248,14 @@ cJSON *prsm_io_calibration_to_json(const prsm_io_calibration *c)
 			write_line(&w, cal, &c->line);
 		else
 			write_physical(&w, cal, c);
+		/* the calibrated model's TE at every measured point (measured - residual), um: what a
+		 * plot overlays on the measurement, for either model */
+		const prsm_calib_fit *fit = c->has_line ? &c->line.fit : &c->physical.fit;
+		if (c->curve && fit->residual_um && fit->points == c->curve->n) {
+			cJSON *fitted = prsm_jw_array(&w, cal, "fitted_te_um");
+			for (size_t i = 0; i < c->curve->n; i++)
+				prsm_jw_number(&w, fitted, NULL, c->curve->te_um[i] - fit->residual_um[i]);
+		}
 	}
 	/* §8.5 item 4 */
 	if (c->has_friction) {

@@ -94,26 +94,29 @@ function overlayCard(r, request) {
     return card;
   }
   const cal = r.calibration || {};
-  const model = cal.model === 'line' ? lineModel(cal, curve) : null;
+  // the result's fitted curve (either model), else the line model evaluated here from its estimates
+  const model = Array.isArray(cal.fitted_te_um) && cal.fitted_te_um.length === curve.te.length ? cal.fitted_te_um
+    : cal.model === 'line' ? lineModel(cal, curve) : null;
   const axis = h('select', { id: 'cal-x-axis' }, h('option', { value: 'travel' }, 'nut travel (mm)'), h('option', { value: 'angle' }, 'screw angle (rev)'));
   const fig = h('figure', { class: 'plot-box wide' });
+  const modelName = cal.model === 'physical' ? 'physical model (the error fields through the statics model)' : 'line model';
   let rms = null;
   if (model) rms = Math.sqrt(model.reduce((a, v, i) => a + (curve.te[i] - v) ** 2, 0) / model.length);
   const draw = () => {
     const byAngle = axis.value === 'angle';
     const x = byAngle ? curve.angle.map(t => t / (2 * Math.PI)) : curve.travel;
     const series = [{ key: 'measured', label: 'measured', cls: 's0', kind: 'line', x, y: curve.te }];
-    if (model) series.push({ key: 'model', label: 'calibrated line model', cls: 's1', kind: 'line', dash: true, x, y: model });
+    if (model) series.push({ key: 'model', label: `calibrated ${modelName}`, cls: 's1', kind: 'line', dash: true, x, y: model });
     const svg = xyChart({
       series, w: 900, h: 300,
       xLabel: byAngle ? 'screw angle θ (rev)' : 'nut travel s (mm)', yLabel: 'transmission error (µm)',
       title: 'Measured transmission error and the calibrated model',
-      desc: `${curve.te.length} measured points${model ? ` and the calibrated line model at the same points (RMS difference ${fmt(rms)} µm, the fit's residual s ${fmt(cal.residual_sd_um)} µm)` : ''}, against ${byAngle ? 'the screw angle in revolutions' : 'the nut travel in mm'}. The estimates are in the table below.`,
+      desc: `${curve.te.length} measured points${model ? ` and the calibrated ${modelName} at the same points (RMS difference ${fmt(rms)} µm, the fit's residual s ${fmt(cal.residual_sd_um)} µm)` : ''}, against ${byAngle ? 'the screw angle in revolutions' : 'the nut travel in mm'}. The estimates are in the table below.`,
     });
     svg.id = 'cal-overlay-plot';
     fig.textContent = '';
-    fig.append(svg, h('figcaption', {}, model ? `Blue: measured; orange dashed: the line model with the calibrated estimates (RMS difference ${fmt(rms)} µm).`
-      : 'The measured curve. The physical model’s fitted curve is not part of the result: its fields and their standard errors are below.'));
+    fig.append(svg, h('figcaption', {}, model ? `Blue: measured; orange dashed: the ${modelName} with the calibrated estimates (RMS difference ${fmt(rms)} µm).`
+      : 'The measured curve (this result has no fitted curve): the estimates and their standard errors are below.'));
   };
   axis.addEventListener('change', draw);
   draw();
