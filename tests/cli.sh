@@ -694,7 +694,7 @@ assert [w["code"] for w in d["warnings"] if w["pointer"] == "/dynamics"] == ["no
 "$prsm" validate "$src/studies/dynamics-seed000-row1.json" > /dev/null; check "validate a simulation request" 0 $?
 $py -c 'import json, sys
 d = json.load(open(sys.argv[1]))
-d["dynamics"]["analysis"] = "calibrate"
+d["dynamics"]["analysis"] = "modal"
 d["dynamics"]["time"] = {"end_s": 0, "output_step_s": 1e-10}
 d["dynamics"]["inertia"] = {"roller_mass_kg": -1, "carrier_inertia_kg_mm2": -2}
 d["dynamics"]["input"] = {"kind": "torque", "value_rad_s": 100}

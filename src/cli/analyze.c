@@ -12,7 +12,7 @@
 #include "cli/summary.h"
 #include "io/global.h"
 #include "app/allocate.h"
-#include "app/calibrate.h"
+#include "app/validate.h"
 #include "app/simulate.h"
 #include "io/allocation_json.h"
 #include "io/analysis_json.h"
@@ -114,67 +114,24 @@ int prsm_cli_read_document(cJSON **doc, const char *path, prsm_problems *problem
 	return *doc ? 0 : PRSM_EXIT_INVALID;
 }
 
-/* A calibration request: it has measured data or asks for the analysis "calibrate". */
-static int is_calibration(const cJSON *doc)
-{
-	if (!cJSON_IsObject(doc))
-		return 0;
-	if (cJSON_GetObjectItemCaseSensitive(doc, "measured"))
-		return 1;
-	const cJSON *an = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(doc, "dynamics"), "analysis");
-	return cJSON_IsString(an) && strcmp(an->valuestring, "calibrate") == 0;
-}
-
-/* Read a calibration request as prsm calibrate does (with the curve of the CSV file csv_path,
- * NULL: none); its warnings into warnings. Returns the exit code. */
-static int validate_calibration(const cJSON *doc, const char *csv_path, prsm_problems *warnings,
-                                prsm_problems *problems)
-{
-	prsm_app_calibration *c = NULL;
-	int rc = prsm_app_calibration_load(&c, doc, csv_path, problems);
-	if (rc == 0) {
-		const prsm_problems *w = &prsm_app_calibration_data(c)->warnings;
-		for (int i = 0; i < w->count; i++)
-			prsm_problems_add(warnings, w->items[i].pointer, w->items[i].code, "%s", w->items[i].message);
-		prsm_app_calibration_free(c);
-	}
-	return prsm_error_exit_code(rc);
-}
-
 int prsm_cli_validate(int argc, char **argv)
 {
 	options o;
 	if (parse_options(&o, argc, argv, 1))
 		return PRSM_EXIT_USAGE;
-	prsm_analyze_request *rq = calloc(1, sizeof *rq);
-	if (rq == NULL)
-		return PRSM_EXIT_FAILED;
 	prsm_problems warnings, problems;
 	prsm_problems_init(&warnings);
 	prsm_problems_init(&problems);
 	cJSON *doc;
 	int rc = prsm_cli_read_document(&doc, o.path, &problems);
-	/* the document's kind by its members: an allocation (allocate), an optimisation
-	 * (variables, objectives), a study (tolerances), a calibration request (measured, or
-	 * dynamics.analysis "calibrate": read as `prsm calibrate` reads it, the curve checked), a
-	 * simulation request (dynamics: checked as `prsm simulate` reads it, the model built), else a
-	 * design or analyze request */
-	if (rc == 0 && cJSON_IsObject(doc) && cJSON_GetObjectItemCaseSensitive(doc, "allocate"))
-		rc = prsm_error_exit_code(prsm_app_allocation_check(doc, 0, &warnings, &problems));
-	else if (rc == 0 && cJSON_IsObject(doc) && cJSON_GetObjectItemCaseSensitive(doc, "variables") &&
-	         cJSON_GetObjectItemCaseSensitive(doc, "objectives"))
-		rc = prsm_error_exit_code(prsm_app_optimization_check(doc, 0, &warnings, &problems));
-	else if (rc == 0 && cJSON_IsObject(doc) && cJSON_GetObjectItemCaseSensitive(doc, "tolerances"))
-		rc = prsm_cli_study_check(doc, &warnings, &problems);
-	else if (rc == 0 && (is_calibration(doc) || o.measured_path))
-		rc = validate_calibration(doc, o.measured_path, &warnings, &problems);
-	else if (rc == 0 && cJSON_IsObject(doc) && cJSON_GetObjectItemCaseSensitive(doc, "dynamics"))
-		rc = prsm_error_exit_code(prsm_app_simulation_check(doc, &warnings, &problems));
-	else if (rc == 0)
-		rc = prsm_error_exit_code(prsm_io_analyze_load(rq, doc, &warnings, &problems));
+	/* read as the command that runs it reads it (app/validate.h: the kind by its members) */
+	prsm_doc_kind kind = PRSM_DOC_DESIGN;
+	int vrc = 0;
+	if (rc == 0) {
+		vrc = prsm_app_validate(doc, o.measured_path, &kind, &warnings, &problems);
+		rc = prsm_error_exit_code(vrc);
+	}
 	cJSON_Delete(doc);
-	prsm_io_analyze_free(rq);
-	free(rq);
 	if (rc == PRSM_EXIT_USAGE) {
 		prsm_cli_print_problems(stderr, o.path, &problems);
 		return rc;
@@ -187,10 +144,9 @@ int prsm_cli_validate(int argc, char **argv)
 			printf("%s: valid\n", o.path);
 		}
 	} else {
-		cJSON *res = cJSON_CreateObject();
-		cJSON_AddBoolToObject(res, "valid", rc == 0);
-		cJSON_AddItemToObject(res, "errors", prsm_io_problems_to_json(&problems));
-		cJSON_AddItemToObject(res, "warnings", prsm_io_problems_to_json(&warnings));
+		cJSON *res = prsm_app_validation_to_json(rc == 0 ? 0 : vrc ? vrc : PRSM_EINVAL, kind, &warnings, &problems);
+		if (res == NULL)
+			return PRSM_EXIT_FAILED;
 		prsm_cli_print_json(res, NULL);
 		cJSON_Delete(res);
 	}

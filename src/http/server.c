@@ -36,6 +36,7 @@
 
 #include "http/mhd.h"
 #include "http/request.h"
+#include "app/validate.h"
 #include "io/analysis_json.h"
 #include "io/analyze_request.h"
 #include "io/global.h"
@@ -78,6 +79,7 @@ typedef enum {
 	R_OPENAPI,
 	R_SCHEMA,
 	R_ANALYZE,
+	R_VALIDATE,
 	R_COLLECTION,
 	R_JOB,
 	R_SAMPLES,
@@ -243,6 +245,9 @@ static void resolve(route *rt, const char *url)
 		snprintf(rt->arg, sizeof rt->arg, "%s", p + 8);
 	} else if (strcmp(p, "designs/analyze") == 0) {
 		rt->kind = R_ANALYZE;
+		rt->allow = "POST";
+	} else if (strcmp(p, "validate") == 0) {
+		rt->kind = R_VALIDATE;
 		rt->allow = "POST";
 	} else {
 		/* <collection>[/<id>[/samples.csv]] */
@@ -555,6 +560,60 @@ static enum MHD_Result on_analyze(prsm_http *h, struct MHD_Connection *c, reques
 	return send_problems(c, (unsigned)prsm_error_http_status(rc), &p, NULL, NULL);
 }
 
+/* The job kind a document of kind k is submitted as (NULL: a design, analysed at once). */
+static const prsm_job_kind *job_kind_of(prsm_doc_kind k)
+{
+	switch (k) {
+	case PRSM_DOC_STUDY: return &prsm_job_kind_study;
+	case PRSM_DOC_OPTIMIZATION: return &prsm_job_kind_optimization;
+	case PRSM_DOC_ALLOCATION: return &prsm_job_kind_allocation;
+	case PRSM_DOC_SIMULATION: return &prsm_job_kind_simulation;
+	case PRSM_DOC_CALIBRATION: return &prsm_job_kind_calibration;
+	case PRSM_DOC_DESIGN: break;
+	}
+	return NULL;
+}
+
+/* POST /v1/validate: any request read as its command reads it (app/validate.h), then, when it
+ * is valid, held to this service's limits as its collection's submission holds it; 200 with the
+ * validation result (schemas/validation.schema.json), valid or not. Runs on the HTTP thread in
+ * one of the synchronous slots of /v1/designs/analyze (503 when none is free): reading a study
+ * analyses its nominal design, an allocation linearises its model. */
+static enum MHD_Result on_validate(prsm_http *h, struct MHD_Connection *c, request *r)
+{
+	enum MHD_Result ret = MHD_NO;
+	cJSON *doc = body_doc(h, c, r, &ret);
+	if (!doc)
+		return ret;
+	const int slots = h->o.threads > 1 ? h->o.threads - 1 : 1;
+	if (atomic_fetch_add(&h->sync_running, 1) >= slots) {
+		atomic_fetch_sub(&h->sync_running, 1);
+		cJSON_Delete(doc);
+		return send_problem(c, 503, "", "busy", "Retry-After", "1",
+		                    "every synchronous slot is busy; validate again in a moment");
+	}
+	prsm_problems p, warnings;
+	prsm_problems_init(&p);
+	prsm_problems_init(&warnings);
+	prsm_doc_kind kind = PRSM_DOC_DESIGN;
+	int rc = prsm_app_validate(doc, NULL, &kind, &warnings, &p);
+	const prsm_job_kind *k = job_kind_of(kind);
+	if (rc == 0 && k) {
+		const prsm_job_limits lim = prsm_jobs_limits(h->jobs);
+		cJSON *norm = NULL;
+		rc = k->normalise(&norm, doc, &lim, &p);
+		cJSON_Delete(norm);
+	}
+	atomic_fetch_sub(&h->sync_running, 1);
+	cJSON_Delete(doc);
+	if (rc == PRSM_ENOMEM)
+		return send_out_of_memory(c);
+	cJSON *out = prsm_app_validation_to_json(rc, kind, &warnings, &p);
+	if (out == NULL)
+		return send_out_of_memory(c);
+	return send_tree(c, 200, out, NULL, NULL);
+}
+
 static enum MHD_Result on_submit(prsm_http *h, struct MHD_Connection *c, request *r)
 {
 	enum MHD_Result ret = MHD_NO;
@@ -740,6 +799,7 @@ static enum MHD_Result dispatch(prsm_http *h, struct MHD_Connection *c, const ch
 	case R_OPENAPI: return on_doc(c, &h->openapi);
 	case R_SCHEMA: return on_schema(h, c, r->rt.arg);
 	case R_ANALYZE: return on_analyze(h, c, r);
+	case R_VALIDATE: return on_validate(h, c, r);
 	case R_COLLECTION: return post ? on_submit(h, c, r) : on_list(h, c, r);
 	case R_JOB: return on_job(h, c, r, strcmp(method, "DELETE") == 0);
 	case R_SAMPLES: return on_samples(h, c, r);

@@ -432,6 +432,11 @@ void prsm_jobs_counts(prsm_jobs *j, int *workers, int *running)
 	pthread_mutex_unlock(&j->mu);
 }
 
+prsm_job_limits prsm_jobs_limits(const prsm_jobs *j)
+{
+	return j->opt.limits; /* set at open, never changed */
+}
+
 static void add_time(cJSON *o, const char *name, double unix_s)
 {
 	if (unix_s <= 0) {

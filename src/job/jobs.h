@@ -104,6 +104,9 @@ int prsm_jobs_list(prsm_jobs *j, prsm_job_view *items, size_t max, size_t *n, lo
 /* Workers and how many run a job now (for /health). */
 void prsm_jobs_counts(prsm_jobs *j, int *workers, int *running);
 
+/* The per-job limits submissions are held to (for POST /v1/validate). */
+prsm_job_limits prsm_jobs_limits(const prsm_jobs *j);
+
 /* The job document (schemas/job.schema.json) of a view, without "result" (the caller splices
  * the stored result text in, see prsm_job_view_to_text). Caller owns the tree. */
 cJSON *prsm_job_view_to_json(const prsm_job_view *v);

@@ -866,6 +866,64 @@ def suite_calibrations(client, contract, source, prsm=None):
               or x.status == 409, str(x.status))
 
 
+def suite_validate(client, contract, source, prsm=None):
+    """POST /v1/validate: every kind of request document read as its command reads it (read_as),
+    the same answer as `prsm validate --format json` for documents within the service's limits,
+    invalid documents with every problem at its pointer (200, valid false), a study over the
+    service's sample cap refused as its submission is, malformed bodies refused as everywhere."""
+    docs = {
+        "design": load_json(os.path.join(source, "studies", "case-a.json")),
+        "study": load_json(os.path.join(source, "studies", "case-a-tolerances.json")),
+        "allocation": load_json(os.path.join(source, "studies", "allocate-case-a.json")),
+        "optimization": load_json(os.path.join(source, "studies", "optimize-case-a.json")),
+        "simulation": load_json(os.path.join(source, "studies", "vibration-case-a-330.json")),
+        "calibration": load_json(os.path.join(source, "web", "examples", "calibrate-case-a-v6.json")),
+    }
+    bad_study = copy.deepcopy(docs["study"])
+    bad_study["tolerances"][0]["distribution"] = "nromal"
+    bad_study["monte_carlo"]["samples"] = -5
+    docs["bad study"] = bad_study
+    for label, doc in docs.items():
+        r = client.post("/v1/validate", doc)
+        if not check(f"validate {label}: 200", r.status == 200, f"{r.status} {r.body[:200]!r}"):
+            continue
+        v = r.json()
+        want_kind = label.split()[-1]
+        check(f"validate {label}: read as {want_kind}, valid {label != 'bad study'}", v["read_as"] == want_kind
+              and v["valid"] == (label != "bad study"), json.dumps(v)[:300])
+        if label == "bad study":
+            ptrs = {e["pointer"] for e in v["errors"]}
+            check("validate bad study: every problem with its pointer", "/monte_carlo/samples" in ptrs
+                  and any(q.startswith("/tolerances/0") for q in ptrs), str(ptrs))
+        if prsm:
+            path = os.path.join(tempfile.mkdtemp(prefix="prsm-validate-"), "doc.json")
+            with open(path, "w", encoding="utf-8") as f:
+                json.dump(doc, f)
+            out = subprocess.run([prsm, "validate", path, "--format", "json"], capture_output=True, timeout=120)
+            try:
+                cli = json.loads(out.stdout)
+            except ValueError:
+                cli = None
+            check(f"validate {label}: the service's answer is prsm validate's", cli == v,
+                  f"{out.returncode} {out.stdout[:200]!r} vs {json.dumps(v)[:200]}")
+            subprocess.run(["rm", "-rf", os.path.dirname(path)])
+    # within the command's caps but over the service's: refused as the submission refuses it
+    big = copy.deepcopy(docs["study"])
+    big["monte_carlo"]["samples"] = 3000000
+    r = client.post("/v1/validate", big)
+    s = client.post("/v1/studies", big)
+    ok = r.status == 200 and not r.json()["valid"] and s.status == 422
+    check("validate: a study over the service's sample cap is invalid, as its submission (422) says", ok
+          and {e["pointer"] for e in r.json()["errors"]} == {e["pointer"] for e in s.json()["errors"]},
+          f"{r.status} {r.body[:300]!r} / {s.status} {s.body[:300]!r}")
+    r = client.post("/v1/validate", "{", content_type="application/json")
+    check("validate: malformed JSON is a 400", r.status == 400, str(r.status))
+    r = client.post("/v1/validate", [1])
+    check("validate: a document that is not an object is a 422", r.status == 422, str(r.status))
+    r = client.get("/v1/validate")
+    check("validate: GET is a 405 with Allow: POST", r.status == 405 and r.headers.get("allow") == "POST", str(r.status))
+
+
 def suite_vibration(client, contract, source):
     """The vibration analyses on /v1/simulations (docs/vibration.md)."""
     result_schema = contract.schemas["dynamics-result.schema.json"]
@@ -1252,6 +1310,7 @@ def main():
         suite_design_jobs(client, contract, source)
         suite_simulations(client, contract, source)
         suite_calibrations(client, contract, source, args.prsm)
+        suite_validate(client, contract, source, args.prsm)
         suite_slow_client(client, timeout)
         if srv:
             code = srv.stop()
