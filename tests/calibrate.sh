@@ -47,10 +47,13 @@ for l in c["lines"]:
           f"phase {l['phase_deg']:.3f} +- {l['phase_se_deg']:.3f} deg")
 print(f"  s {c['residual_sd_um']:.5f} um, r1 {c['residual_lag1_autocorrelation']:.4f}, "
       f"condition {c['condition_number']:.3g} ({c['condition_number_scaled']:.3g} scaled)")
-# 960 points, 15 parameters, noise 0.1 um: s within 5 standard errors of s (sigma / sqrt(2 (N - p)))
-assert abs(c["residual_sd_um"] - 0.1) < 5 * 0.1 / math.sqrt(2 * (960 - 15)), c["residual_sd_um"]
+# 960 points, 17 parameters, noise 0.1 um: s within 5 standard errors of s (sigma / sqrt(2 (N - p)))
+assert abs(c["residual_sd_um"] - 0.1) < 5 * 0.1 / math.sqrt(2 * (960 - 17)), c["residual_sd_um"]
 assert c["converged"] and c["inflation"] == 1 and abs(c["residual_lag1_autocorrelation"]) < 0.2
-assert len(c["parameters"]) == 15 and all(p["standard_error"] > 0 for p in c["parameters"])
+# every named order of the line model, the mesh line (31.66, below the Nyquist order 32) included
+assert len(c["parameters"]) == 17 and all(p["standard_error"] > 0 for p in c["parameters"])
+assert [l["name"] for l in c["lines"]][-1] == "mesh" and c["dropped_lines"] == [], c["dropped_lines"]
+assert abs(c["lines"][-1]["amplitude_um"]) < 3 * c["lines"][-1]["amplitude_se_um"]
 k = c["carrier_ratio"]
 assert 0.36 < k["estimate"] < 0.39 and k["standard_error"] < 1e-3, k
 assert k["grid"]["points"] == 2001 and abs(k["grid"]["to"] - k["grid"]["from"] - 0.05) < 1e-12

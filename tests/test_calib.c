@@ -50,7 +50,7 @@ static double gauss(rng *r)
 
 /* ---- synthetic line-model curves ---- */
 
-static const prsm_calib_kinematics case_a_kin = {5.0, 10, 0};
+static const prsm_calib_kinematics case_a_kin = {5.0, 10, 85};
 
 /* A curve of revs revolutions at per_rev points from the line model with parameters p (lines of
  * mask), plus white noise sigma (or AR(1) noise of lag-1 correlation phi). */
@@ -349,18 +349,26 @@ static void test_line_refused(void **state)
 	prsm_calib_line_result res;
 	prsm_error err = PRSM_ERROR_INIT;
 	/* the mesh line without z_2 */
+	const prsm_calib_kinematics no_teeth = {5.0, 10, 0};
 	o.lines_mask = 1 << PRSM_CALIB_LINE_MESH;
-	assert_int_equal(prsm_calib_line(&res, &c, &case_a_kin, &o, &err), PRSM_EINVAL);
+	assert_int_equal(prsm_calib_line(&res, &c, &no_teeth, &o, &err), PRSM_EINVAL);
 	assert_string_equal(err.pointer, "/dynamics/calibrate/lines");
+	assert_non_null(strstr(err.message, "teeth"));
 	/* 8 points per revolution: Nyquist 4, only roller_pass_screw (6.3) asked */
 	o.lines_mask = 1 << PRSM_CALIB_LINE_ROLLER_PASS_SCREW;
 	assert_int_equal(prsm_calib_line(&res, &c, &case_a_kin, &o, &err), PRSM_EINVAL);
 	assert_non_null(strstr(err.message, "Nyquist"));
-	/* lines above Nyquist are dropped, the others fitted */
+	/* lines above Nyquist at the prior are dropped, the others fitted */
 	o.lines_mask = PRSM_CALIB_LINES_DEFAULT;
 	assert_int_equal(prsm_calib_line(&res, &c, &case_a_kin, &o, &err), 0);
-	assert_int_equal(res.dropped, 1);
+	assert_int_equal(res.dropped, 2);
 	assert_int_equal(res.dropped_kind[0], PRSM_CALIB_LINE_ROLLER_PASS_SCREW);
+	assert_int_equal(res.dropped_kind[1], PRSM_CALIB_LINE_MESH);
+	prsm_calib_line_free(&res);
+	/* without z_2 the default set has no mesh line */
+	assert_int_equal(prsm_calib_line(&res, &c, &no_teeth, &o, &err), 0);
+	assert_int_equal(res.dropped, 2);
+	assert_int_equal(res.dropped_kind[1], PRSM_CALIB_LINE_MESH);
 	prsm_calib_line_free(&res);
 	o.carrier_ratio_prior = 1.2;
 	assert_int_equal(prsm_calib_line(&res, &c, &case_a_kin, &o, &err), PRSM_EINVAL);

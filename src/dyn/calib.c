@@ -380,21 +380,25 @@ int prsm_calib_line(prsm_calib_line_result *out, const prsm_meas_curve *c, const
 		                      "the grid on k needs at least 3 points and a positive half width");
 	out->revolutions = revs;
 	out->resolution_per_rev = 1.0 / revs;
-	const double kmax = k0 + o->grid_half_width;
+	int no_teeth = 0;
 	for (int kind = 0; kind < PRSM_CALIB_LINE_KINDS; kind++) {
 		if (!(o->lines_mask & (1 << kind)))
 			continue;
-		if (kind == PRSM_CALIB_LINE_MESH && kin->ring_gear_teeth <= 0)
-			return prsm_error_set(err, PRSM_EINVAL, "/dynamics/calibrate/lines",
-			                      "the mesh line needs the ring gear's teeth z_2 (losses.gear_teeth_ring or the default rule)");
+		if (kind == PRSM_CALIB_LINE_MESH && kin->ring_gear_teeth <= 0) {
+			out->dropped_kind[out->dropped++] = kind; /* no z_2: no mesh order */
+			no_teeth = 1;
+			continue;
+		}
 		double al, be;
 		prsm_calib_order_coefficients(&al, &be, kind, kin);
-		/* the largest order over the grid below the Nyquist order, and no order twice */
-		const double top = fmax(al + be * (k0 - o->grid_half_width), al + be * kmax);
+		/* the order at the prior below the Nyquist order, and no order twice; a line that
+		 * crosses the Nyquist order within the grid aliases there, which is one of the side
+		 * minima of S(k) the grid's global search is for (§8.5 item 3) */
+		const double at_prior = al + be * k0;
 		int dup = 0;
 		for (int l = 0; l < out->lines && !dup; l++)
 			dup = fabs(out->alpha[l] - al) < 1e-12 && fabs(out->beta[l] - be) < 1e-12;
-		if (!(top < nyq) || dup) {
+		if (!(at_prior < nyq) || dup) {
 			out->dropped_kind[out->dropped++] = kind;
 			continue;
 		}
@@ -404,6 +408,9 @@ int prsm_calib_line(prsm_calib_line_result *out, const prsm_meas_curve *c, const
 		out->lines++;
 	}
 	const int L = out->lines, q = 2 + 2 * L, P = q + 1;
+	if (L == 0 && no_teeth && out->dropped == 1)
+		return prsm_error_set(err, PRSM_EINVAL, "/dynamics/calibrate/lines",
+		                      "the mesh line needs the ring gear's teeth z_2 (losses.gear_teeth_ring or the default rule)");
 	if (L == 0)
 		return prsm_error_set(err, PRSM_EINVAL, "/dynamics/calibrate/lines",
 		                      "no line of the line model lies below the Nyquist order %.4g of the record", nyq);

@@ -56,8 +56,10 @@ enum {
 	PRSM_CALIB_LINE_MESH = 6               /* z_2 k */
 };
 #define PRSM_CALIB_LINE_KINDS 7
-/* lines 0..5: the default set (the mesh line needs z_2 and is asked for by name) */
-#define PRSM_CALIB_LINES_DEFAULT 0x3f
+/* the default set: every named order of MODEL-DYNAMICS §8.5 item 2, the line model's orders
+ * (§8.5 item 3); the mesh line only when z_2 is known, each line only below the record's
+ * Nyquist order at the prior */
+#define PRSM_CALIB_LINES_DEFAULT 0x7f
 #define PRSM_CALIB_PARAMS_MAX (3 + 2 * PRSM_CALIB_LINE_KINDS)
 #define PRSM_CALIB_FIELDS_MAX 16
 #define PRSM_CALIB_CAVEATS_MAX 8
