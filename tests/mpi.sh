@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# mpi.sh: `prsm study` and `prsm batch` under mpirun (issue 20, docs/mpi.md).
+# mpi.sh: `prsm study`, `batch`, `allocate`, `optimize` and `simulate` under mpirun (issue 20,
+# docs/mpi.md).
 #
 #   bash tests/mpi.sh PRSM SOURCE_DIR MPI_SONAME
 #
@@ -7,10 +8,13 @@
 # plain process's, byte for byte once the timings, the build identity and the job ids are
 # masked (every number is compared as the text printed), for: a case-A study that stops on its
 # target (and, at 2 ranks with 2 threads each, its samples CSV), a study with Sobol' indices,
-# and a batch; a study whose failure policy aborts stops at the same sample with the same
-# message. A failing rank ends the run with an error naming it (PRSM_PAR_FAULT, the test
-# hook), a rank that exits at once ends it too, never a hang, and a batch cut short that way
-# resumes. Skipped (exit 77) when prsm was built without MPI or mpirun is missing.
+# a batch, case A's allocation (its corrections' studies over the ranks), a robust optimisation
+# (its candidates' studies over the ranks), a gear pair's sweep up and down and its basins (and
+# their CSVs); a study whose failure policy aborts stops at the same sample with the same
+# message. A failing rank ends a study, an allocation, an optimisation or a basin grid with an
+# error naming it (PRSM_PAR_FAULT, the test hook), a rank that exits at once ends it too, never
+# a hang, and a batch cut short that way resumes. Skipped (exit 77) when prsm was built without
+# MPI or mpirun is missing.
 set -euo pipefail
 
 prsm=$(realpath "$1")
@@ -82,6 +86,24 @@ for tol in a["tolerances"]:
         tol.update(lower=-0.058, mode=0.0, upper=0.03)  # a few negative coefficients: failed samples
 a["monte_carlo"].update(samples=2000, targets=[], failure={"policy": "abort"})
 json.dump(a, open("abort.json", "w"))
+# case A's allocation with few samples (its corrections' studies: 8 blocks of 256) and the robust
+# optimisation with small studies (4 blocks of 32 samples) and a small evaluation budget
+al = json.load(open(sys.argv[1] + "/studies/allocate-case-a.json"))
+al["monte_carlo"].update(samples=2048, max_corrections=4)
+al["study"]["monte_carlo"].update(block_size=256)
+json.dump(al, open("alloc.json", "w"))
+ro = json.load(open(sys.argv[1] + "/studies/optimize-case-a-robust.json"))
+ro["robust"]["monte_carlo"].update(samples=128, block_size=32)
+ro["solver"].update(max_evaluations=120, multistart=1)
+json.dump(ro, open("robust.json", "w"))
+# the gear pair's bifurcation sweep up and down (its two directions over the ranks) and its
+# basins of attraction (the cells over the ranks), on coarser grids
+sw = json.load(open(sys.argv[1] + "/studies/vibration-gear-pair-sweep.json"))
+sw["dynamics"]["sweep"].update(step=0.05)
+json.dump(sw, open("sweep.json", "w"))
+ba = json.load(open(sys.argv[1] + "/studies/vibration-gear-pair-basins.json"))
+ba["dynamics"]["basins"].update(deflection_cells=11, rate_cells=11)
+json.dump(ba, open("basins.json", "w"))
 b = copy.deepcopy(base)
 b["monte_carlo"].update(samples=256, block_size=64, targets=[])
 b["sensitivity"] = {"src": True, "stack": False}
@@ -105,6 +127,17 @@ rc=0
 mask target.plain.json > target.plain.m
 mask sobol.plain.json > sobol.plain.m
 mask batch.plain.jsonl > batch.plain.m
+"$prsm" allocate alloc.json --quiet > alloc.plain.json
+jq -e '.monte_carlo.samples_total > .monte_carlo.samples' alloc.plain.json > /dev/null ||
+  fail "the allocation ran no Monte Carlo correction"
+"$prsm" optimize robust.json --quiet > robust.plain.json
+jq -e '.robust.studies >= 2' robust.plain.json > /dev/null || fail "the robust optimisation ran fewer than 2 studies"
+mask alloc.plain.json > alloc.plain.m
+mask robust.plain.json > robust.plain.m
+"$prsm" simulate sweep.json --quiet --csv sweep.plain.csv > sweep.plain.json
+"$prsm" simulate basins.json --quiet --csv basins.plain.csv > basins.plain.json
+mask sweep.plain.json > sweep.plain.m
+mask basins.plain.json > basins.plain.m
 
 # --- 1, 2 and 3 ranks: byte-identical ------------------------------------------------------
 for n in 1 2 3; do
@@ -116,7 +149,16 @@ for n in 1 2 3; do
   run_mpi "$n" batch batch.jsonl --out "batch.$n.jsonl" --db "batch$n.db" --quiet 2> "batch.$n.err" || rc=$?
   [ "$rc" = 1 ] || { cat "batch.$n.err" >&2; fail "batch at $n ranks: exit $rc, expected 1"; }
   mask "batch.$n.jsonl" | cmp -s - batch.plain.m || fail "batch at $n ranks differs from the plain process"
-  echo "mpi: $n rank(s): target study, Sobol study and batch byte-identical to the plain process"
+  run_mpi "$n" allocate alloc.json --quiet > "alloc.$n.json"
+  mask "alloc.$n.json" | cmp -s - alloc.plain.m || fail "allocation at $n ranks differs from the plain process"
+  run_mpi "$n" optimize robust.json --quiet > "robust.$n.json"
+  mask "robust.$n.json" | cmp -s - robust.plain.m || fail "robust optimisation at $n ranks differs from the plain process"
+  for v in sweep basins; do
+    run_mpi "$n" simulate "$v.json" --quiet --csv "$v.$n.csv" > "$v.$n.json"
+    mask "$v.$n.json" | cmp -s - "$v.plain.m" || fail "$v at $n ranks differs from the plain process"
+    cmp -s "$v.$n.csv" "$v.plain.csv" || fail "the $v CSV at $n ranks differs"
+  done
+  echo "mpi: $n rank(s): target study, Sobol study, batch, allocation, robust optimisation, sweep and basins byte-identical to the plain process"
 done
 # two engine threads per rank (chunks of 2 blocks), the samples CSV from rank 0, the document
 # from standard input (which the launcher gives to rank 0, which broadcasts it)
@@ -146,7 +188,30 @@ rc=0
 PRSM_PAR_FAULT=exit:2 run_mpi 3 study sobol.json --quiet > exit.json 2> exit.err || rc=$?
 [ "$rc" != 0 ] && [ "$rc" != 124 ] || fail "a rank that exits: exit $rc (124: timed out)"
 grep -q "rank 2 of 3: exiting at once" exit.err || { cat exit.err >&2; fail "the exiting rank said nothing"; }
-echo "mpi: a failing rank and an exiting rank end the run with an error"
+rc=0
+PRSM_PAR_FAULT=fail:1 run_mpi 2 allocate alloc.json --quiet > afault.json 2> afault.err || rc=$?
+[ "$rc" != 0 ] && [ "$rc" != 124 ] || fail "a failing rank in an allocation: exit $rc (124: timed out)"
+grep -q "rank 1 of 2 failed: injected failure" afault.err || { cat afault.err >&2; fail "the allocation's failing rank is not named"; }
+[ ! -s afault.json ] || fail "a failed allocation wrote a result"
+rc=0
+PRSM_PAR_FAULT=fail:2 run_mpi 3 optimize robust.json --quiet > ofault.json 2> ofault.err || rc=$?
+[ "$rc" != 0 ] && [ "$rc" != 124 ] || fail "a failing rank in a robust optimisation: exit $rc (124: timed out)"
+grep -q "rank 2 of 3 failed: injected failure" ofault.err || { cat ofault.err >&2; fail "the optimisation's failing rank is not named"; }
+[ ! -s ofault.json ] || fail "a robust optimisation with a failed rank wrote a result"
+rc=0
+PRSM_PAR_FAULT=exit:1 run_mpi 2 optimize robust.json --quiet > oexit.json 2> oexit.err || rc=$?
+[ "$rc" != 0 ] && [ "$rc" != 124 ] || fail "an exiting rank in a robust optimisation: exit $rc (124: timed out)"
+[ ! -s oexit.json ] || fail "a robust optimisation with an exiting rank wrote a result"
+rc=0
+PRSM_PAR_FAULT=fail:1 run_mpi 2 simulate basins.json --quiet > bfault.json 2> bfault.err || rc=$?
+[ "$rc" = 2 ] || fail "a failing rank in a basin grid: exit $rc, expected 2"
+grep -q "basins.json: rank 1 of 2 failed: injected failure" bfault.err || { cat bfault.err >&2; fail "the basin grid's failing rank is not named"; }
+[ ! -s bfault.json ] || fail "a basin grid with a failed rank wrote a result"
+rc=0
+PRSM_PAR_FAULT=exit:1 run_mpi 2 simulate sweep.json --quiet > sexit.json 2> sexit.err || rc=$?
+[ "$rc" != 0 ] && [ "$rc" != 124 ] || fail "an exiting rank in a sweep: exit $rc (124: timed out)"
+[ ! -s sexit.json ] || fail "a sweep with an exiting rank wrote a result"
+echo "mpi: a failing rank and an exiting rank end the run with an error (study, allocation, optimisation, basins, sweep)"
 
 # --- a batch cut short by a dying rank resumes --------------------------------------------
 rc=0

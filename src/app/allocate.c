@@ -4,6 +4,7 @@
 #include "app/allocate.h"
 
 #include <stdlib.h>
+#include <string.h>
 
 #include "io/allocation_json.h"
 #include "util/clock.h"
@@ -64,7 +65,16 @@ int prsm_app_allocate(cJSON **result, const cJSON *doc, prsm_cancel_flag *cancel
                       prsm_progress_fn progress, void *progress_ctx, double max_time_s, int threads,
                       prsm_problems *problems, prsm_error *err)
 {
+	return prsm_app_allocate_with(result, doc, cancel, progress, progress_ctx, max_time_s, threads, NULL,
+	                              problems, err);
+}
+
+int prsm_app_allocate_with(cJSON **result, const cJSON *doc, prsm_cancel_flag *cancel,
+                           prsm_progress_fn progress, void *progress_ctx, double max_time_s, int threads,
+                           const prsm_study_service *service, prsm_problems *problems, prsm_error *err)
+{
 	*result = NULL;
+	char *source = NULL;
 	prsm_io_allocation *d;
 	int rc = load(&d, doc, 0, NULL, problems);
 	if (rc)
@@ -82,6 +92,17 @@ int prsm_app_allocate(cJSON **result, const cJSON *doc, prsm_cancel_flag *cancel
 	if (d->is_study) {
 		if (threads > 0)
 			d->study->study.mc.threads = threads;
+		if (service) {
+			/* the corrections' studies run elsewhere: the embedded study document goes with them */
+			source = cJSON_PrintUnformatted(cJSON_GetObjectItemCaseSensitive(doc, "study"));
+			if (!source) {
+				rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
+				goto cleanup;
+			}
+			d->opt.service = service;
+			d->opt.study_source = source;
+			d->opt.study_source_len = strlen(source);
+		}
 		rc = prsm_alloc_mc_run(r, &d->study->study, &d->model, &d->opt, err);
 		if (rc && !(rc == PRSM_ECANCELLED && r->best >= 0))
 			goto cleanup;
@@ -114,6 +135,7 @@ int prsm_app_allocate(cJSON **result, const cJSON *doc, prsm_cancel_flag *cancel
 	if (!*result)
 		rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
 cleanup:
+	cJSON_free(source);
 	free(r);
 	prsm_io_allocation_free(d);
 	return rc;

@@ -11,6 +11,7 @@
 
 #include <cJSON.h>
 
+#include "mc/study.h"
 #include "util/cancel.h"
 #include "util/error.h"
 #include "util/problems.h"
@@ -40,5 +41,12 @@ int prsm_app_allocation_check(const cJSON *doc, size_t max_samples, prsm_problem
 int prsm_app_allocate(cJSON **result, const cJSON *doc, prsm_cancel_flag *cancel,
                       prsm_progress_fn progress, void *progress_ctx, double max_time_s, int threads,
                       prsm_problems *problems, prsm_error *err);
+
+/* prsm_app_allocate with the Monte Carlo corrections' studies run by service (mc/study.h: e.g.
+ * over the ranks of an MPI job, src/par; NULL: this process), which is handed the embedded study
+ * document with each. The result is the same with any service that returns prsm_study_run's. */
+int prsm_app_allocate_with(cJSON **result, const cJSON *doc, prsm_cancel_flag *cancel,
+                           prsm_progress_fn progress, void *progress_ctx, double max_time_s, int threads,
+                           const prsm_study_service *service, prsm_problems *problems, prsm_error *err);
 
 #endif

@@ -152,17 +152,25 @@ static void candidate_geometry(cJSON *study, const prsm_design *d)
 	set_number(g, "flank_angle_deg", flank_deg_exact(d->flank_angle_rad));
 }
 
+/* A candidate's study and, when its studies run elsewhere (a study service), the document. */
+typedef struct {
+	prsm_io_study s;
+	char *source;
+} candidate_study;
+
 /* prsm_robust_build_fn: the tolerance study of candidate d through the study reader (so the
- * study is exactly the one an equivalent study document gives). */
-static int build_study(void *ctx, prsm_study **study, void **handle, const prsm_design *d,
-                       prsm_error *err)
+ * study is exactly the one an equivalent study document gives); with a study service, that
+ * document's text is the source another process loads. */
+static int build_study(void *ctx, prsm_study **study, void **handle, const char **source, size_t *source_len,
+                       const prsm_design *d, prsm_error *err)
 {
 	prsm_io_optimization *od = ctx;
 	candidate_geometry(od->study, d);
-	prsm_io_study *s = calloc(1, sizeof *s);
+	candidate_study *cs = calloc(1, sizeof *cs);
+	prsm_io_study *s = cs ? &cs->s : NULL;
 	prsm_problems *pr = malloc(sizeof *pr);
 	int rc = 0;
-	if (!s || !pr) {
+	if (!cs || !pr || (od->robust.service && !(cs->source = cJSON_PrintUnformatted(od->study)))) {
 		rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
 		goto fail;
 	}
@@ -179,18 +187,24 @@ static int build_study(void *ctx, prsm_study **study, void **handle, const prsm_
 	}
 	free(pr);
 	*study = &s->study;
-	*handle = s;
+	*handle = cs;
+	*source = cs->source;
+	*source_len = cs->source ? strlen(cs->source) : 0;
 	return 0;
 fail:
 	free(pr);
-	free(s);
+	if (cs)
+		cJSON_free(cs->source);
+	free(cs);
 	return rc;
 }
 
 static void release_study(void *ctx, void *handle)
 {
 	(void)ctx;
-	free(handle);
+	candidate_study *cs = handle;
+	cJSON_free(cs->source);
+	free(cs);
 }
 /* The design at (x, levels) analysed afresh and in full into p (p->analysis and p->perf owned
  * by the caller's a and perf, freed with prsm_performance_free), the robust constraints re-run
@@ -248,6 +262,13 @@ int prsm_app_optimize(cJSON **result, const cJSON *doc, prsm_cancel_flag *cancel
                       prsm_progress_fn progress, void *progress_ctx, double max_time_s,
                       prsm_problems *problems, prsm_error *err)
 {
+	return prsm_app_optimize_with(result, doc, cancel, progress, progress_ctx, max_time_s, NULL, problems, err);
+}
+
+int prsm_app_optimize_with(cJSON **result, const cJSON *doc, prsm_cancel_flag *cancel,
+                           prsm_progress_fn progress, void *progress_ctx, double max_time_s,
+                           const prsm_study_service *service, prsm_problems *problems, prsm_error *err)
+{
 	*result = NULL;
 	prsm_problems warnings;
 	prsm_problems_init(&warnings);
@@ -270,6 +291,7 @@ int prsm_app_optimize(cJSON **result, const cJSON *doc, prsm_cancel_flag *cancel
 		od->robust.build = build_study;
 		od->robust.release = release_study;
 		od->robust.build_ctx = od;
+		od->robust.service = service;
 	}
 	prsm_opt_options *o = &od->options;
 	o->cancel = cancel;

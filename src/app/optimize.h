@@ -16,6 +16,7 @@
 
 #include <cJSON.h>
 
+#include "mc/study.h"
 #include "util/cancel.h"
 #include "util/error.h"
 #include "util/problems.h"
@@ -39,5 +40,13 @@ int prsm_app_optimization_check(const cJSON *doc, size_t max_evaluations, prsm_p
 int prsm_app_optimize(cJSON **result, const cJSON *doc, prsm_cancel_flag *cancel,
                       prsm_progress_fn progress, void *progress_ctx, double max_time_s,
                       prsm_problems *problems, prsm_error *err);
+
+/* prsm_app_optimize with the robust constraints' studies run by service (mc/study.h: e.g. over
+ * the ranks of an MPI job, src/par; NULL: this process). The search itself runs here: its
+ * evaluation budget is shared out as it goes, so its runs are sequential. The result is the
+ * same with any service that returns prsm_study_run's result. */
+int prsm_app_optimize_with(cJSON **result, const cJSON *doc, prsm_cancel_flag *cancel,
+                           prsm_progress_fn progress, void *progress_ctx, double max_time_s,
+                           const prsm_study_service *service, prsm_problems *problems, prsm_error *err);
 
 #endif

@@ -217,6 +217,11 @@ int prsm_app_simulation_analysis(const prsm_app_simulation *s)
 	return s->analysis;
 }
 
+int prsm_app_simulation_set_split(prsm_app_simulation *s, const prsm_vib_split *split)
+{
+	return s->vib != NULL && prsm_app_vibration_set_split(s->vib, split);
+}
+
 void prsm_app_simulation_set_threads(prsm_app_simulation *s, int threads)
 {
 	s->threads = threads < 1 ? 1 : threads > 256 ? 256 : threads;

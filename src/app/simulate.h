@@ -64,6 +64,9 @@ size_t prsm_app_simulation_work(const prsm_app_simulation *s, const char **unit)
 /* The engine threads of the vibration analyses' sweeps and grids (1 to 256; the default 1). The
  * result does not depend on them. */
 void prsm_app_simulation_set_threads(prsm_app_simulation *s, int threads);
+/* A sweep's or basin grid's tasks over processes (app/vibrate.h prsm_app_vibration_set_split):
+ * 1 when this simulation's analysis takes the split, else 0 (it runs whole). */
+int prsm_app_simulation_set_split(prsm_app_simulation *s, const prsm_vib_split *split);
 
 /* The vibration analysis of the loaded request (NULL for the transient). */
 const prsm_app_vibration *prsm_app_simulation_vibration(const prsm_app_simulation *s);

@@ -18,6 +18,7 @@ struct prsm_app_vibration {
 	prsm_vib_model *model;
 	prsm_io_vib_result r;
 	int ran;
+	const prsm_vib_split *split;  /* a sweep's or basin grid's tasks over processes; NULL: here */
 };
 
 /* A problem at /dynamics/<section>/<key> (the rules that need the model). */
@@ -305,6 +306,7 @@ static int run_basins(prsm_app_vibration *v, int threads, const prsm_cancel_flag
 	bo.period_tol = b->period_tolerance;
 	bo.integration = q->integration;
 	bo.threads = threads;
+	bo.split = v->split;
 	const int rc = prsm_vib_basins_run(&v->r.basins, v->model, &bo, cancel, progress, progress_ctx, err);
 	if (rc == 0)
 		effort_add(&v->r.effort, &v->r.basins.effort);
@@ -337,6 +339,7 @@ int prsm_app_vibration_run(prsm_app_vibration *v, int threads, const prsm_cancel
 	case PRSM_IO_DYN_SWEEP: {
 		prsm_vib_sweep_options so;
 		sweep_options(&so, &v->q, r->threads);
+		so.split = v->split;
 		rc = prsm_vib_sweep_run(&r->sweep, v->model, &so, cancel, progress, progress_ctx, err);
 		if (rc == 0)
 			effort_add(&r->effort, &r->sweep.effort);
@@ -367,6 +370,13 @@ int prsm_app_vibration_run(prsm_app_vibration *v, int threads, const prsm_cancel
 		progress(progress_ctx, &pr);
 	v->ran = 1;
 	return 0;
+}
+
+int prsm_app_vibration_set_split(prsm_app_vibration *v, const prsm_vib_split *split)
+{
+	const int can = v->q.analysis == PRSM_IO_DYN_SWEEP || v->q.analysis == PRSM_IO_DYN_BASINS;
+	v->split = can ? split : NULL;
+	return can;
 }
 
 cJSON *prsm_app_vibration_result(const prsm_app_vibration *v, const char *name, const prsm_problems *warnings)

@@ -57,6 +57,12 @@ const char *prsm_app_vibration_work_unit(const prsm_app_vibration *v);
 int prsm_app_vibration_run(prsm_app_vibration *v, int threads, const prsm_cancel_flag *cancel,
                            prsm_progress_fn progress, void *progress_ctx, prsm_error *err);
 
+/* Spread the run's tasks over processes (dyn/vib.h prsm_vib_split: a sweep's directions or
+ * points, a basin grid's cells; every process runs the same request with its part, part 0 gets
+ * the result, the others an empty one). Only the sweep and basins analyses can: returns 1 for
+ * them (split taken), else 0 (split ignored: the analysis runs whole wherever it is run). */
+int prsm_app_vibration_set_split(prsm_app_vibration *v, const prsm_vib_split *split);
+
 /* The result document (schemas/dynamics-result.schema.json), NULL when not run or out of memory. */
 cJSON *prsm_app_vibration_result(const prsm_app_vibration *v, const char *name, const prsm_problems *warnings);
 /* The analysis' series as CSV and its text summary (io/dynamics_json.h). PRSM_EINVAL when not run. */

@@ -11,6 +11,7 @@
 
 #include "model/design.h"
 #include "util/problems.h"
+#include "util/progress.h"
 
 enum { PRSM_EXIT_OK = 0, PRSM_EXIT_INVALID = 1, PRSM_EXIT_FAILED = 2, PRSM_EXIT_USAGE = 64 };
 
@@ -28,6 +29,7 @@ int prsm_cli_allocate(int argc, char **argv);
 int prsm_cli_batch(int argc, char **argv);
 int prsm_cli_simulate(int argc, char **argv);
 int prsm_cli_calibrate(int argc, char **argv);
+int prsm_cli_run_job(int argc, char **argv);
 
 /* One `prsm bench` entry, value rounded to `decimals` (null when not finite). */
 void prsm_cli_bench_add(cJSON *list, const char *name, double value, const char *unit, int threads,
@@ -63,6 +65,10 @@ int prsm_cli_doc_options_parse(prsm_cli_doc_options *o, int argc, char **argv, c
 /* Read and parse a request file ("-": stdin) into *doc (the caller frees it); problems of the
  * file or its JSON go to problems. Returns 0 or an exit code. */
 int prsm_cli_read_document(cJSON **doc, const char *path, prsm_problems *problems);
+/* The document under MPI: rank 0 reads the bytes (the launcher gives standard input to rank 0
+ * only) and broadcasts them, every rank parses them (problems are rank 0's to print). Returns 0
+ * or the exit code, the same on every rank. */
+int prsm_cli_read_document_par(cJSON **doc, const char *path, prsm_problems *problems);
 /* Print every problem as "path: pointer: message", one per line. */
 void prsm_cli_print_problems(FILE *f, const char *path, const prsm_problems *p);
 /* Print doc as JSON to out_path (NULL: stdout). Returns 0 or PRSM_EXIT_FAILED. */
@@ -70,5 +76,19 @@ int prsm_cli_print_json(const cJSON *doc, const char *out_path);
 
 /* Validate a study document (a parsed tree the caller keeps); returns 0 or an exit code. */
 int prsm_cli_study_check(const cJSON *doc, prsm_problems *warnings, prsm_problems *problems);
+
+/* Under MPI, a rank other than 0 of a command whose studies rank 0 hands out (allocate, optimize:
+ * par/study.h, a study service): loads each study's document with the study reader and runs its
+ * part, until rank 0 finishes; returns rank 0's exit code. */
+int prsm_cli_study_serve(void);
+
+/* Progress of a command under MPI when stderr is not a terminal (a launcher's pipe, a Slurm log):
+ * "prsm COMMAND: DONE / PLANNED UNIT on N ranks" every 10 s and at the end. ctx: a
+ * prsm_cli_progress_lines. */
+typedef struct {
+	const char *command, *unit;
+	double last_s;
+} prsm_cli_progress_lines;
+void prsm_cli_progress_lines_fn(void *ctx, const prsm_progress *p);
 
 #endif

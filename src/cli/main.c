@@ -44,19 +44,22 @@ static void usage(FILE *out)
 	        "  batch FILE.jsonl many requests of any kind, one per line, through the cache in parallel\n"
 	        "                   (one result per line; run again to resume): --out FILE, --db PATH,\n"
 	        "                   --workers N, --threads N\n"
+	        "  run-job KIND FILE  one stored service job run by its kind (what a Slurm job of\n"
+	        "                   prsm serve --executor slurm runs): --out FILE, --csv, --error, --counts\n"
 	        "  bench            throughput of the engine's kernels, as JSON\n"
 	        "                   --seconds S (per kernel, default 0.5)\n"
 	        "  version          engine and model versions\n"
 	        "\n"
-	        "MPI: under mpirun or srun, study and batch run over every rank (rank 0 writes) and the\n"
-	        "other commands once, on rank 0; --mpi runs study or batch through MPI without a launcher,\n"
-	        "--no-mpi never (docs/mpi.md)\n"
+	        "MPI: under mpirun or srun, study, batch, allocate, optimize and simulate (sweeps and basins)\n"
+	        "run over every rank (rank 0 writes) and the other commands once, on rank 0; --mpi runs\n"
+	        "them through MPI without a launcher, --no-mpi never (docs/mpi.md)\n"
 	        "\n"
 	        "exit codes: 0 ok, 1 invalid request, 2 computation failed, 64 usage\n");
 }
 
-/* `prsm study` and `prsm batch` over the ranks of an MPI job: MPI loaded and initialised (only
- * here: every other process starts without it), the command, MPI finalised. */
+/* `prsm study`, `batch`, `allocate`, `optimize` and `simulate` over the ranks of an MPI job: MPI
+ * loaded and initialised (only here: every other process starts without it), the command, MPI
+ * finalised. */
 static int run_par(int (*command)(int, char **), int argc, char **argv, int rank)
 {
 	const char *cmd = argv[0];
@@ -103,11 +106,16 @@ int main(int argc, char **argv)
 	                  strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0;
 	int rank = 0, size = 1;
 	const int launched = mpi != 0 && !quick && prsm_par_launched(&rank, &size);
-	const int par_command = strcmp(cmd, "study") == 0 || strcmp(cmd, "batch") == 0;
+	int (*par_command)(int, char **) = strcmp(cmd, "study") == 0      ? prsm_cli_study
+	                                   : strcmp(cmd, "batch") == 0    ? prsm_cli_batch
+	                                   : strcmp(cmd, "allocate") == 0 ? prsm_cli_allocate
+	                                   : strcmp(cmd, "optimize") == 0 ? prsm_cli_optimize
+	                                   : strcmp(cmd, "simulate") == 0 ? prsm_cli_simulate
+	                                                                  : NULL;
 	if (par_command && (mpi == 1 || (launched && size > 1) || (launched && prsm_par_built())))
-		return run_par(strcmp(cmd, "study") == 0 ? prsm_cli_study : prsm_cli_batch, argc - 1, argv + 1, rank);
+		return run_par(par_command, argc - 1, argv + 1, rank);
 	if (mpi == 1) {
-		fprintf(stderr, "prsm: --mpi: only study and batch run over MPI\n");
+		fprintf(stderr, "prsm: --mpi: only study, batch, allocate, optimize and simulate run over MPI\n");
 		return PRSM_EXIT_USAGE;
 	}
 	if (launched && rank != 0)
@@ -132,6 +140,8 @@ int main(int argc, char **argv)
 		return prsm_cli_batch(argc - 1, argv + 1);
 	if (strcmp(cmd, "bench") == 0)
 		return prsm_cli_bench(argc - 1, argv + 1);
+	if (strcmp(cmd, "run-job") == 0)
+		return prsm_cli_run_job(argc - 1, argv + 1);
 	if (strcmp(cmd, "version") == 0 || strcmp(cmd, "--version") == 0)
 		return prsm_cli_version(argc - 1, argv + 1);
 	if (strcmp(cmd, "help") == 0 || strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0) {

@@ -5,6 +5,11 @@
  * feasible objective so far), and prints the result as JSON on stdout or --out. A result whose
  * best design is infeasible is still printed (exit 0, "feasible": false, the violated
  * constraints named); a failed computation exits 2.
+ *
+ * Under MPI (docs/mpi.md) rank 0 reads, searches and writes; the robust constraints' studies run
+ * over every rank (par/study.h, a study service), so the result is one process's, byte for
+ * byte; the other ranks serve those studies and exit with rank 0's code. The search itself stays
+ * on rank 0: its evaluation budget is shared out as it goes, so its local runs are sequential.
  */
 #include <math.h>
 #include <stdio.h>
@@ -13,6 +18,8 @@
 
 #include "cli/commands.h"
 #include "app/optimize.h"
+#include "par/par.h"
+#include "par/study.h"
 
 static void progress(void *ctx, const prsm_progress *p)
 {
@@ -25,11 +32,24 @@ static void progress(void *ctx, const prsm_progress *p)
 	fflush(stderr);
 }
 
+static int optimize(const prsm_cli_doc_options *o);
+
 int prsm_cli_optimize(int argc, char **argv)
 {
 	prsm_cli_doc_options o;
-	if (prsm_cli_doc_options_parse(&o, argc, argv, "optimize", 0))
-		return PRSM_EXIT_USAGE;
+	const int par = prsm_par_active();
+	if (par && prsm_par_rank() != 0)
+		return prsm_cli_study_serve(); /* the robust constraints' studies, until rank 0 is done */
+	int rc = prsm_cli_doc_options_parse(&o, argc, argv, "optimize", 0) ? PRSM_EXIT_USAGE : optimize(&o);
+	if (par)
+		prsm_par_study_service_finish(rc);
+	return rc;
+}
+
+/* Under MPI this is rank 0's: the robust constraints' studies run over every rank. */
+static int optimize(const prsm_cli_doc_options *opt)
+{
+	const prsm_cli_doc_options o = *opt;
 	prsm_problems problems;
 	prsm_problems_init(&problems);
 	cJSON *doc;
@@ -39,10 +59,14 @@ int prsm_cli_optimize(int argc, char **argv)
 		return rc;
 	}
 	int bar = !o.quiet && isatty(STDERR_FILENO);
+	const int par = prsm_par_active();
+	prsm_cli_progress_lines lines = {"optimize", "evaluations", -1e9};
+	prsm_progress_fn fn = bar ? progress : par && !o.quiet ? prsm_cli_progress_lines_fn : NULL;
+	void *fn_ctx = bar ? NULL : &lines;
 	cJSON *res = NULL;
 	prsm_error err = PRSM_ERROR_INIT;
-	int orc = prsm_app_optimize(&res, doc, NULL, bar ? progress : NULL, NULL, 0.0,
-	                                       &problems, &err);
+	int orc = prsm_app_optimize_with(&res, doc, NULL, fn, fn_ctx, 0.0, par ? prsm_par_study_service() : NULL,
+	                                 &problems, &err);
 	cJSON_Delete(doc);
 	if (bar)
 		fputc('\n', stderr);

@@ -23,6 +23,7 @@
 #include "io/global.h"
 #include "http/server.h"
 #include "job/jobs.h"
+#include "job/slurm.h"
 #include "util/file.h"
 
 #ifndef PRSM_SOURCE_DATA_DIR
@@ -87,8 +88,18 @@ static void serve_usage(FILE *f)
 	        "  --sync-budget N      ... and only requests of at most N contact-gap evaluations\n"
 	        "                       (default 20000000; 0: every error analysis is a job)\n"
 	        "  --data-dir DIR       directory with schemas/, api/ and web/ (default: $PRSM_DATA_DIR,\n"
-	        "                       else %s next to the binary when installed, else %s)\n",
-	        PRSM_BIN_TO_DATA, PRSM_SOURCE_DATA_DIR);
+	        "                       else %s next to the binary when installed, else %s)\n"
+	        "  --executor local|slurm  where jobs run: the workers (default), or jobs of at least\n"
+	        "                       --slurm-min-samples Monte Carlo samples go to Slurm (sbatch,\n"
+	        "                       squeue, sacct, scancel on PATH; docs/mpi.md)\n"
+	        "  --slurm-min-samples N  (default 1000000)\n"
+	        "  --slurm-spool DIR    the Slurm jobs' files, on a filesystem the nodes share\n"
+	        "                       (default ./prsm-slurm)\n"
+	        "  --slurm-poll-s S     seconds between squeue calls (default 10)\n"
+	        "  --slurm-prsm PATH    the prsm the nodes run (default: this one)\n"
+	        "  --sbatch-arg ARG     an extra sbatch argument, e.g. --sbatch-arg --partition=long\n"
+	        "                       (repeatable, up to %d)\n",
+	        PRSM_BIN_TO_DATA, PRSM_SOURCE_DATA_DIR, PRSM_SLURM_MAX_ARGS);
 }
 
 static int read_token(char *out, size_t size, const char *path)
@@ -120,6 +131,13 @@ int prsm_cli_serve(int argc, char **argv)
 	ho.data_dir = default_data_dir(data_buf, sizeof data_buf);
 	const char *token_file = NULL;
 	char token[TOKEN_MAX + 1] = "";
+	int slurm_on = 0;
+	const char *slurm_spool = "prsm-slurm", *slurm_prsm = NULL;
+	long long slurm_min = 1000000;
+	double slurm_poll_s = 10.0;
+	const char *slurm_option = NULL; /* the last --slurm-* or --sbatch-arg option given */
+	static prsm_slurm slurm; /* the workers use it until prsm_jobs_close */
+	memset(&slurm, 0, sizeof slurm);
 	for (int i = 1; i < argc; i++) {
 		const char *a = argv[i];
 		const char *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -134,6 +152,8 @@ int prsm_cli_serve(int argc, char **argv)
 			return PRSM_EXIT_USAGE;
 		}
 		i++;
+		if (strncmp(a, "--slurm-", 8) == 0 || strcmp(a, "--sbatch-arg") == 0)
+			slurm_option = a; /* refused below without --executor slurm */
 		if (strcmp(a, "--host") == 0) {
 			ho.host = v;
 		} else if (strcmp(a, "--port") == 0) {
@@ -190,6 +210,32 @@ int prsm_cli_serve(int argc, char **argv)
 			ho.sync_evaluations = (double)n;
 		} else if (strcmp(a, "--data-dir") == 0) {
 			ho.data_dir = v;
+		} else if (strcmp(a, "--executor") == 0) {
+			if (strcmp(v, "local") != 0 && strcmp(v, "slurm") != 0) {
+				fprintf(stderr, "prsm serve: --executor: local or slurm, not '%s'\n", v);
+				return PRSM_EXIT_USAGE;
+			}
+			slurm_on = strcmp(v, "slurm") == 0;
+		} else if (strcmp(a, "--slurm-min-samples") == 0) {
+			if (prsm_cli_int_option(&slurm_min, "serve", a, v, 0, 1000000000000LL))
+				return PRSM_EXIT_USAGE;
+		} else if (strcmp(a, "--slurm-spool") == 0) {
+			slurm_spool = v;
+		} else if (strcmp(a, "--slurm-prsm") == 0) {
+			slurm_prsm = v;
+		} else if (strcmp(a, "--slurm-poll-s") == 0) {
+			char *end = NULL;
+			slurm_poll_s = strtod(v, &end);
+			if (end == v || *end || !(slurm_poll_s >= 0.01 && slurm_poll_s <= 3600.0)) {
+				fprintf(stderr, "prsm serve: --slurm-poll-s: seconds in [0.01, 3600], not '%s'\n", v);
+				return PRSM_EXIT_USAGE;
+			}
+		} else if (strcmp(a, "--sbatch-arg") == 0) {
+			if (slurm.n_sbatch_args == PRSM_SLURM_MAX_ARGS) {
+				fprintf(stderr, "prsm serve: at most %d --sbatch-arg\n", PRSM_SLURM_MAX_ARGS);
+				return PRSM_EXIT_USAGE;
+			}
+			slurm.sbatch_args[slurm.n_sbatch_args++] = argv[i];
 		} else {
 			fprintf(stderr, "prsm serve: unknown option '%s'\n", a);
 			serve_usage(stderr);
@@ -203,6 +249,18 @@ int prsm_cli_serve(int argc, char **argv)
 		snprintf(token, sizeof token, "%s", getenv("PRSM_TOKEN"));
 	}
 	ho.token = token[0] ? token : NULL;
+	if (!slurm_on && slurm_option) {
+		fprintf(stderr, "prsm serve: %s needs --executor slurm\n", slurm_option);
+		return PRSM_EXIT_USAGE;
+	}
+	if (slurm_on) {
+		prsm_error serr = PRSM_ERROR_INIT;
+		if (prsm_slurm_init(&slurm, slurm_spool, slurm_prsm, (size_t)slurm_min, slurm_poll_s, &serr)) {
+			fprintf(stderr, "prsm serve: --executor slurm: %s\n", serr.message);
+			return PRSM_EXIT_USAGE;
+		}
+		jo.executor = &slurm.executor;
+	}
 	jo.store_connections = ho.threads + jo.workers + 2;
 	if (jo.store_connections > PRSM_STORE_MAX_CONNS)
 		jo.store_connections = PRSM_STORE_MAX_CONNS;
@@ -232,6 +290,10 @@ int prsm_cli_serve(int argc, char **argv)
 	        strchr(ho.host, ':') ? "[" : "", ho.host, strchr(ho.host, ':') ? "]" : "", prsm_http_port(http),
 	        jo.db_path, ho.data_dir, jo.workers, jo.workers == 1 ? "" : "s",
 	        ho.token ? ", token required for POST and DELETE" : "", recovered ? ", resuming interrupted jobs" : "");
+	if (slurm_on)
+		fprintf(stderr, "prsm serve: jobs of %lld samples or more go to Slurm (spool %s, prsm %s)%s\n", slurm_min,
+		        slurm.spool, slurm.prsm,
+		        (size_t)slurm_min > jo.limits.max_samples ? "; no study reaches that under --max-samples" : "");
 	int sig = 0;
 	sigwait(&set, &sig);
 	fprintf(stderr, "prsm serve: %s: stopping\n", sig == SIGINT ? "SIGINT" : "SIGTERM");

@@ -10,7 +10,13 @@
  * bifurcation points (sweep, frequency_response), the basin grid or the FRF (linear); --threads N
  * runs sweep points and basin cells on N threads (the result does not depend on N). A run that
  * does not converge prints why and exits 2.
+ *
+ * Under MPI (docs/mpi.md) every rank reads the request (rank 0's bytes) and a sweep's directions
+ * (continuation) or points, or a basin grid's cells, are spread over the ranks (par/vib.h); rank 0
+ * finishes, reports and writes the result one process writes, byte for byte. Any other analysis
+ * runs whole on rank 0, the other ranks exit at once.
  */
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -18,6 +24,8 @@
 
 #include "app/simulate.h"
 #include "cli/commands.h"
+#include "par/par.h"
+#include "par/vib.h"
 
 static void progress(void *ctx, const prsm_progress *p)
 {
@@ -117,30 +125,60 @@ int prsm_cli_simulate(int argc, char **argv)
 		return PRSM_EXIT_USAGE;
 	prsm_problems problems;
 	prsm_problems_init(&problems);
+	const int par = prsm_par_active(), leader = prsm_par_rank() == 0;
 	cJSON *doc;
-	int rc = prsm_cli_read_document(&doc, o.path, &problems);
+	int rc = par ? prsm_cli_read_document_par(&doc, o.path, &problems) : prsm_cli_read_document(&doc, o.path, &problems);
 	if (rc) {
-		prsm_cli_print_problems(stderr, o.path, &problems);
+		if (leader)
+			prsm_cli_print_problems(stderr, o.path, &problems);
 		return rc;
 	}
-	prsm_app_simulation *s;
+	prsm_app_simulation *s = NULL;
 	int lrc = prsm_app_simulation_load(&s, doc, NULL, &problems);
 	cJSON_Delete(doc);
+	if (par) {
+		/* every rank loaded the same bytes: the same outcome, or something is badly wrong */
+		int32_t lead_rc = lrc;
+		prsm_error berr = PRSM_ERROR_INIT;
+		if (prsm_par_bcast(&lead_rc, sizeof lead_rc, &berr))
+			prsm_par_abort(PRSM_EXIT_FAILED, "%s", berr.message);
+		if (lead_rc != lrc)
+			prsm_par_abort(PRSM_EXIT_FAILED, "loaded the simulation with code %d where rank 0 had %d", lrc, (int)lead_rc);
+	}
 	if (lrc) {
-		prsm_cli_print_problems(stderr, o.path, &problems);
+		if (leader)
+			prsm_cli_print_problems(stderr, o.path, &problems);
 		return prsm_error_exit_code(lrc);
 	}
-	const int bar = !o.quiet && isatty(STDERR_FILENO);
+	prsm_vib_split split;
+	if (par) {
+		/* a sweep's directions or points, a basin grid's cells over the ranks; any other
+		 * analysis runs whole on rank 0 */
+		prsm_par_vib_split(&split);
+		if (!prsm_app_simulation_set_split(s, &split) && !leader) {
+			prsm_app_simulation_free(s);
+			return 0;
+		}
+	}
+	const int bar = leader && !o.quiet && isatty(STDERR_FILENO);
 	prsm_error err = PRSM_ERROR_INIT;
 	if (o.threads)
 		prsm_app_simulation_set_threads(s, o.threads);
 	const char *unit = "simulated_ns";
 	prsm_app_simulation_work(s, &unit);
 	const int transient = strcmp(unit, "simulated_ns") == 0;
-	int src = prsm_app_simulation_run(s, NULL, bar ? (transient ? progress : progress_count) : NULL,
-	                                  transient ? NULL : &unit, 0.0, &err);
+	prsm_cli_progress_lines lines = {"simulate", unit, -1e9};
+	prsm_progress_fn fn = bar ? (transient ? progress : progress_count)
+	                          : par && leader && !o.quiet && !transient ? prsm_cli_progress_lines_fn : NULL;
+	void *fn_ctx = bar ? (transient ? NULL : (void *)&unit) : &lines;
+	int src = prsm_app_simulation_run(s, NULL, fn, fn_ctx, 0.0, &err);
 	if (bar)
 		fputc('\n', stderr);
+	if (!leader) {
+		/* a follower: its part went to rank 0, which reports and writes */
+		prsm_app_simulation_free(s);
+		return prsm_error_exit_code(src);
+	}
 	if (src) {
 		if (err.pointer[0])
 			fprintf(stderr, "%s: %s: %s\n", o.path, err.pointer, err.message);

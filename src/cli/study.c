@@ -52,9 +52,7 @@ static void progress_lines(void *ctx, const prsm_progress *p)
 	fflush(stderr);
 }
 
-/* The document under MPI: rank 0 reads the bytes, every rank parses them (problems are rank
- * 0's to print). Returns 0 or the exit code, the same on every rank. */
-static int read_document_par(cJSON **doc, const char *path, prsm_problems *problems)
+int prsm_cli_read_document_par(cJSON **doc, const char *path, prsm_problems *problems)
 {
 	*doc = NULL;
 	char *text = NULL;
@@ -72,6 +70,58 @@ static int read_document_par(cJSON **doc, const char *path, prsm_problems *probl
 	*doc = prsm_json_parse(text, len, problems);
 	free(text);
 	return *doc ? 0 : PRSM_EXIT_INVALID;
+}
+
+/* prsm_par_study_load_fn: the study of a document rank 0 sends, through the study reader. */
+static int serve_load(void *ctx, prsm_study **study, void **handle, const char *text, size_t len, prsm_error *err)
+{
+	(void)ctx;
+	prsm_problems *pr = malloc(sizeof *pr);
+	prsm_io_study *s = calloc(1, sizeof *s);
+	if (!pr || !s) {
+		free(pr);
+		free(s);
+		return prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
+	}
+	prsm_problems_init(pr);
+	cJSON *doc = prsm_json_parse(text, len, pr);
+	int rc = doc ? prsm_io_study_load(s, doc, NULL, pr) : PRSM_EINVAL;
+	cJSON_Delete(doc);
+	if (rc) {
+		prsm_error_set(err, rc, NULL, "%s%s%s", pr->count ? pr->items[0].pointer : "",
+		               pr->count && pr->items[0].pointer[0] ? ": " : "",
+		               pr->count ? pr->items[0].message : "the study could not be loaded");
+		free(pr);
+		free(s);
+		return rc;
+	}
+	free(pr);
+	*study = &s->study;
+	*handle = s;
+	return 0;
+}
+
+static void serve_release(void *ctx, void *handle)
+{
+	(void)ctx;
+	free(handle);
+}
+
+int prsm_cli_study_serve(void)
+{
+	return prsm_par_study_serve(serve_load, serve_release, NULL);
+}
+
+void prsm_cli_progress_lines_fn(void *ctx, const prsm_progress *p)
+{
+	prsm_cli_progress_lines *pl = ctx;
+	double now = prsm_clock_seconds();
+	if (p->done < p->planned && now - pl->last_s < 10.0)
+		return;
+	pl->last_s = now;
+	fprintf(stderr, "prsm %s: %zu / %zu %s on %d ranks\n", pl->command, p->done, p->planned, pl->unit,
+	        prsm_par_size());
+	fflush(stderr);
 }
 
 int prsm_cli_study_check(const cJSON *doc, prsm_problems *warnings, prsm_problems *problems)
@@ -94,7 +144,7 @@ int prsm_cli_study(int argc, char **argv)
 	prsm_problems_init(&problems);
 	const int par = prsm_par_active(), leader = prsm_par_rank() == 0;
 	cJSON *doc;
-	int rc = par ? read_document_par(&doc, o.path, &problems) : prsm_cli_read_document(&doc, o.path, &problems);
+	int rc = par ? prsm_cli_read_document_par(&doc, o.path, &problems) : prsm_cli_read_document(&doc, o.path, &problems);
 	if (rc) {
 		if (leader)
 			prsm_cli_print_problems(stderr, o.path, &problems);

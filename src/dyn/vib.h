@@ -57,6 +57,7 @@
 #define PRSM_DYN_VIB_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "dyn/dyn.h"
 #include "model/analysis.h"
@@ -492,6 +493,47 @@ int prsm_vib_lyapunov_run(prsm_vib_lyapunov *out, const prsm_vib_model *m, const
                           prsm_error *err);
 
 /* ---------------------------------------------------------------------------------------- */
+/* Spreading a sweep's or a basin grid's tasks over processes                                */
+
+/* A buffer of one part. */
+typedef struct {
+	char *data;
+	size_t len;
+} prsm_vib_share;
+
+/* What a part's buffer starts with: its failure (code nonzero, message) or 0 and its tasks'
+ * results after it (the layout is the run's own). */
+typedef struct {
+	int32_t code;
+	int32_t pad;
+	uint64_t tasks;              /* tasks whose results follow */
+	char message[PRSM_ERROR_MESSAGE_MAX];
+} prsm_vib_share_head;
+
+/*
+ * The independent tasks of a sweep (a continuation sweep's directions; independent points: the
+ * points) or of a basin grid (its cells) spread over `parts` processes (src/par: the ranks of an
+ * MPI job, part = rank), each running the same analysis (the same model and options) with its
+ * own part. A part computes the tasks t with t mod parts = part on its threads, packs their
+ * results after a prsm_vib_share_head (part 0, whose results are in place, a head alone), and
+ * calls exchange(ctx, mine, len, shares, err) once (also when it computed nothing, or failed:
+ * then a head with its code). A split other than parts >= 1, 0 <= part < parts with an exchange
+ * is refused (PRSM_EINVAL). exchange gives part 0
+ * every part's buffer in part order (shares[0 .. parts-1], malloc'd: the run frees them; it may
+ * replace a part's buffer by a head with a failure) and returns 0, or PRSM_EIO. Part 0 then
+ * finishes the analysis as one process does (the efforts summed in task order, a sweep's first
+ * error in point order, a basin grid's attractors and labels in grid order): the same result,
+ * byte for byte. The other parts return 0 with an empty result. A part's failure ends part 0's
+ * run with "rank P of N failed: MESSAGE". Progress on part 0: its own tasks' units scaled to the
+ * whole (an estimate; its share of the tasks is every parts-th one).
+ */
+typedef struct {
+	int parts, part;
+	int (*exchange)(void *ctx, const void *mine, size_t len, prsm_vib_share *shares, prsm_error *err);
+	void *ctx;
+} prsm_vib_split;
+
+/* ---------------------------------------------------------------------------------------- */
 /* Bifurcation sweeps (§8.4 "sweep")                                                         */
 
 typedef struct {
@@ -504,6 +546,7 @@ typedef struct {
 	prsm_vib_steady_options steady; /* per point: periods, clock, observable, tolerance, Lyapunov */
 	const double *initial_state; /* NULL: the static state of the first point */
 	int threads;                 /* >= 1 */
+	const prsm_vib_split *split; /* NULL: every task here */
 } prsm_vib_sweep_options;
 
 void prsm_vib_sweep_options_init(prsm_vib_sweep_options *o);
@@ -560,6 +603,7 @@ typedef struct {
 	const int *known_period;
 	prsm_vib_integration integration;
 	int threads;
+	const prsm_vib_split *split; /* NULL: every cell here */
 } prsm_vib_basin_options;
 
 void prsm_vib_basin_options_init(prsm_vib_basin_options *o);

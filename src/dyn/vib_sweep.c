@@ -200,6 +200,146 @@ typedef struct {
 	char (*msg)[PRSM_ERROR_MESSAGE_MAX]; /* per point: the failure's message */
 } sweep_ctx;
 
+/* ---- tasks spread over parts (vib.h, prsm_vib_split) ---- */
+
+typedef struct {
+	vib_task_fn fn;
+	void *ctx;
+	size_t part, parts;
+} split_tasks;
+
+static int split_task(void *ctx, vib_pool *pool, size_t i)
+{
+	const split_tasks *s = ctx;
+	return s->fn(s->ctx, pool, s->part + i * s->parts);
+}
+
+/* A split the run can take: NULL or 1 part (none), else 0 .. parts-1 with an exchange. */
+static int split_ok(const prsm_vib_split *sp)
+{
+	return !sp || (sp->parts >= 1 && sp->part >= 0 && sp->part < sp->parts && sp->exchange);
+}
+
+/* Tasks of n that part `part` of `parts` computes: part, part + parts, ... */
+static size_t split_count(size_t n, int part, int parts)
+{
+	return n > (size_t)part ? (n - (size_t)part + (size_t)parts - 1) / (size_t)parts : 0;
+}
+
+/* Part 0's progress: its own units scaled to the whole. */
+typedef struct {
+	prsm_progress_fn fn;
+	void *ctx;
+	size_t mine, total;
+} split_progress;
+
+static void split_progress_fn(void *ctx, const prsm_progress *p)
+{
+	const split_progress *s = ctx;
+	prsm_progress q = *p;
+	q.planned = s->total;
+	q.done = s->mine ? (size_t)((double)p->done * (double)s->total / (double)s->mine) : s->total;
+	if (q.done > q.planned)
+		q.done = q.planned;
+	s->fn(s->ctx, &q);
+}
+
+/* The pool over this part's tasks (every task without a split); units: the whole run's progress
+ * units, units_per_task each task's. */
+static int split_pool_run(size_t n, int threads, vib_task_fn fn, void *ctx, size_t units, size_t units_per_task,
+                          const prsm_vib_split *sp, const prsm_cancel_flag *cancel, prsm_progress_fn progress,
+                          void *progress_ctx)
+{
+	if (!sp)
+		return vib_pool_run(n, threads, fn, ctx, units, cancel, progress, progress_ctx);
+	split_tasks st = {fn, ctx, (size_t)sp->part, (size_t)sp->parts};
+	const size_t mine = split_count(n, sp->part, sp->parts);
+	split_progress pr = {progress, progress_ctx, mine * units_per_task, units};
+	return vib_pool_run(mine, threads, split_task, &st, mine * units_per_task, cancel,
+	                    progress && sp->part == 0 ? split_progress_fn : NULL, &pr);
+}
+
+static void put(char **p, const void *src, size_t n)
+{
+	memcpy(*p, src, n);
+	*p += n;
+}
+
+static void get(const char **p, void *dst, size_t n)
+{
+	memcpy(dst, *p, n);
+	*p += n;
+}
+
+/* This part's buffer to the exchange: buf (len bytes, its head filled here with code, message and
+ * tasks; NULL: a head alone, for a failure). On part 0, *shares gets every part's buffer, each
+ * checked: the first failure (this part's own first, then in part order) is returned with err
+ * set. Returns 0, a failure, or the exchange's error. Frees buf. */
+static int split_exchange(const prsm_vib_split *sp, char *buf, size_t len, int code, const char *message, size_t tasks,
+                          prsm_vib_share **shares, prsm_error *err)
+{
+	prsm_vib_share_head h;
+	memset(&h, 0, sizeof h);
+	h.code = code;
+	h.tasks = code ? 0 : tasks;
+	snprintf(h.message, sizeof h.message, "%s", message ? message : "");
+	if (!buf || code) {
+		free(buf);
+		buf = NULL;
+		len = sizeof h;
+	}
+	const void *mine = buf ? (const void *)buf : (const void *)&h;
+	if (buf)
+		memcpy(buf, &h, sizeof h);
+	*shares = NULL;
+	prsm_vib_share *all = sp->part == 0 ? calloc((size_t)sp->parts, sizeof *all) : NULL;
+	int rc = 0;
+	if (sp->part == 0 && !all)
+		rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
+	/* every part exchanges once, whatever happened (the others wait for it) */
+	int xrc = sp->exchange(sp->ctx, mine, len, all, err);
+	free(buf);
+	if (rc || xrc) {
+		if (all)
+			for (int q = 0; q < sp->parts; q++)
+				free(all[q].data);
+		free(all);
+		return rc ? rc : xrc;
+	}
+	if (sp->part != 0)
+		return 0;
+	for (int q = 0; q < sp->parts && !rc; q++) {
+		prsm_vib_share_head qh;
+		if (all[q].len < sizeof qh) {
+			rc = prsm_error_set(err, PRSM_EIO, NULL, "rank %d of %d sent %zu bytes, less than a head", q, sp->parts,
+			                    all[q].len);
+			break;
+		}
+		memcpy(&qh, all[q].data, sizeof qh);
+		qh.message[sizeof qh.message - 1] = '\0';
+		if (qh.code)
+			rc = prsm_error_set(err, qh.code, NULL, "rank %d of %d failed: %s", q, sp->parts,
+			                    qh.message[0] ? qh.message : prsm_error_name(qh.code));
+	}
+	if (rc) {
+		for (int q = 0; q < sp->parts; q++)
+			free(all[q].data);
+		free(all);
+		return rc;
+	}
+	*shares = all;
+	return 0;
+}
+
+static void shares_free(prsm_vib_share *all, int parts)
+{
+	if (!all)
+		return;
+	for (int q = 0; q < parts; q++)
+		free(all[q].data);
+	free(all);
+}
+
 static double grid_value(const prsm_vib_sweep_options *o, size_t i)
 {
 	return o->from + (double)i * o->step;
@@ -308,6 +448,92 @@ static int sweep_task(void *ctx, vib_pool *pool, size_t task)
 	return rc;
 }
 
+/* The points (slots k0 .. k0 + nk - 1) task t writes. */
+static void sweep_slots(const sweep_ctx *x, size_t t, size_t *k0, size_t *nk)
+{
+	if (x->o->continuation) {
+		*k0 = (t == 0 && x->n_up > 0) ? 0 : x->n_up;
+		*nk = x->grid;
+	} else {
+		*k0 = t;
+		*nk = 1;
+	}
+}
+
+static size_t sweep_task_bytes(const sweep_ctx *x, size_t nk)
+{
+	const prsm_vib_sweep *out = x->out;
+	return sizeof(prsm_vib_effort) +
+	       nk * (sizeof(prsm_vib_sweep_point) + ((size_t)out->recorded + (size_t)out->states) * sizeof(double) +
+	             sizeof *x->msg);
+}
+
+/* A split sweep's exchange: this part's tasks packed (part 0 sends its head alone: its results
+ * are in place), the others' unpacked into their slots on part 0. own: this part's pool code. */
+static int sweep_exchange(sweep_ctx *x, size_t tasks, int own, prsm_error *err)
+{
+	const prsm_vib_split *sp = x->o->split;
+	prsm_vib_sweep *out = x->out;
+	const size_t R = (size_t)out->recorded, n = (size_t)out->states;
+	const size_t mine = split_count(tasks, sp->part, sp->parts);
+	size_t len = sizeof(prsm_vib_share_head);
+	if (sp->part != 0)
+		for (size_t i = 0; i < mine; i++) {
+			size_t k0, nk;
+			sweep_slots(x, (size_t)sp->part + i * (size_t)sp->parts, &k0, &nk);
+			len += sweep_task_bytes(x, nk);
+		}
+	char *buf = own ? NULL : malloc(len);
+	int code = own ? own : buf ? 0 : PRSM_ENOMEM;
+	if (buf && sp->part != 0) {
+		char *p = buf + sizeof(prsm_vib_share_head);
+		for (size_t i = 0; i < mine; i++) {
+			const size_t t = (size_t)sp->part + i * (size_t)sp->parts;
+			size_t k0, nk;
+			sweep_slots(x, t, &k0, &nk);
+			put(&p, &x->effort[t], sizeof x->effort[t]);
+			put(&p, out->point + k0, nk * sizeof *out->point);
+			put(&p, out->poincare + k0 * R, nk * R * sizeof(double));
+			put(&p, out->end_state + k0 * n, nk * n * sizeof(double));
+			put(&p, x->msg + k0, nk * sizeof *x->msg);
+		}
+	}
+	prsm_vib_share *all;
+	int rc = split_exchange(sp, buf, len, code, code == PRSM_ECANCELLED ? "cancelled" : code ? "out of memory" : NULL,
+	                        sp->part == 0 ? 0 : mine, &all, err);
+	if (rc || sp->part != 0)
+		return rc;
+	for (int q = 1; q < sp->parts && !rc; q++) {
+		const size_t qn = split_count(tasks, q, sp->parts);
+		size_t want = sizeof(prsm_vib_share_head);
+		for (size_t i = 0; i < qn; i++) {
+			size_t k0, nk;
+			sweep_slots(x, (size_t)q + i * (size_t)sp->parts, &k0, &nk);
+			want += sweep_task_bytes(x, nk);
+		}
+		prsm_vib_share_head h;
+		memcpy(&h, all[q].data, sizeof h);
+		if (all[q].len != want || h.tasks != qn) {
+			rc = prsm_error_set(err, PRSM_EIO, NULL, "rank %d of %d sent %zu bytes for %llu sweep tasks, expected %zu for %zu",
+			                    q, sp->parts, all[q].len, (unsigned long long)h.tasks, want, qn);
+			break;
+		}
+		const char *p = all[q].data + sizeof h;
+		for (size_t i = 0; i < qn; i++) {
+			const size_t t = (size_t)q + i * (size_t)sp->parts;
+			size_t k0, nk;
+			sweep_slots(x, t, &k0, &nk);
+			get(&p, &x->effort[t], sizeof x->effort[t]);
+			get(&p, out->point + k0, nk * sizeof *out->point);
+			get(&p, out->poincare + k0 * R, nk * R * sizeof(double));
+			get(&p, out->end_state + k0 * n, nk * n * sizeof(double));
+			get(&p, x->msg + k0, nk * sizeof *x->msg);
+		}
+	}
+	shares_free(all, sp->parts);
+	return rc;
+}
+
 static int sweep_check(const prsm_vib_model *m, const prsm_vib_sweep_options *o, size_t *grid, prsm_error *err)
 {
 	if (!(o->step > 0.0 && isfinite(o->step) && isfinite(o->from) && isfinite(o->to) && o->to >= o->from))
@@ -324,6 +550,8 @@ static int sweep_check(const prsm_vib_model *m, const prsm_vib_sweep_options *o,
 		return prsm_error_set(err, PRSM_EINVAL, "/dynamics/sweep/directions", "a sweep runs up, down or both");
 	if (o->threads < 1 || o->threads > 256)
 		return prsm_error_set(err, PRSM_EINVAL, "/threads", "1 to 256 threads (got %d)", o->threads);
+	if (!split_ok(o->split))
+		return prsm_error_set(err, PRSM_EINVAL, NULL, "a split needs parts >= 1, a part in 0 .. parts-1 and an exchange");
 	const double periods = (double)*grid * (o->up + o->down) *
 	                       ((double)o->steady.transient_periods + o->steady.recorded_periods +
 	                        (o->steady.lyapunov ? o->steady.lyapunov_periods : 0));
@@ -380,13 +608,37 @@ int prsm_vib_sweep_run(prsm_vib_sweep *out, const prsm_vib_model *m, const prsm_
 	x.n_up = o->continuation ? n_up : grid;
 	x.effort = calloc(tasks, sizeof *x.effort);
 	x.msg = calloc(total, sizeof *x.msg);
+	const prsm_vib_split *sp = o->split && o->split->parts > 1 ? o->split : NULL;
 	if (!out->point || !out->poincare || !out->end_state || !x.effort || !x.msg) {
 		free(x.effort);
 		free(x.msg);
 		prsm_vib_sweep_free(out);
+		if (sp) {
+			/* the other parts wait for this one's exchange */
+			prsm_vib_share *all;
+			prsm_error xerr = PRSM_ERROR_INIT;
+			if (split_exchange(sp, NULL, 0, PRSM_ENOMEM, "out of memory", 0, &all, &xerr) == 0)
+				shares_free(all, sp->parts);
+		}
 		return prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory for %zu sweep points", total);
 	}
-	rc = vib_pool_run(tasks, o->threads, sweep_task, &x, points, cancel, progress, progress_ctx);
+	rc = split_pool_run(tasks, o->threads, sweep_task, &x, points, o->continuation ? grid : 1, sp, cancel, progress,
+	                    progress_ctx);
+	int err_set = 0;
+	if (sp) {
+		const int own = rc;
+		rc = sweep_exchange(&x, tasks, own, err);
+		err_set = rc != 0 && rc != own;
+		if (sp->part != 0) {
+			/* this part's tasks went to part 0, which finishes the sweep */
+			free(x.effort);
+			free(x.msg);
+			prsm_vib_sweep_free(out);
+			if (rc && !err_set)
+				prsm_error_set(err, rc, NULL, "%s", rc == PRSM_ECANCELLED ? "cancelled" : "out of memory in a sweep point");
+			return rc;
+		}
+	}
 	if (rc == 0 && !o->continuation && o->down) {
 		/* independent points, computed ascending in slots 0 .. grid-1: the down direction is the
 		 * same points in descending order (after the up ones, or in their place) */
@@ -430,6 +682,8 @@ int prsm_vib_sweep_run(prsm_vib_sweep *out, const prsm_vib_model *m, const prsm_
 	free(x.msg);
 	if (rc) {
 		prsm_vib_sweep_free(out);
+		if (err_set)
+			return rc;
 		return prsm_error_set(err, rc, NULL, "%s", rc == PRSM_ECANCELLED ? "cancelled" : "out of memory in a sweep point");
 	}
 	return 0;
@@ -511,6 +765,52 @@ static int basin_task(void *ctx, vib_pool *pool, size_t cell)
 	return 0;
 }
 
+/* A split basin grid's exchange: this part's cells packed (status, effort, record; part 0 sends
+ * its head alone), the others' unpacked on part 0. own: this part's code so far. */
+static int basin_exchange(basin_ctx *x, size_t cells, int own, prsm_error *err)
+{
+	const prsm_vib_split *sp = x->o->split;
+	const size_t rec = (size_t)x->o->identify_periods * (size_t)x->size;
+	const size_t per_cell = sizeof(int) + sizeof(prsm_vib_effort) + rec * sizeof(double);
+	const size_t mine = split_count(cells, sp->part, sp->parts);
+	const size_t len = sizeof(prsm_vib_share_head) + (sp->part == 0 ? 0 : mine * per_cell);
+	char *buf = own ? NULL : malloc(len);
+	int code = own ? own : buf ? 0 : PRSM_ENOMEM;
+	if (buf && sp->part != 0) {
+		char *p = buf + sizeof(prsm_vib_share_head);
+		for (size_t i = 0; i < mine; i++) {
+			const size_t c = (size_t)sp->part + i * (size_t)sp->parts;
+			put(&p, &x->status[c], sizeof(int));
+			put(&p, &x->effort[c], sizeof(prsm_vib_effort));
+			put(&p, x->record + c * rec, rec * sizeof(double));
+		}
+	}
+	prsm_vib_share *all;
+	int rc = split_exchange(sp, buf, len, code, code == PRSM_ECANCELLED ? "cancelled" : code ? "out of memory" : NULL,
+	                        sp->part == 0 ? 0 : mine, &all, err);
+	if (rc || sp->part != 0)
+		return rc;
+	for (int q = 1; q < sp->parts && !rc; q++) {
+		const size_t qn = split_count(cells, q, sp->parts);
+		prsm_vib_share_head h;
+		memcpy(&h, all[q].data, sizeof h);
+		if (all[q].len != sizeof h + qn * per_cell || h.tasks != qn) {
+			rc = prsm_error_set(err, PRSM_EIO, NULL, "rank %d of %d sent %zu bytes for %llu cells, expected %zu",
+			                    q, sp->parts, all[q].len, (unsigned long long)h.tasks, qn);
+			break;
+		}
+		const char *p = all[q].data + sizeof h;
+		for (size_t i = 0; i < qn; i++) {
+			const size_t c = (size_t)q + i * (size_t)sp->parts;
+			get(&p, &x->status[c], sizeof(int));
+			get(&p, &x->effort[c], sizeof(prsm_vib_effort));
+			get(&p, x->record + c * rec, rec * sizeof(double));
+		}
+	}
+	shares_free(all, sp->parts);
+	return rc;
+}
+
 static double cycle_distance(const double *p, const prsm_vib_attractor *a, int size)
 {
 	double best = INFINITY;
@@ -542,7 +842,7 @@ int prsm_vib_basins_run(prsm_vib_basins *out, const prsm_vib_model *m, const prs
 		                      "periods >= 0, 2 to %d identification periods, at most 2e8 periods in all",
 		                      4 * PRSM_VIB_PERIOD_MAX);
 	if (!(o->distance > 0.0) || o->threads < 1 || o->threads > 256 || o->known < 0 ||
-	    (o->known > 0 && (o->known_state == NULL || o->known_period == NULL)))
+	    (o->known > 0 && (o->known_state == NULL || o->known_period == NULL)) || !split_ok(o->split))
 		return prsm_error_set(err, PRSM_EINVAL, "/dynamics/basins", "bad distance, threads or known attractors");
 	const int clock = prsm_vib_clock_of(m, o->clock, PRSM_VIB_OBS_MESH_DEFLECTION);
 	const double T = prsm_vib_period(m, clock);
@@ -551,6 +851,8 @@ int prsm_vib_basins_run(prsm_vib_basins *out, const prsm_vib_model *m, const prs
 	const int size = vib_reduced_size(c);
 	const size_t cells = (size_t)o->nx * o->nv;
 	const double tol = isnan(o->period_tol) ? vib_default_period_tol(m) : o->period_tol;
+	const prsm_vib_split *sp = o->split && o->split->parts > 1 ? o->split : NULL;
+	int exchanged = 0, err_set = 0;
 	basin_ctx x;
 	memset(&x, 0, sizeof x);
 	x.m = m;
@@ -600,9 +902,21 @@ int prsm_vib_basins_run(prsm_vib_basins *out, const prsm_vib_model *m, const prs
 			goto cleanup;
 		}
 	}
-	rc = vib_pool_run(cells, o->threads, basin_task, &x, cells, cancel, progress, progress_ctx);
+	rc = split_pool_run(cells, o->threads, basin_task, &x, cells, 1, sp, cancel, progress, progress_ctx);
+	if (sp) {
+		const int own = rc;
+		exchanged = 1;
+		rc = basin_exchange(&x, cells, own, err);
+		err_set = rc != 0 && rc != own;
+		if (sp->part != 0 && rc == 0) {
+			/* this part's cells went to part 0, which labels the grid */
+			prsm_vib_basins_free(out);
+			goto cleanup;
+		}
+	}
 	if (rc) {
-		prsm_error_set(err, rc, NULL, "%s", rc == PRSM_ECANCELLED ? "cancelled" : "out of memory in a cell");
+		if (!err_set)
+			prsm_error_set(err, rc, NULL, "%s", rc == PRSM_ECANCELLED ? "cancelled" : "out of memory in a cell");
 		goto cleanup;
 	}
 	/* labels in grid order (deterministic) */
@@ -651,6 +965,13 @@ int prsm_vib_basins_run(prsm_vib_basins *out, const prsm_vib_model *m, const prs
 		out->effort.switches += x.effort[cell].switches;
 	}
 cleanup:
+	if (sp && !exchanged) {
+		/* failed before the exchange: the other parts wait for this one's */
+		prsm_vib_share *all;
+		prsm_error xerr = PRSM_ERROR_INIT;
+		if (split_exchange(sp, NULL, 0, rc ? rc : PRSM_EIO, err->message, 0, &all, &xerr) == 0)
+			shares_free(all, sp->parts);
+	}
 	free(x.record);
 	free(x.status);
 	free(x.effort);

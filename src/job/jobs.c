@@ -91,7 +91,11 @@ static void run_one(worker *w, prsm_store_job *job)
 		rc = prsm_error_set(&err, PRSM_EINVAL, NULL, "this prsm has no job kind '%s'", job->kind);
 	} else {
 		prsm_job_run_ctx ctx = {&w->cancel, progress_cb, w, j->opt.limits};
-		rc = k->run(&out, job->request, &ctx, &err);
+		const prsm_job_executor *ex = j->opt.executor;
+		if (ex && ex->wants(ex->ctx, k, job->request))
+			rc = ex->run(ex->ctx, &out, k, job->id, job->request, &ctx, &err);
+		else
+			rc = k->run(&out, job->request, &ctx, &err);
 	}
 	pthread_mutex_lock(&j->mu);
 	int cancelled = prsm_cancel_requested(&w->cancel), stopping = j->stopping;

@@ -23,6 +23,19 @@
 #define PRSM_JOBS_MAX_WORKERS 64
 #define PRSM_JOBS_MAX_REQUEST_BYTES (8u * 1024u * 1024u) /* canonical request */
 
+/* Where a job runs when not in the worker thread itself (e.g. a Slurm cluster: job/slurm.h).
+ * wants: 1 when the job of kind k with this stored (canonical) request goes there. run: as the
+ * kind's run (kind.h), on the worker's thread, which waits for it: *out filled with the result
+ * (and CSV and counts) of the kind's run, or an error in err (code, pointer and message as the
+ * kind's run gave them); ctx->cancel polled (PRSM_ECANCELLED). id: the job's id. */
+typedef struct prsm_job_executor {
+	const char *name;
+	int (*wants)(void *ctx, const prsm_job_kind *k, const char *request);
+	int (*run)(void *ctx, prsm_job_output *out, const prsm_job_kind *k, const char *id, const char *request,
+	           const prsm_job_run_ctx *run_ctx, prsm_error *err);
+	void *ctx;
+} prsm_job_executor;
+
 typedef struct {
 	const char *db_path;       /* SQLite file */
 	int workers;               /* worker threads (jobs run at once) */
@@ -35,9 +48,10 @@ typedef struct {
 	const char *engine_build;  /* part of every cache key; NULL: this binary's
 	                              prsm_engine_build() (tests give another to act as an
 	                              older or newer engine) */
+	const prsm_job_executor *executor; /* NULL: every job runs in its worker thread */
 } prsm_jobs_options;
 
-#define PRSM_JOBS_OPTIONS_INIT {"prsm.db", 1, 4, 64, {200000, 600.0, 1}, NULL, 0, NULL}
+#define PRSM_JOBS_OPTIONS_INIT {"prsm.db", 1, 4, 64, {200000, 600.0, 1}, NULL, 0, NULL, NULL}
 
 typedef struct prsm_jobs prsm_jobs;
 

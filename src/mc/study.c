@@ -447,6 +447,38 @@ int prsm_study_run(prsm_study_result *r, const prsm_study *s, prsm_error *err)
 	return prsm_study_run_with(r, s, NULL, err);
 }
 
+int prsm_study_adopt(prsm_study *mine, const prsm_study *from, prsm_error *err)
+{
+	if (mine->d != from->d || mine->model.n_outputs != from->model.n_outputs || mine->m != from->m ||
+	    mine->n_groups != from->n_groups)
+		return prsm_error_set(err, PRSM_EINVAL, NULL, "the study document gives %zu variables, %zu outputs and %zu "
+		                      "tolerances here, %zu, %zu and %zu there", mine->d, mine->model.n_outputs, mine->n_groups,
+		                      from->d, from->model.n_outputs, from->n_groups);
+	for (size_t v = 0; v < mine->d; v++)
+		if ((from->vars[v].dist.kind == PRSM_DIST_HISTOGRAM) != (mine->vars[v].dist.kind == PRSM_DIST_HISTOGRAM))
+			return prsm_error_set(err, PRSM_EINVAL, NULL, "variable %zu is a histogram on one side only", v);
+	const prsm_mc_model model = mine->model;
+	const prsm_dist_histogram *hist[PRSM_MC_MAX_VARIABLES];
+	for (size_t v = 0; v < mine->d; v++)
+		hist[v] = mine->vars[v].dist.hist;
+	memcpy(mine, from, sizeof *mine);
+	mine->model = model;
+	for (size_t v = 0; v < mine->d; v++)
+		mine->vars[v].dist.hist = hist[v];
+	mine->mc.cancel = NULL;
+	mine->mc.progress = NULL;
+	mine->mc.progress_ctx = NULL;
+	return 0;
+}
+
+int prsm_study_service_run(const prsm_study_service *svc, prsm_study_result *r, const prsm_study *s,
+                           const char *source, size_t source_len, prsm_error *err)
+{
+	if (svc && svc->run && source && source_len)
+		return svc->run(r, s, source, source_len, svc->ctx, err);
+	return prsm_study_run(r, s, err);
+}
+
 int prsm_study_run_with(prsm_study_result *r, const prsm_study *s, const prsm_study_runner *runner,
                         prsm_error *err)
 {

@@ -176,6 +176,29 @@ typedef struct {
 int prsm_study_run_with(prsm_study_result *r, const prsm_study *s, const prsm_study_runner *runner,
                         prsm_error *err);
 
+/* Who runs a caller's whole studies (opt/: an allocation's Monte Carlo corrections, the robust
+ * constraints' studies): run is called instead of prsm_study_run, with the study document s was
+ * loaded from (source, source_len bytes of JSON text: the study reader gives the same model from
+ * it in any process) while s itself carries the settings the caller changed since (the
+ * distributions, specs, targets, sensitivities: the struct's plain fields). src/par runs them
+ * over the ranks of an MPI job, with prsm_study_run's result. NULL: this process. */
+typedef struct {
+	int (*run)(prsm_study_result *r, const prsm_study *s, const char *source, size_t source_len, void *ctx,
+	           prsm_error *err);
+	void *ctx;
+} prsm_study_service;
+
+/* Take the settings of `from` (the same study document's study, as its caller changed it: in
+ * another process, say) into `mine`: every plain field; mine's own model and histogram bins kept
+ * (the same, loaded from the same document); none of from's pointers (cancel, progress) kept.
+ * Returns 0, or PRSM_EINVAL with err when the two differ in their sizes (variables, outputs,
+ * tolerances) or in which variables are histograms. */
+int prsm_study_adopt(prsm_study *mine, const prsm_study *from, prsm_error *err);
+
+/* prsm_study_run through svc: svc->run when svc, its run and source are set, else prsm_study_run. */
+int prsm_study_service_run(const prsm_study_service *svc, prsm_study_result *r, const prsm_study *s,
+                           const char *source, size_t source_len, prsm_error *err);
+
 /* The Saltelli replicates of the study's Sobol phase (randomised-QMC replicates with the Sobol'
  * sampler, else 1), and the engine options of replicate q without a time cap. */
 size_t prsm_study_sobol_replicates(const prsm_study *s);

@@ -310,7 +310,7 @@ static int run_mc(prsm_alloc_step *st, prsm_study *s, const prsm_alloc_model *md
 	prsm_study_result *r = calloc(1, sizeof *r);
 	if (!r)
 		return prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
-	int rc = prsm_study_run(r, s, err);
+	int rc = prsm_study_service_run(o->service, r, s, o->study_source, o->study_source_len, err);
 	if (rc == 0) {
 		st->has_mc = 1;
 		st->meets = st->assembly_ok; /* the given assembly tolerances: the linear stack */

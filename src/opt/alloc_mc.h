@@ -128,6 +128,11 @@ typedef struct {
 	prsm_progress_fn progress;                  /* may be NULL: samples done / planned, best cost */
 	void *progress_ctx;
 	double max_time_s;                          /* 0: none */
+	/* who runs the correction studies (mc/study.h: e.g. over the ranks of an MPI job) and the
+	 * study document the study was loaded from; NULL: this process */
+	const prsm_study_service *service;
+	const char *study_source;
+	size_t study_source_len;
 } prsm_alloc_mc_options;
 
 typedef struct {

@@ -105,7 +105,9 @@ static int run_study(prsm_robust_eval *out, prsm_robust *r, const prsm_design *d
 	prsm_error e2 = PRSM_ERROR_INIT;
 	if (!r->build || !r->release)
 		return prsm_error_set(err, PRSM_EINVAL, NULL, "robust constraints without a study builder");
-	int rc = r->build(r->build_ctx, &study, &handle, d, &e2);
+	const char *source = NULL;
+	size_t source_len = 0;
+	int rc = r->build(r->build_ctx, &study, &handle, &source, &source_len, d, &e2);
 	if (rc) {
 		if (rc == PRSM_ENOMEM) {
 			rc = prsm_error_set(err, rc, NULL, "%s", e2.message);
@@ -138,7 +140,7 @@ static int run_study(prsm_robust_eval *out, prsm_robust *r, const prsm_design *d
 		rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
 		goto cleanup;
 	}
-	rc = prsm_study_run(res, study, &e2);
+	rc = prsm_study_service_run(r->service, res, study, source, source_len, &e2);
 	r->studies++;
 	r->samples_total += res->run.n;
 	if (rc == PRSM_ECANCELLED) {

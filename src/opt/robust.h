@@ -63,12 +63,14 @@ typedef struct {
 
 /*
  * Build the tolerance study of candidate design d (unresolved: the rules fill its radii). On
- * success *study points to a study whose outputs include every constrained output by name and
- * *handle to whatever owns it (released by the release callback, never NULL on success).
+ * success *study points to a study whose outputs include every constrained output by name,
+ * *handle to whatever owns it (released by the release callback, never NULL on success) and
+ * *source (*source_len bytes, owned by the handle) to the study document it was loaded from, or
+ * NULL when there is none (the study then runs in this process whatever the service).
  * Returns 0, or a PRSM_E* code with err saying why (the candidate then counts as violating).
  */
-typedef int (*prsm_robust_build_fn)(void *ctx, prsm_study **study, void **handle,
-                                    const prsm_design *d, prsm_error *err);
+typedef int (*prsm_robust_build_fn)(void *ctx, prsm_study **study, void **handle, const char **source,
+                                    size_t *source_len, const prsm_design *d, prsm_error *err);
 typedef void (*prsm_robust_release_fn)(void *ctx, void *handle);
 
 /* The figures of one constraint at one candidate. */
@@ -105,6 +107,7 @@ typedef struct {
 	prsm_robust_release_fn release;
 	void *build_ctx;
 	prsm_cancel_flag *cancel;                     /* may be NULL: handed to every study run */
+	const prsm_study_service *service;        /* who runs the studies (mc/study.h; NULL: here) */
 	/* settings echoed by the result (the builder's study uses them) */
 	uint64_t seed;
 	size_t samples;

@@ -22,7 +22,7 @@
 #include "par/par.h"
 #include "util/clock.h"
 
-enum { CMD_PLAIN = 1, CMD_SOBOL = 2, CMD_END = 3 };
+enum { CMD_PLAIN = 1, CMD_SOBOL = 2, CMD_END = 3, CMD_STUDY = 4, CMD_FINISH = 5 };
 
 typedef struct {
 	uint32_t op;
@@ -52,6 +52,7 @@ typedef struct {
 	prsm_par_blob *blobs;
 	uint64_t round;
 	int have_round;
+	int rank_failed;        /* a rank's share failed (not the study: out of memory, PRSM_PAR_FAULT) */
 } leader;
 
 /* Blocks in a chunk of the plain run: one per engine thread of a rank. */
@@ -308,6 +309,7 @@ static int lead_plain(prsm_mc_result *out, const prsm_study *s, void *ctx, prsm_
 			lc->running = 0;
 			got = 1;
 			if (lc->code && !rc) {
+				L->rank_failed = 1;
 				rc = prsm_error_set(err, lc->code, NULL, "rank 0 of %d failed: %s", size,
 				                    lc->err.message[0] ? lc->err.message : prsm_error_name(lc->code));
 				stopped = 1;
@@ -333,6 +335,7 @@ static int lead_plain(prsm_mc_result *out, const prsm_study *s, void *ctx, prsm_
 			int code = rows_unpack(out, block_done, s, buf, len, &busy[from], from, size, &rerr);
 			free(buf);
 			if (code && !rc) {
+				L->rank_failed = 1;
 				rc = code;
 				*err = rerr;
 				stopped = 1;
@@ -510,28 +513,36 @@ static int lead_replicate(prsm_mc_result *sr, const prsm_study *s, size_t q, con
 	}
 	if (!L->have_round || L->round != j)
 		prsm_par_abort(2, "replicate %zu asked for out of order", q);
-	return replicate_unpack(sr, &L->blobs[r], s, r, L->size, err);
+	int rc = replicate_unpack(sr, &L->blobs[r], s, r, L->size, err);
+	if (rc)
+		L->rank_failed = 1;
+	return rc;
 }
 
 /* ---- the whole study ---------------------------------------------------------------------- */
 
-int prsm_par_study_run(prsm_study_result *r, const prsm_study *s, prsm_error *err)
+/* A follower's part of one study, until rank 0 says it is over: rank 0's return code. */
+static int follow(const prsm_study *s)
 {
-	if (prsm_par_rank() != 0) {
-		for (;;) {
-			command c;
-			memset(&c, 0, sizeof c);
-			bcast_command(&c);
-			if (c.op == CMD_PLAIN)
-				follow_plain(s);
-			else if (c.op == CMD_SOBOL)
-				follow_sobol(s, c.round, c.time_cap_s);
-			else if (c.op == CMD_END)
-				return c.code;
-			else
-				prsm_par_abort(2, "unknown command %u from rank 0", (unsigned)c.op);
-		}
+	for (;;) {
+		command c;
+		memset(&c, 0, sizeof c);
+		bcast_command(&c);
+		if (c.op == CMD_PLAIN)
+			follow_plain(s);
+		else if (c.op == CMD_SOBOL)
+			follow_sobol(s, c.round, c.time_cap_s);
+		else if (c.op == CMD_END)
+			return c.code;
+		else
+			prsm_par_abort(2, "unknown command %u from rank 0 in a study", (unsigned)c.op);
 	}
+}
+
+/* Rank 0's part of one study: prsm_study_run_with over the ranks, then the end. *rank_failed
+ * (may be NULL): the error is a rank's failure, not the study's. */
+static int lead(prsm_study_result *r, const prsm_study *s, int *rank_failed, prsm_error *err)
+{
 	leader L;
 	memset(&L, 0, sizeof L);
 	L.s = s;
@@ -545,5 +556,93 @@ int prsm_par_study_run(prsm_study_result *r, const prsm_study *s, prsm_error *er
 	free(L.blobs);
 	command end = {CMD_END, rc, 0, 0.0};
 	bcast_command(&end);
+	if (rank_failed)
+		*rank_failed = L.rank_failed;
 	return rc;
+}
+
+int prsm_par_study_run(prsm_study_result *r, const prsm_study *s, prsm_error *err)
+{
+	return prsm_par_rank() != 0 ? follow(s) : lead(r, s, NULL, err);
+}
+
+/* ---- whole studies on demand (a study service) -------------------------------------------- */
+
+/* prsm_study_service.run on rank 0: the study's document and settings to every rank, then the
+ * study over the ranks. */
+static int service_run(prsm_study_result *r, const prsm_study *s, const char *source, size_t source_len, void *ctx,
+                       prsm_error *err)
+{
+	(void)ctx;
+	/* the broadcasts' buffers are the callers' on every rank: copies of rank 0's */
+	char *text = malloc(source_len + 1);
+	prsm_study *settings = malloc(sizeof *settings);
+	if (!text || !settings)
+		prsm_par_abort(2, "out of memory for a study's document");
+	memcpy(text, source, source_len);
+	text[source_len] = '\0';
+	memcpy(settings, s, sizeof *settings);
+	command c = {CMD_STUDY, 0, (uint64_t)source_len, 0.0};
+	bcast_command(&c);
+	size_t len = source_len;
+	prsm_error berr = PRSM_ERROR_INIT;
+	if (prsm_par_bcast_blob(&text, &len, &berr) || prsm_par_bcast(settings, sizeof *settings, &berr))
+		prsm_par_abort(2, "%s", berr.message);
+	free(text);
+	free(settings);
+	/* a rank's failure has no one-process counterpart the caller could report (a robust
+	 * constraint would count it against the candidate): it ends the run */
+	int rank_failed = 0;
+	int rc = lead(r, s, &rank_failed, err);
+	if (rc && rank_failed)
+		prsm_par_abort(2, "the run ends: %s", err->message);
+	return rc;
+}
+
+static const prsm_study_service par_service = {service_run, NULL};
+
+const prsm_study_service *prsm_par_study_service(void)
+{
+	return &par_service;
+}
+
+void prsm_par_study_service_finish(int code)
+{
+	command c = {CMD_FINISH, code, 0, 0.0};
+	bcast_command(&c);
+}
+
+int prsm_par_study_serve(prsm_par_study_load_fn load, prsm_par_study_release_fn release, void *ctx)
+{
+	prsm_study *lead_s = malloc(sizeof *lead_s);
+	if (!lead_s)
+		prsm_par_abort(2, "out of memory for a study");
+	for (;;) {
+		command c;
+		memset(&c, 0, sizeof c);
+		bcast_command(&c);
+		if (c.op == CMD_FINISH) {
+			free(lead_s);
+			return c.code;
+		}
+		if (c.op != CMD_STUDY)
+			prsm_par_abort(2, "unknown command %u from rank 0 between studies", (unsigned)c.op);
+		char *text = NULL;
+		size_t len = 0;
+		prsm_error err = PRSM_ERROR_INIT;
+		if (prsm_par_bcast_blob(&text, &len, &err) || prsm_par_bcast(lead_s, sizeof *lead_s, &err))
+			prsm_par_abort(2, "%s", err.message);
+		if (len != (size_t)c.round)
+			prsm_par_abort(2, "a study document of %zu bytes where rank 0 announced %llu", len,
+			               (unsigned long long)c.round);
+		prsm_study *s = NULL;
+		void *handle = NULL;
+		if (load(ctx, &s, &handle, text, len, &err))
+			prsm_par_abort(2, "cannot load the study rank 0 runs: %s", err.message);
+		free(text);
+		if (prsm_study_adopt(s, lead_s, &err))
+			prsm_par_abort(2, "the study rank 0 runs: %s", err.message);
+		follow(s);
+		release(ctx, handle);
+	}
 }

@@ -34,4 +34,29 @@
  * (prsm_par_abort). Needs prsm_par_init; with one process, rank 0 runs every chunk itself. */
 int prsm_par_study_run(prsm_study_result *r, const prsm_study *s, prsm_error *err);
 
+/*
+ * Whole studies on demand, for a command whose own work runs on rank 0 (prsm allocate: the Monte
+ * Carlo corrections; prsm optimize: the robust constraints' studies; docs/mpi.md).
+ *
+ * Rank 0 hands prsm_par_study_service() to the application layer (app/allocate.h,
+ * app/optimize.h), which calls it for each study with the study document the study was loaded
+ * from: the document (bytes) and the study's settings (the prsm_study struct's plain fields, as
+ * the caller changed them) go to every rank, every rank loads the same model from the document,
+ * and the study runs as prsm_par_study_run runs it: prsm_study_run's result, byte for byte. When
+ * its command is done rank 0 calls prsm_par_study_service_finish(code) (also when it never ran a
+ * study: a document it refused).
+ *
+ * The other ranks call prsm_par_study_serve(load, release, ctx): for each study, load builds the
+ * study of the document text (the study reader; 0 or a PRSM_E* code with err), the rank takes
+ * rank 0's settings into it, runs its part, release frees it; it returns rank 0's code at the
+ * finish. A rank that cannot load what rank 0 loaded ends the job (prsm_par_abort).
+ */
+typedef int (*prsm_par_study_load_fn)(void *ctx, prsm_study **study, void **handle, const char *text, size_t len,
+                                      prsm_error *err);
+typedef void (*prsm_par_study_release_fn)(void *ctx, void *handle);
+
+const prsm_study_service *prsm_par_study_service(void);
+void prsm_par_study_service_finish(int code);
+int prsm_par_study_serve(prsm_par_study_load_fn load, prsm_par_study_release_fn release, void *ctx);
+
 #endif
