@@ -13,10 +13,14 @@ of a written object then says how it is written (the build fails when one says n
 a member the struct lacks):
 
   "field": "a_mm"               the member; a path: "terms.bending", "quantile[2]", through one
-                                pointer "a->geometry.lead_mm", "[]" a row (see "count")
+                                pointer "a->geometry.lead_mm", "[]" a row (see "count"); "p[].m":
+                                member m of element i of what the pointer p points to (an
+                                array's item i, or a row)
   "scale": 1000 | "(180.0 / M_PI)"   numbers: written = member x scale (an expression is written
-                                into the table as it is); "divide": 1000: then / divide
-  the member's C type decides: double, int, size_t, uint64_t and int-sized enums are numbers, an
+                                into the table as it is); "divide": 1000: then / divide; either
+                                {"field": "m"}: the double member m of the table's struct, as it is
+                                when written (a factor the run decides); array items too
+  the member's C type decides: double, int, long, size_t, uint64_t and int-sized enums are numbers, an
   int is a boolean for "type": "boolean" ("mask": "C_FLAG": true when that bit is set), a char
   array or a const char * a string
   "values": ["C_CONST", ...]    a string enum: the C constants of the schema's enum names, in
@@ -40,11 +44,13 @@ a member the struct lacks):
   arrays: "count": 3 | "member" the item count (a fixed number, or an int or size_t member; a C
                                 array's length when left out);
                                 "field" names the items (a C array or a pointer to them: numbers,
-                                strings, or structs written by the items' table); without "field"
+                                booleans (ints, "mask" as above), strings, or structs written by
+                                the items' table; or "p[].m", the member of each); without "field"
                                 the items are rows: their properties' fields are paths with "[]",
                                 item i taking element i; "tuple": [{"field": ...}, ...] writes
                                 those members as the array; items of a string enum with "field"
-                                and "values" are the names of the bits set in an int
+                                and "values" are the names of the bits set in an int, or, when
+                                "field" is a C array or a pointer, the names of its ints' values
 
 A written object's "view": {"a": "const prsm_analysis *", "F": "double"} has the generator
 declare its struct, prsm_io_<write>_view, in the generated header: the hand code fills it with
@@ -124,7 +130,7 @@ def parse_structs(text):
     return out
 
 
-NUMERIC = {'double': 'PRSM_IO_W_DOUBLE', 'int': 'PRSM_IO_W_INT', 'size_t': 'PRSM_IO_W_SIZE',
+NUMERIC = {'double': 'PRSM_IO_W_DOUBLE', 'int': 'PRSM_IO_W_INT', 'size_t': 'PRSM_IO_W_SIZE', 'long': 'PRSM_IO_W_LONG',
            'uint64_t': 'PRSM_IO_W_U64', 'unsigned long long': 'PRSM_IO_W_U64', 'unsigned long': 'PRSM_IO_W_ULONG'}
 
 
@@ -133,6 +139,7 @@ class Ref:
 
     def __init__(self):
         self.offset, self.offset2, self.stride = None, None, None
+        self.after = None  # "p[].member": the member's offset in what p points to
         self.deref = self.pointer = False
         self.ctype, self.ptr, self.dims, self.row = None, 0, [], False
         self.desig, self.struct = '', None
@@ -145,6 +152,8 @@ class Ref:
             parts.append('.pointer = 1')
         if self.stride:
             parts.append(f'.stride = {self.stride}')
+        if self.after:
+            parts.append(f'.after = {self.after}')
         return '{' + ', '.join(parts) + '}'
 
     def through(self):
@@ -314,9 +323,10 @@ class Gen:
         if ''.join(''.join(t) for t in toks) != path:
             raise GenError(f'{where}: cannot read the member path "{path}"')
         struct, outer, cur, last = sname, None, sname, None
+        elem, after = None, ''  # after "p[]" (p a pointer): the element's struct and the path in it
         for sep, name, idx in toks:
             if sep == '->':
-                if outer or last is None or last.ptr != 1 or last.dims:
+                if outer or elem or last is None or last.ptr != 1 or last.dims:
                     raise GenError(f'{where}: "{path}": "->" follows one pointer member, once')
                 outer = (struct, r.desig)
                 struct, r.desig = last.ctype, ''
@@ -328,21 +338,31 @@ class Gen:
                 raise GenError(f'{where}: struct {cur} has no member "{name}" (of "{path}")')
             m = self.structs[cur][name]
             last = Member(m.ctype, m.ptr, list(m.dims))
-            r.desig += ('.' if r.desig else '') + name
+            if elem:
+                after += ('.' if after else '') + name
+            else:
+                r.desig += ('.' if r.desig else '') + name
             for i in re.findall(r'\[([^\]]*)\]', idx):
                 if i == '' and r.row:
                     raise GenError(f'{where}: "{path}": one "[]" at most')
                 if last.dims:
                     last.dims.pop(0)
+                    if elem:
+                        after += f'[{i or 0}]'
+                        continue
                     r.desig += f'[{i or 0}]'
                     if i == '':
                         r.row, r.stride = True, f'sizeof((({struct} *)0)->{r.desig})'
-                elif last.ptr == 1 and i == '' and (sep, name, idx) == toks[-1]:
+                elif last.ptr == 1 and i == '' and not elem:
                     r.row, r.pointer, last.ptr = True, True, 0
                     r.stride = f'sizeof(*(({struct} *)0)->{r.desig})'
+                    if (sep, name, idx) != toks[-1]:  # "p[].member": element i's member
+                        elem = last.ctype
                 else:
                     raise GenError(f'{where}: "{path}": [{i}] indexes no array')
             cur = last.ctype
+        if elem:
+            r.after = f'offsetof({elem}, {after})'
         r.struct = struct
         if outer:
             r.deref = True
@@ -380,6 +400,12 @@ class Gen:
                 fields.append(f)
         if not fields:
             raise GenError(f'{layers[0][0]}: {cname} writes nothing')
+        used = {n for t, _, _ in self.tables for n in (t, t + '_fields')}
+        base, n = cname, 1
+        while cname in used or cname + '_fields' in used:  # a property "fields" of a table's X is X_fields
+            if export:
+                raise GenError(f'{layers[0][0]}: the table {cname} is named twice')
+            cname, n = f'{base}_{n}', n + 1
         self.tables.append((cname, fields, export))
         return cname
 
@@ -530,16 +556,22 @@ class Gen:
             f['kind'], f['type'] = 'PRSM_IO_W_NUMBER', self.ctype_kind(r.ctype, where)
             if stype == 'integer' and f['type'] == 'PRSM_IO_W_DOUBLE':
                 raise GenError(f'{where}: an integer is written from an integer member, not a double')
-            self.scale(f, note)
+            self.scale(f, note, sname, where)
         else:
             raise GenError(f'{where}: cannot write a {stype} from a member (a hook can)')
         return f
 
-    def scale(self, f, note):
+    def scale(self, f, note, sname=None, where=''):
         for k in ('scale', 'divide'):
             if k in note:
                 v = note[k]
-                f[k] = v if isinstance(v, str) else c_double(v)
+                if isinstance(v, dict):  # {"field": m}: the double member m, read as it is written
+                    r = self.scalar(self.ref(sname, v.get('field', ''), where), where)
+                    if r.ctype != 'double' or r.row:
+                        raise GenError(f'{where}: "{k}": {{"field"}} names a double member, not a row')
+                    f[k + '_by'], f[k + '_at'] = '1', r.c()
+                else:
+                    f[k] = v if isinstance(v, str) else c_double(v)
 
     def array(self, f, key, layers, note, r, sname, cname, where):
         f['kind'] = 'PRSM_IO_W_ARRAY'
@@ -553,8 +585,7 @@ class Gen:
             f.pop('at', None)
             return f
         inames = self.first(items, 'enum')
-        if r is not None and inames is not None and 'values' in note:
-            self.scalar(r, where)
+        if r is not None and inames is not None and 'values' in note and not (r.dims or r.ptr or r.after):
             f['kind'] = 'PRSM_IO_W_FLAGS'
             self.enum(f, inames, note, where)
             return f
@@ -584,16 +615,28 @@ class Gen:
             return f
         if r is None:
             raise GenError(f'{where}: an array of {itype} names its items\' "field"')
-        r.items(where)
+        if not r.after:  # "p[].member": item i is element i's member
+            r.items(where)
         f['at'] = r.c()
-        if itype == 'string':
+        if itype == 'boolean':
+            self.scalar(r, where)
+            if r.ctype != 'int':
+                raise GenError(f'{where}: boolean items are written from ints, not {r.ctype}')
+            f['type'], f['mask'] = 'PRSM_IO_W_INT', str(note.get('mask', -1))
+        elif inames is not None and 'values' in note:  # ints: the names of their values
+            self.scalar(r, where)
+            if r.ctype != 'int' and r.ctype not in self.enums:
+                raise GenError(f'{where}: string enum items are written from ints, not {r.ctype}')
+            f['type'] = 'PRSM_IO_W_INT'
+            self.enum(f, inames, note, where)
+        elif itype == 'string':
             if r.ctype != 'char' or not ((len(r.dims) == 1 and not r.ptr) or (r.ptr == 1 and not r.dims)):
                 raise GenError(f'{where}: string items are char arrays or const char *')
             f['type'] = 'PRSM_IO_W_CSTR' if r.ptr else 'PRSM_IO_W_CHARS'
         else:
             self.scalar(r, where)
             f['type'] = self.ctype_kind(r.ctype, where)
-            self.scale(f, note)
+            self.scale(f, note, sname, where)
         return f
 
     def run(self):

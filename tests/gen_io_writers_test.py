@@ -17,7 +17,7 @@ src = os.path.abspath(sys.argv[1])
 gen = os.path.join(src, 'scripts', 'gen-io-writers.py')
 schemas = os.path.join(src, 'schemas')
 RESULTS = ['analysis.schema.json', 'study-result.schema.json', 'optimization-result.schema.json',
-           'allocation-result.schema.json']
+           'allocation-result.schema.json', 'measured-result.schema.json', 'dynamics-result.schema.json']
 failed = 0
 
 
@@ -150,6 +150,48 @@ check('a field added (and one skipped) in the schema reaches the table', {'analy
       '{.name = "carrier_ratio_min_slip", .at = {.offset = offsetof(prsm_io_analysis_view, a), .deref = 1, '
       '.offset2 = offsetof(prsm_analysis, kinematics.carrier_ratio_min_slip)}',
       absent=('"roller_spin_ratio_ideal"',))
+
+# the calibration and dynamics results: a member of each element a pointer points to ("p[].m"),
+# boolean and enum-name items, long integers, factors the run decides ({"field"}), a property
+# "fields" whose table name would collide with its parent's field list
+for t in ('prsm_io_w_calibration_result', 'prsm_io_w_dyn_result', 'prsm_io_w_vib_result', 'prsm_io_w_vib_sweep_point',
+          'prsm_io_w_vib_gear_pair', 'prsm_io_w_vib_te_line'):
+    ok = f'extern const prsm_io_wtable {t};' in out
+    print(('ok   ' if ok else 'FAIL ') + f'{t} is exported')
+    failed += not ok
+check('the new shapes reach the tables', {}, 0,
+      '.offset2 = offsetof(prsm_dyn_result, point), .pointer = 1, .stride = sizeof(*((prsm_dyn_result *)0)->point), '
+      '.after = offsetof(prsm_dyn_point, time_s)}, .kind = PRSM_IO_W_ARRAY',
+      '.after = offsetof(prsm_dyn_point, stuck)}, .kind = PRSM_IO_W_ARRAY, .count_type = PRSM_IO_W_SIZE, '
+      '.count_at = {.offset = offsetof(prsm_io_dyn_result_view, r), .deref = 1, .offset2 = offsetof(prsm_dyn_result, points)}, '
+      '.type = PRSM_IO_W_INT, .mask = -1}',
+      '.offset2 = offsetof(prsm_dyn_result, steps)}, .kind = PRSM_IO_W_NUMBER, .type = PRSM_IO_W_LONG}',
+      '.divide_by = 1, .divide_at = {.offset = offsetof(prsm_io_vib_result_view, wref)}}',
+      'prsm_io_w_calibration_result_calibration_1 = ')
+ok = '.type = PRSM_IO_W_INT, .names = ' in table(out, 'prsm_io_w_calibration_result_calibration_1')
+print(('ok   ' if ok else 'FAIL ') + 'an array of ints with "values" writes their names')
+failed += not ok
+m = load('measured-result.schema.json')
+dr = load('dynamics-result.schema.json')
+s = copy.deepcopy(dr)
+s['$defs']['vib_linear']['properties']['half_power']['properties']['peak_frequency_Hz']['x-prsm']['scale'] = {'field': 'failed'}
+check('a factor from a member that is no double is refused', {'dynamics-result.schema.json': s}, 1,
+      '"scale": {"field"} names a double member')
+s = copy.deepcopy(dr)
+s['$defs']['transient']['properties']['stuck']['x-prsm']['field'] = 'r->point[].efficiency'
+check('boolean items from doubles are refused', {'dynamics-result.schema.json': s}, 1,
+      'boolean items are written from ints, not double')
+s = copy.deepcopy(dr)
+s['$defs']['transient']['properties']['time_s']['x-prsm']['field'] = 'r->point[].time_z'
+check('"p[].m" naming no member of the element is refused', {'dynamics-result.schema.json': s}, 1,
+      'struct prsm_dyn_point has no member "time_z"')
+s = copy.deepcopy(m)
+s['properties']['calibration']['properties']['dropped_lines']['x-prsm']['field'] = 'line->lag'
+check('enum items from no member are refused', {'measured-result.schema.json': s}, 1, 'has no member "lag"')
+s = copy.deepcopy(m)
+s['properties']['calibration']['properties']['dropped_lines']['x-prsm']['field'] = 'line->amplitude_um'
+check('enum items from doubles are refused', {'measured-result.schema.json': s}, 1,
+      'string enum items are written from ints, not double')
 
 print('gen-io-writers:', 'FAILED' if failed else 'all ok')
 sys.exit(1 if failed else 0)

@@ -18,6 +18,7 @@
 #include "io/doc.h"
 #include "io/json_util.h"
 #include "prsm_io_tables.h"
+#include "prsm_io_writers.h"
 #include "util/error.h"
 #include "util/version.h"
 
@@ -841,14 +842,9 @@ int prsm_io_dynamics_from_json(prsm_dyn_options *o, const cJSON *obj, int stages
 
 /* ---- the result --------------------------------------------------------------------------------- */
 
-static const char *const input_kind_names[] = {"speed", "torque"};
 static const char *const shape_names[] = {"step", "ramp", "sine"};
 static const char *const friction_names[] = {"coulomb", "viscous", "stribeck"};
-static const char *const stick_names[] = {"none", "karnopp"};
 static const char *const losses_names[] = {"statics", "sliding_only"};
-static const char *const stepper_names[] = {"auto", "rk8pd", "msbdf", "rk4imp"};
-static const char *const flank_names[] = {"upper", "lower"};
-static const char *const share_names[3] = {"time_to_50_percent_s", "time_to_90_percent_s", "time_to_99_percent_s"};
 
 static const char *name_of(const char *const *names, int n, int v)
 {
@@ -865,11 +861,6 @@ static void series(prsm_jw *w, cJSON *obj, const char *key, const double *first,
 		prsm_jw_number(w, a, NULL, *(const double *)(const void *)((const char *)first + i * stride) * scale);
 }
 
-static void vec3(prsm_jw *w, cJSON *obj, const char *key, const double v[3])
-{
-	series(w, obj, key, v, sizeof v[0], 3, 1.0);
-}
-
 /* |B| of stage 0 in m per rad (the stick band's and the stiff switch's default, docs/dynamics.md) */
 static double slip_per_rad_m(const prsm_dyn_stage_params *p)
 {
@@ -877,298 +868,28 @@ static double slip_per_rad_m(const prsm_dyn_stage_params *p)
 	return sqrt(B[0] * B[0] + B[1] * B[1] + B[2] * B[2]) * 1e-3;
 }
 
-/* One stage's masses in the request's names (kg, kg mm^2, mm). */
-static void stage_masses(prsm_jw *w, cJSON *o, const prsm_dyn_stage_params *p)
+/* A stage's series (at: its member at the first output time; the stages interleave, K per time). */
+void prsm_io_whook_dyn_stage_series(prsm_jw *w, cJSON *obj, const char *key, const void *at)
 {
-	prsm_jw_number(w, o, "gear_face_width_mm", p->gear_face_width_mm);
-	prsm_jw_number(w, o, "roller_mass_kg", p->roller_mass_kg);
-	prsm_jw_number(w, o, "roller_inertia_kg_mm2", p->roller_inertia_kg_m2 * KG_MM2);
-	prsm_jw_number(w, o, "carrier_mass_kg", p->carrier_mass_kg);
-	prsm_jw_number(w, o, "carrier_inertia_kg_mm2", p->carrier_inertia_kg_m2 * KG_MM2);
-	prsm_jw_number(w, o, "nut_mass_kg", p->nut_mass_kg);
-	prsm_jw_number(w, o, "screw_mass_kg", p->screw_mass_kg);
-	prsm_jw_number(w, o, "screw_inertia_kg_mm2", p->screw_inertia_kg_m2 * KG_MM2);
+	const prsm_dyn_result *r = ((const prsm_io_dyn_result_view *)w->ctx)->r;
+	series(w, obj, key, at, (size_t)r->stages * sizeof *r->stage, r->points, 1.0);
 }
 
-static void write_signal_fields(prsm_jw *w, cJSON *o, const prsm_dyn_signal *s, const char *amp_key)
+/* true while the stage's upper flank carries the load (at: its flank at the first time). */
+void prsm_io_whook_dyn_stage_upper_flank(prsm_jw *w, cJSON *obj, const char *key, const void *at)
 {
-	prsm_jw_number(w, o, "ramp_time_s", s->ramp_time_s);
-	prsm_jw_number(w, o, amp_key, s->sine_amplitude);
-	prsm_jw_number(w, o, "sine_frequency_Hz", s->sine_frequency_Hz);
+	const prsm_dyn_result *r = ((const prsm_io_dyn_result_view *)w->ctx)->r;
+	const size_t ss = (size_t)r->stages * sizeof *r->stage;
+	cJSON *fl = prsm_jw_array(w, obj, key);
+	for (size_t i = 0; fl && i < r->points; i++)
+		prsm_jw_bool(w, fl, NULL, *(const int *)(const void *)((const char *)at + i * ss) == PRSM_DYN_FLANK_UPPER);
 }
 
-/* The dynamics object as the model ran it, every default written out in the request's names:
- * a valid dynamics object (schemas/dynamics.schema.json) that reproduces the run. Left out:
- * what the model chooses itself when it is not given (mu of stages that differ, static_mu =
- * mu, the first step and the speed scale). */
-static void write_parameters(prsm_jw *w, cJSON *obj, const prsm_dyn_model *m)
+/* The checks: both maxima within their limits (1), else a warning (warnings not NULL) says which. */
+static int checks_passed(const prsm_dyn_result *r, prsm_problems *warnings)
 {
-	const prsm_dyn_options *o = prsm_dyn_model_options(m);
-	const int K = prsm_dyn_model_stages(m);
-	const prsm_dyn_stage_params *p0 = prsm_dyn_model_stage(m, 0);
-	const int torque = o->input.kind == PRSM_DYN_INPUT_TORQUE;
-	cJSON *par = prsm_jw_object(w, obj, "parameters");
-	prsm_jw_string(w, par, "analysis", "transient");
-	cJSON *in = prsm_jw_object(w, par, "input");
-	prsm_jw_string(w, in, "kind", NAME(input_kind_names, o->input.kind));
-	prsm_jw_string(w, in, "shape", NAME(shape_names, o->input.signal.shape));
-	prsm_jw_number(w, in, torque ? "value_Nm" : "value_rad_s", o->input.signal.value);
-	write_signal_fields(w, in, &o->input.signal, torque ? "sine_amplitude_Nm" : "sine_amplitude_rad_s");
-	prsm_jw_number(w, in, "motor_inertia_kg_mm2", o->input.motor_inertia_kg_m2 * KG_MM2);
-	prsm_jw_number(w, in, "viscous_drag_Nm_s_per_rad", o->input.viscous_drag_Nm_s_per_rad);
-	if (torque)
-		prsm_jw_number(w, in, "initial_speed_rad_s", o->input.initial_speed_rad_s);
-
-	cJSON *ld = prsm_jw_object(w, par, "load");
-	prsm_jw_number(w, ld, "axial_load_N", o->load.value);
-	prsm_jw_string(w, ld, "shape", o->load.shape == PRSM_DYN_SHAPE_STEP ? "constant" : NAME(shape_names, o->load.shape));
-	write_signal_fields(w, ld, &o->load, "sine_amplitude_N");
-
-	const prsm_dyn_friction *f = &o->friction;
-	cJSON *fr = prsm_jw_object(w, par, "friction");
-	prsm_jw_string(w, fr, "model", NAME(friction_names, f->model));
-	prsm_jw_number(w, fr, "viscous_N_s_per_m", f->viscous_N_s_per_m);
-	int same_mu = 1;
-	for (int k = 1; k < K; k++)
-		same_mu &= prsm_dyn_model_stage(m, k)->mu == p0->mu;
-	if (!isnan(f->mu) || same_mu)
-		prsm_jw_number(w, fr, "mu", isnan(f->mu) ? p0->mu : f->mu);
-	prsm_jw_number(w, fr, "smoothing_velocity_m_s", f->smoothing_velocity_m_s);
-	if (!isnan(f->static_mu))
-		prsm_jw_number(w, fr, "static_mu", f->static_mu);
-	prsm_jw_number(w, fr, "stribeck_velocity_m_s", f->stribeck_velocity_m_s);
-	prsm_jw_string(w, fr, "stick_model", NAME(stick_names, f->stick_model));
-	const double v_eps_rad_s = f->smoothing_velocity_m_s / slip_per_rad_m(p0);
-	prsm_jw_number(w, fr, "stick_band_rad_s", isnan(f->stick_band_rad_s) ? 10.0 * v_eps_rad_s : f->stick_band_rad_s);
-	prsm_jw_number(w, fr, "carrier_drag_Nm_s_per_rad", f->carrier_drag_Nm_s_per_rad);
-	prsm_jw_number(w, fr, "coupling_smoothing_rad_s", f->coupling_smoothing_rad_s);
-
-	prsm_jw_string(w, par, "losses", NAME(losses_names, o->losses));
-
-	cJSON *ine = prsm_jw_object(w, par, "inertia");
-	prsm_jw_number(w, ine, "density_kg_m3", o->inertia.density_kg_m3);
-	prsm_jw_number(w, ine, "stroke_mm", o->inertia.stroke_mm);
-	prsm_jw_number(w, ine, "payload_kg", o->inertia.payload_kg);
-	if (K == 1) {
-		stage_masses(w, ine, p0);
-	} else {
-		cJSON *st = prsm_jw_array(w, ine, "stages");
-		for (int k = 0; k < K; k++)
-			stage_masses(w, prsm_jw_object(w, st, NULL), prsm_dyn_model_stage(m, k));
-	}
-
-	const prsm_dyn_time *t = &o->time;
-	cJSON *ti = prsm_jw_object(w, par, "time");
-	prsm_jw_number(w, ti, "end_s", t->end_s);
-	prsm_jw_number(w, ti, "output_step_s", t->output_step_s);
-	prsm_jw_string(w, ti, "stepper", NAME(stepper_names, t->stepper));
-	prsm_jw_number(w, ti, "rel_tol", t->rel_tol);
-	prsm_jw_number(w, ti, "abs_tol", t->abs_tol);
-	if (!isnan(t->initial_step_s))
-		prsm_jw_number(w, ti, "initial_step_s", t->initial_step_s);
-	if (isfinite(t->stiff_switch_rad_s) || isnan(t->stiff_switch_rad_s))
-		prsm_jw_number(w, ti, "stiff_switch_rad_s",
-		               isnan(t->stiff_switch_rad_s) ? 100.0 * v_eps_rad_s : t->stiff_switch_rad_s);
-	if (!isnan(t->speed_scale_rad_s))
-		prsm_jw_number(w, ti, "speed_scale_rad_s", t->speed_scale_rad_s);
-	prsm_jw_number(w, ti, "max_steps", (double)t->max_steps);
-}
-
-/* What the model made of each stage (docs/dynamics.md): its kinematic structure, the masses and
- * the couplings; the chain's screw-side inertia. */
-static void write_model(prsm_jw *w, cJSON *obj, const prsm_dyn_model *m)
-{
-	const prsm_dyn_options *o = prsm_dyn_model_options(m);
-	const int K = prsm_dyn_model_stages(m);
-	cJSON *mo = prsm_jw_object(w, obj, "model");
-	prsm_jw_number(w, mo, "screw_side_inertia_kg_mm2", prsm_dyn_model_screw_side_inertia(m) * KG_MM2);
-	if (K > 1) {
-		cJSON *c = prsm_jw_object(w, mo, "couplings");
-		prsm_jw_number(w, c, "spline_friction", o->couplings.spline_friction);
-		prsm_jw_number(w, c, "thrust_bearing_friction", o->couplings.thrust_bearing_friction);
-	}
-	cJSON *arr = prsm_jw_array(w, mo, "stages");
-	for (int k = 0; k < K; k++) {
-		const prsm_dyn_stage_params *p = prsm_dyn_model_stage(m, k);
-		cJSON *s = prsm_jw_object(w, arr, NULL);
-		prsm_jw_number(w, s, "stage", k + 1);
-		prsm_jw_number(w, s, "rollers", p->rollers);
-		prsm_jw_number(w, s, "lead_mm", p->lead_mm);
-		prsm_jw_number(w, s, "cumulative_lead_mm_per_rad", p->cumulative_lead_m_per_rad * 1e3);
-		prsm_jw_number(w, s, "ring_gear_ratio", p->ring_gear_ratio);
-		prsm_jw_number(w, s, "gear_pitch_radius_mm", p->gear_pitch_radius_mm);
-		prsm_jw_number(w, s, "orbit_radius_mm", p->orbit_radius_mm);
-		prsm_jw_number(w, s, "gear_pressure_angle_deg", p->gear_pressure_angle_rad * DEG);
-		prsm_jw_number(w, s, "carrier_ratio_min_slip", p->carrier_ratio_min_slip);
-		prsm_jw_number(w, s, "carrier_ratio_statics", p->carrier_ratio_statics);
-		prsm_jw_number(w, s, "min_slip_mm_per_rad", p->min_slip_mm_per_rad);
-		prsm_jw_number(w, s, "mu", p->mu);
-		prsm_jw_number(w, s, "static_mu", p->static_mu);
-		cJSON *fl = prsm_jw_object(w, s, "flanks");
-		for (int side = 0; side < 2; side++) {
-			cJSON *f = prsm_jw_object(w, fl, flank_names[side]);
-			vec3(w, f, "contact_mm", p->contact_mm[side]);
-			vec3(w, f, "normal", p->normal[side]);
-			vec3(w, f, "nut_contact_mm", p->nut_contact_mm[side]);
-			vec3(w, f, "nut_normal", p->nut_normal[side]);
-			vec3(w, f, "A_mm", p->A_mm[side]);
-			vec3(w, f, "B_mm", p->B_mm[side]);
-			prsm_jw_number(w, f, "normal_dot_A_mm", p->normal_dot_A_mm[side]);
-			prsm_jw_number(w, f, "normal_dot_B_mm", p->normal_dot_B_mm[side]);
-		}
-		stage_masses(w, s, p);
-		prsm_jw_number(w, s, "roller_length_mm", p->roller_length_mm);
-		prsm_jw_number(w, s, "carrier_side_inertia_kg_mm2", p->carrier_side_inertia_kg_m2 * KG_MM2);
-		prsm_jw_number(w, s, "axial_mass_kg", p->axial_mass_kg);
-		if (k > 0) {
-			prsm_jw_number(w, s, "spline_radius_mm", p->spline_radius_mm);
-			prsm_jw_number(w, s, "thrust_bearing_radius_mm", p->thrust_radius_mm);
-		}
-		if (o->losses == PRSM_DYN_LOSSES_STATICS)
-			prsm_jw_number(w, s, "loss_reference_load_N", p->loss_reference_load_N);
-	}
-}
-
-/* The forces of one stage at one time (settled), per roller unless the name says. */
-static void stage_forces(prsm_jw *w, cJSON *o, const prsm_dyn_stage_point *sp, int k)
-{
-	prsm_jw_string(w, o, "loaded_flank", NAME(flank_names, sp->flank));
-	prsm_jw_number(w, o, "contact_normal_force_N", sp->contact_normal_force_N);
-	prsm_jw_number(w, o, "nut_contact_force_N", sp->nut_contact_force_N);
-	prsm_jw_number(w, o, "gear_tangential_force_N", sp->gear_tangential_force_N);
-	prsm_jw_number(w, o, "gear_tooth_force_N", sp->gear_tooth_force_N);
-	prsm_jw_number(w, o, "cage_force_N", sp->cage_force_N);
-	prsm_jw_number(w, o, "slip_speed_m_s", sp->slip_speed_m_s);
-	prsm_jw_number(w, o, "stage_axial_load_N", sp->stage_axial_load_N);
-	prsm_jw_number(w, o, "spline_torque_Nm", sp->spline_torque_Nm);
-	if (k > 0) {
-		prsm_jw_number(w, o, "spline_force_N", sp->spline_force_N);
-		prsm_jw_number(w, o, "thrust_load_N", sp->thrust_load_N);
-		prsm_jw_number(w, o, "thrust_torque_Nm", sp->thrust_torque_Nm);
-	}
-	prsm_jw_number(w, o, "loss_torque_Nm", sp->loss_torque_Nm);
-	prsm_jw_number(w, o, "sliding_power_W", sp->sliding_power_W);
-}
-
-static void write_settled(prsm_jw *w, cJSON *obj, const prsm_dyn_model *m, const prsm_dyn_result *r)
-{
-	const prsm_dyn_settled *s = &r->settled;
-	const int K = r->stages;
-	const int torque = prsm_dyn_model_options(m)->input.kind == PRSM_DYN_INPUT_TORQUE;
-	cJSON *se = prsm_jw_object(w, obj, "settled");
-	prsm_jw_bool(w, se, "defined", s->defined);
-	prsm_jw_bool(w, se, "at_rest", s->at_rest);
-	prsm_jw_number(w, se, "screw_speed_rad_s", s->screw_speed_rad_s);
-	prsm_jw_number(w, se, "axial_load_N", s->point.axial_load_N);
-	prsm_jw_number(w, se, "input_torque_Nm", s->input_torque_Nm);
-	prsm_jw_number(w, se, "efficiency", s->efficiency);
-	prsm_jw_number(w, se, "efficiency_statics", s->efficiency_statics);
-	prsm_jw_number(w, se, "power_input_W", s->point.power_input_W);
-	prsm_jw_number(w, se, "power_output_W", s->point.power_output_W);
-	prsm_jw_number(w, se, "power_sliding_W", s->point.power_sliding_W);
-	prsm_jw_number(w, se, "power_couplings_W", s->point.power_couplings_W);
-	prsm_jw_number(w, se, "power_other_W", s->point.power_other_W);
-	if (torque) {
-		cJSON *sp = prsm_jw_object(w, se, "speed");
-		for (int j = 0; j < 3; j++)
-			prsm_jw_number(w, sp, share_names[j], r->speed_time_to_share_s[j]);
-	}
-	cJSON *arr = prsm_jw_array(w, se, "stages");
-	for (int k = 0; k < K; k++) {
-		cJSON *o = prsm_jw_object(w, arr, NULL);
-		prsm_jw_number(w, o, "stage", k + 1);
-		prsm_jw_number(w, o, "carrier_ratio", s->carrier_ratio[k]);
-		prsm_jw_number(w, o, "carrier_ratio_min_slip", s->carrier_ratio_min_slip[k]);
-		prsm_jw_number(w, o, "carrier_ratio_statics", s->carrier_ratio_statics[k]);
-		prsm_jw_number(w, o, "carrier_rate_per_s", s->carrier_rate_per_s[k]);
-		for (int j = 0; j < 3; j++)
-			prsm_jw_number(w, o, share_names[j], r->carrier_time_to_share_s[k][j]);
-		stage_forces(w, o, &s->stage[k], k);
-	}
-}
-
-static void write_transient(prsm_jw *w, cJSON *obj, const prsm_dyn_model *m, const prsm_dyn_result *r)
-{
-	const prsm_dyn_options *o = prsm_dyn_model_options(m);
-	const int K = r->stages;
-	const size_t n = r->points;
-	cJSON *tr = prsm_jw_object(w, obj, "transient");
-	prsm_jw_number(w, tr, "points", (double)n);
-	if (n == 0)
-		return;
-	const prsm_dyn_point *p = r->point;
-	const size_t ps = sizeof *p;
-	series(w, tr, "time_s", &p->time_s, ps, n, 1.0);
-	series(w, tr, "screw_angle_rad", &p->screw_angle_rad, ps, n, 1.0);
-	series(w, tr, "screw_speed_rad_s", &p->screw_speed_rad_s, ps, n, 1.0);
-	series(w, tr, "screw_accel_rad_s2", &p->screw_accel_rad_s2, ps, n, 1.0);
-	series(w, tr, "axial_load_N", &p->axial_load_N, ps, n, 1.0);
-	if (o->input.kind == PRSM_DYN_INPUT_TORQUE)
-		series(w, tr, "motor_torque_Nm", &p->motor_torque_Nm, ps, n, 1.0);
-	series(w, tr, "input_torque_Nm", &p->input_torque_Nm, ps, n, 1.0);
-	series(w, tr, "efficiency", &p->efficiency, ps, n, 1.0);
-	series(w, tr, "energy_input_J", &p->energy_input_J, ps, n, 1.0);
-	series(w, tr, "energy_output_J", &p->energy_output_J, ps, n, 1.0);
-	series(w, tr, "energy_efficiency", &p->energy_efficiency, ps, n, 1.0);
-	cJSON *pw = prsm_jw_object(w, tr, "power_W");
-	series(w, pw, "input", &p->power_input_W, ps, n, 1.0);
-	series(w, pw, "output", &p->power_output_W, ps, n, 1.0);
-	series(w, pw, "sliding", &p->power_sliding_W, ps, n, 1.0);
-	series(w, pw, "couplings", &p->power_couplings_W, ps, n, 1.0);
-	series(w, pw, "other", &p->power_other_W, ps, n, 1.0);
-	series(w, pw, "kinetic", &p->power_kinetic_W, ps, n, 1.0);
-	if (o->friction.stick_model == PRSM_DYN_STICK_KARNOPP) {
-		cJSON *a = prsm_jw_array(w, tr, "stuck");
-		for (size_t i = 0; a && i < n; i++)
-			prsm_jw_bool(w, a, NULL, p[i].stuck);
-	}
-	cJSON *arr = prsm_jw_array(w, tr, "stages");
-	const size_t ss = (size_t)K * sizeof *r->stage;
-	for (int k = 0; k < K; k++) {
-		const prsm_dyn_stage_point *s = &r->stage[k];
-		cJSON *so = prsm_jw_object(w, arr, NULL);
-		prsm_jw_number(w, so, "stage", k + 1);
-		series(w, so, "carrier_angle_rad", &s->carrier_angle_rad, ss, n, 1.0);
-		series(w, so, "carrier_speed_rad_s", &s->carrier_speed_rad_s, ss, n, 1.0);
-		series(w, so, "carrier_ratio", &s->carrier_ratio, ss, n, 1.0);
-		series(w, so, "nut_position_mm", &s->nut_position_mm, ss, n, 1.0);
-		series(w, so, "contact_normal_force_N", &s->contact_normal_force_N, ss, n, 1.0);
-		series(w, so, "nut_contact_force_N", &s->nut_contact_force_N, ss, n, 1.0);
-		series(w, so, "gear_tangential_force_N", &s->gear_tangential_force_N, ss, n, 1.0);
-		series(w, so, "gear_tooth_force_N", &s->gear_tooth_force_N, ss, n, 1.0);
-		series(w, so, "cage_force_N", &s->cage_force_N, ss, n, 1.0);
-		series(w, so, "slip_speed_m_s", &s->slip_speed_m_s, ss, n, 1.0);
-		series(w, so, "stage_axial_load_N", &s->stage_axial_load_N, ss, n, 1.0);
-		series(w, so, "spline_torque_Nm", &s->spline_torque_Nm, ss, n, 1.0);
-		if (k > 0) {
-			series(w, so, "spline_force_N", &s->spline_force_N, ss, n, 1.0);
-			series(w, so, "thrust_load_N", &s->thrust_load_N, ss, n, 1.0);
-			series(w, so, "thrust_torque_Nm", &s->thrust_torque_Nm, ss, n, 1.0);
-		}
-		series(w, so, "sliding_power_W", &s->sliding_power_W, ss, n, 1.0);
-		cJSON *fl = prsm_jw_array(w, so, "upper_flank");
-		for (size_t i = 0; fl && i < n; i++)
-			prsm_jw_bool(w, fl, NULL, r->stage[i * (size_t)K + (size_t)k].flank == PRSM_DYN_FLANK_UPPER);
-	}
-}
-
-static void write_checks(prsm_jw *w, cJSON *obj, const prsm_dyn_result *r, prsm_problems *warnings)
-{
-	const size_t n = r->points;
-	cJSON *ch = prsm_jw_object(w, obj, "checks");
 	const int pb_ok = r->max_power_balance_relative <= PRSM_IO_DYN_POWER_BALANCE_LIMIT;
 	const int ne_ok = r->max_newton_euler_residual <= PRSM_IO_DYN_NEWTON_EULER_LIMIT;
-	prsm_jw_number(w, ch, "max_power_balance_relative", r->max_power_balance_relative);
-	prsm_jw_number(w, ch, "power_balance_limit", PRSM_IO_DYN_POWER_BALANCE_LIMIT);
-	prsm_jw_number(w, ch, "max_newton_euler_residual", r->max_newton_euler_residual);
-	prsm_jw_number(w, ch, "newton_euler_limit", PRSM_IO_DYN_NEWTON_EULER_LIMIT);
-	prsm_jw_bool(w, ch, "passed", pb_ok && ne_ok);
-	if (n > 0) {
-		const prsm_dyn_point *p = r->point;
-		series(w, ch, "power_balance_residual_W", &p->power_balance_residual_W, sizeof *p, n, 1.0);
-		series(w, ch, "power_balance_relative", &p->power_balance_relative, sizeof *p, n, 1.0);
-		series(w, ch, "newton_euler_residual", &p->newton_euler_residual, sizeof *p, n, 1.0);
-	}
 	if (warnings && !pb_ok)
 		prsm_problems_add(warnings, "/dynamics/time", "power_balance",
 		                  "the power balance closes only to %.3g of the input power (limit %g): tighten "
@@ -1177,87 +898,91 @@ static void write_checks(prsm_jw *w, cJSON *obj, const prsm_dyn_result *r, prsm_
 		prsm_problems_add(warnings, "/dynamics", "newton_euler",
 		                  "the Newton-Euler recovery of the carrier acceleration differs by %.3g (limit %g)",
 		                  r->max_newton_euler_residual, PRSM_IO_DYN_NEWTON_EULER_LIMIT);
+	return pb_ok && ne_ok;
 }
 
 void prsm_io_dynamics_write(prsm_jw *w, cJSON *obj, const char *key, const prsm_dyn_model *m,
                             const prsm_dyn_result *r, prsm_problems *warnings)
 {
 	const prsm_dyn_options *o = prsm_dyn_model_options(m);
-	cJSON *d = prsm_jw_object(w, obj, key);
-	prsm_jw_string(w, d, "analysis", "transient");
-	prsm_jw_number(w, d, "stages", r->stages);
-	write_parameters(w, d, m);
-	write_model(w, d, m);
-	write_settled(w, d, m, r);
-	if (o->friction.stick_model == PRSM_DYN_STICK_KARNOPP) {
-		cJSON *st = prsm_jw_object(w, d, "stick");
-		double fwd = NAN, back = NAN;
+	prsm_io_dyn_result_view v = {
+		.m = m, .o = o, .r = r, .torque = o->input.kind == PRSM_DYN_INPUT_TORQUE,
+		.karnopp = o->friction.stick_model == PRSM_DYN_STICK_KARNOPP,
+		.breakaway_torque_Nm = NAN, .holding_torque_backward_Nm = NAN,
+		.kept_changes = r->mode_changes < PRSM_DYN_MODE_CHANGES_MAX ? r->mode_changes : PRSM_DYN_MODE_CHANGES_MAX,
+		.power_balance_limit = PRSM_IO_DYN_POWER_BALANCE_LIMIT, .newton_euler_limit = PRSM_IO_DYN_NEWTON_EULER_LIMIT,
+	};
+	v.torque_series = v.torque && r->points > 0;
+	v.stuck_series = v.karnopp && r->points > 0;
+	for (int k = 0; k < PRSM_DYN_STAGES_MAX; k++)
+		v.stage_no[k] = k + 1;
+	/* what the model made of each stage (docs/dynamics.md) and the chain's screw-side inertia */
+	v.model_stages = prsm_dyn_model_stages(m);
+	for (int k = 0; k < v.model_stages; k++)
+		v.stage[k] = *prsm_dyn_model_stage(m, k);
+	v.screw_side_inertia_kg_m2 = prsm_dyn_model_screw_side_inertia(m);
+	/* the parameters the model chose: mu when the stages agree, the stick band and the stiff
+	 * switch from |B| of stage 0 (docs/dynamics.md); static_mu, initial_step_s and
+	 * speed_scale_rad_s are left out when the request leaves them to the model */
+	const prsm_dyn_friction *f = &o->friction;
+	const prsm_dyn_stage_params *p0 = prsm_dyn_model_stage(m, 0);
+	int same_mu = 1;
+	for (int k = 1; k < v.model_stages; k++)
+		same_mu &= prsm_dyn_model_stage(m, k)->mu == p0->mu;
+	v.mu_shown = !isnan(f->mu) || same_mu;
+	v.mu = isnan(f->mu) ? p0->mu : f->mu;
+	const double v_eps_rad_s = f->smoothing_velocity_m_s / slip_per_rad_m(p0);
+	v.stick_band_rad_s = isnan(f->stick_band_rad_s) ? 10.0 * v_eps_rad_s : f->stick_band_rad_s;
+	const double sw = o->time.stiff_switch_rad_s;
+	v.stiff_switch_shown = isfinite(sw) || isnan(sw);
+	v.stiff_switch_rad_s = isnan(sw) ? 100.0 * v_eps_rad_s : sw;
+	if (v.karnopp) {
 		prsm_error err = PRSM_ERROR_INIT;
-		if (prsm_dyn_breakaway_torques(&fwd, &back, m, 0.0, &err))
-			fwd = back = NAN;
-		prsm_jw_number(w, st, "breakaway_torque_Nm", fwd);
-		prsm_jw_number(w, st, "holding_torque_backward_Nm", back);
-		prsm_jw_number(w, st, "mode_changes", r->mode_changes);
-		const int kept = r->mode_changes < PRSM_DYN_MODE_CHANGES_MAX ? r->mode_changes : PRSM_DYN_MODE_CHANGES_MAX;
-		cJSON *a = prsm_jw_array(w, st, "changes");
-		for (int i = 0; a && i < kept; i++) {
-			cJSON *c = prsm_jw_object(w, a, NULL);
-			prsm_jw_number(w, c, "time_s", r->mode_change_time_s[i]);
-			prsm_jw_string(w, c, "to", r->mode_change_to_stick[i] ? "stick" : "slip");
-		}
+		if (prsm_dyn_breakaway_torques(&v.breakaway_torque_Nm, &v.holding_torque_backward_Nm, m, 0.0, &err))
+			v.breakaway_torque_Nm = v.holding_torque_backward_Nm = NAN;
 	}
-	write_transient(w, d, m, r);
-	write_checks(w, d, r, warnings);
-	cJSON *cv = prsm_jw_object(w, d, "convergence");
-	prsm_jw_bool(w, cv, "converged", 1);
-	prsm_jw_number(w, cv, "steps", (double)r->steps);
-	prsm_jw_number(w, cv, "max_steps", (double)o->time.max_steps);
-	prsm_jw_number(w, cv, "rhs_evaluations", (double)r->rhs_evaluations);
-	prsm_jw_number(w, cv, "jacobian_evaluations", (double)r->jacobian_evaluations);
-	prsm_jw_number(w, cv, "events", (double)r->events);
-	prsm_jw_number(w, cv, "stepper_switch_time_s", r->stepper_switch_time_s);
+	v.passed = checks_passed(r, warnings);
+	void *ctx = w->ctx;
+	w->ctx = &v;
+	prsm_io_write(w, obj, key, &v, &prsm_io_w_dyn_result);
+	w->ctx = ctx;
 }
 
-static void write_problems(prsm_jw *w, cJSON *obj, const char *key, const prsm_problems *p)
+/* The document's dynamics object: the transient's, or a vibration analysis' (at: the document). */
+void prsm_io_whook_dyn_document(prsm_jw *w, cJSON *obj, const char *key, const void *at)
 {
-	cJSON *a = prsm_jw_array(w, obj, key);
-	for (int i = 0; a && i < p->count; i++) {
-		cJSON *o = prsm_jw_object(w, a, NULL);
-		prsm_jw_string(w, o, "pointer", p->items[i].pointer);
-		prsm_jw_string(w, o, "code", p->items[i].code);
-		prsm_jw_string(w, o, "message", p->items[i].message);
+	const prsm_io_dyn_document_view *d = at;
+	if (d->vib == NULL) {
+		prsm_io_dynamics_write(w, obj, key, d->m, d->r, NULL);
+		return;
 	}
+	void *ctx = w->ctx;
+	w->ctx = d->vib;
+	prsm_io_write(w, obj, key, d->vib, &prsm_io_w_vib_result);
+	w->ctx = ctx;
+}
+
+/* A result document (engine, name, warnings, dynamics) by its table. */
+static cJSON *document(prsm_io_dyn_document_view *d)
+{
+	d->has_name = d->name && d->name[0];
+	prsm_jw w = {0, d};
+	cJSON *root = prsm_jw_root(&w);
+	prsm_io_write_fields(&w, root, d, &prsm_io_w_dyn_document, 0);
+	return prsm_jw_done(&w, root);
 }
 
 cJSON *prsm_io_dynamics_result_to_json(const char *name, const prsm_dyn_model *m, const prsm_dyn_result *r,
                                        const prsm_problems *warnings)
 {
-	prsm_problems all;
+	prsm_problems all; /* the request's warnings, then the checks' */
 	if (warnings)
 		all = *warnings;
 	else
 		prsm_problems_init(&all);
-	prsm_jw w = PRSM_JW_INIT;
-	cJSON *root = prsm_jw_root(&w);
-	cJSON *eng = prsm_jw_object(&w, root, "engine");
-	prsm_jw_string(&w, eng, "name", "prsm");
-	prsm_jw_string(&w, eng, "version", PRSM_VERSION);
-	prsm_jw_string(&w, eng, "model", PRSM_DYN_MODEL_VERSION);
-	prsm_jw_string(&w, eng, "build", prsm_engine_build());
-	if (name && name[0])
-		prsm_jw_string(&w, root, "name", name);
-	/* the dynamics first (its checks add warnings), then the warnings before it */
-	cJSON *tmp = prsm_jw_root(&w);
-	prsm_io_dynamics_write(&w, tmp, "dynamics", m, r, &all);
-	write_problems(&w, root, "warnings", &all);
-	cJSON *d = tmp ? cJSON_DetachItemFromObjectCaseSensitive(tmp, "dynamics") : NULL;
-	cJSON_Delete(tmp);
-	prsm_jw_item(&w, root, "dynamics", d);
-	if (w.failed) {
-		cJSON_Delete(root);
-		return NULL;
-	}
-	return root;
+	checks_passed(r, &all);
+	prsm_io_dyn_document_view d = {.name = name, .model = PRSM_DYN_MODEL_VERSION, .warnings = &all, .m = m, .r = r};
+	return document(&d);
 }
 
 /* ---- CSV and text -------------------------------------------------------------------------------- */
@@ -1366,9 +1091,6 @@ static const char *const obs_names[] = {"mesh_deflection", "mesh_rate", "mesh_fo
                                         "axial_deflection", "axial_rate", "thread_force"};
 static const char *const branch_names[] = {"both", "gear", "axial"};
 static const char *const eig_kind_names[] = {"rigid", "real", "oscillatory"};
-static const char *const in_names[] = {"mesh_error", "nut_force", "te"};
-static const char *const out_names[] = {"mesh_deflection", "axial_deflection", "thread_force"};
-static const char *const method_names[] = {"benettin", "two_trajectories"};
 
 #define UM 1e6 /* m -> um */
 #define MM 1e3 /* m -> mm */
@@ -1395,407 +1117,103 @@ static void int_series(prsm_jw *w, cJSON *obj, const char *key, const int *v, si
 		prsm_jw_number(w, a, NULL, v[i]);
 }
 
-static void write_gear_pair(prsm_jw *w, cJSON *obj, const char *key, const prsm_vib_gear_pair *g)
-{
-	cJSON *o = prsm_jw_object(w, obj, key);
-	prsm_jw_number(w, o, "damping_ratio", g->damping_ratio);
-	prsm_jw_number(w, o, "mean_load", g->mean_force);
-	prsm_jw_number(w, o, "error_amplitude", g->mesh_error);
-	prsm_jw_number(w, o, "stiffness_variation", g->stiffness_variation);
-	prsm_jw_number(w, o, "contact_ratio", g->contact_ratio);
-	prsm_jw_number(w, o, "frequency_ratio", g->frequency_ratio);
-}
-
 static void write_te_lines(prsm_jw *w, cJSON *obj, const char *key, const prsm_vib_te_line *l, int n)
 {
 	cJSON *a = prsm_jw_array(w, obj, key);
-	for (int k = 0; a && k < n; k++) {
-		cJSON *o = prsm_jw_object(w, a, NULL);
-		prsm_jw_number(w, o, "order_per_rev", l[k].order_per_rev);
-		prsm_jw_number(w, o, "amplitude_um", l[k].amplitude_m * UM);
-		prsm_jw_number(w, o, "phase_deg", l[k].phase_rad * DEG);
-	}
+	for (int k = 0; a && k < n; k++)
+		prsm_io_write(w, a, NULL, &l[k], &prsm_io_w_vib_te_line);
 }
 
-static void write_steady_params(prsm_jw *w, cJSON *o, int transient, int recorded, int clock, int observable,
-                                int roller, double tol)
+/* vibration.te_lines as the analysis ran it: the lines, or "statics" or "none" (at: the options). */
+void prsm_io_whook_vib_te_lines(prsm_jw *w, cJSON *obj, const char *key, const void *at)
 {
-	prsm_jw_number(w, o, "transient_periods", transient);
-	prsm_jw_number(w, o, "recorded_periods", recorded);
-	prsm_jw_string(w, o, "clock", NAME(clock_names, clock));
-	prsm_jw_string(w, o, "observable", NAME(obs_names, observable));
-	prsm_jw_number(w, o, "roller", roller);
-	if (!isnan(tol))
-		prsm_jw_number(w, o, "period_tolerance", tol);
-}
-
-/* The request's dynamics object as the analysis ran it, every default written out: a valid
- * dynamics object (schemas/dynamics.schema.json) that reproduces the run. The statics engine's
- * values the reduced model takes when they are not given stay out (model has them). */
-static void write_vib_parameters(prsm_jw *w, cJSON *d, const prsm_io_vib_request *q, const prsm_dyn_options *dyn,
-                                 const prsm_vib_params *P)
-{
-	cJSON *par = prsm_jw_object(w, d, "parameters");
-	prsm_jw_string(w, par, "analysis", prsm_io_dynamics_analysis_name(q->analysis));
-	if (q->gear_pair_model) {
-		write_gear_pair(w, par, "gear_pair", &q->gear_pair);
-	} else {
-		cJSON *ld = prsm_jw_object(w, par, "load");
-		prsm_jw_number(w, ld, "axial_load_N", dyn->load.value);
-		prsm_jw_string(w, ld, "shape", "constant");
-		cJSON *fr = prsm_jw_object(w, par, "friction");
-		prsm_jw_string(w, fr, "model", "coulomb");
-		prsm_jw_number(w, fr, "mu", isnan(dyn->friction.mu) ? P->mu : dyn->friction.mu);
-		prsm_jw_number(w, fr, "smoothing_velocity_m_s", dyn->friction.smoothing_velocity_m_s);
-		cJSON *ine = prsm_jw_object(w, par, "inertia");
-		prsm_jw_number(w, ine, "density_kg_m3", dyn->inertia.density_kg_m3);
-		prsm_jw_number(w, ine, "stroke_mm", dyn->inertia.stroke_mm);
-		prsm_jw_number(w, ine, "payload_kg", dyn->inertia.payload_kg);
-		const prsm_dyn_stage_inertia *si = &dyn->inertia.stage[0];
-		const struct {
-			const char *key;
-			double v, scale;
-		} masses[] = {{"gear_face_width_mm", si->gear_face_width_mm, 1.0},
-		              {"roller_mass_kg", si->roller_mass_kg, 1.0},
-		              {"roller_inertia_kg_mm2", si->roller_inertia_kg_m2, KG_MM2},
-		              {"carrier_mass_kg", si->carrier_mass_kg, 1.0},
-		              {"carrier_inertia_kg_mm2", si->carrier_inertia_kg_m2, KG_MM2},
-		              {"nut_mass_kg", si->nut_mass_kg, 1.0},
-		              {"screw_mass_kg", si->screw_mass_kg, 1.0},
-		              {"screw_inertia_kg_mm2", si->screw_inertia_kg_m2, KG_MM2}};
-		for (size_t i = 0; i < sizeof masses / sizeof masses[0]; i++)
-			if (!isnan(masses[i].v))
-				prsm_jw_number(w, ine, masses[i].key, masses[i].v * masses[i].scale);
-		const prsm_vib_options *o = &q->vibration;
-		cJSON *vo = prsm_jw_object(w, par, "vibration");
-		if (isnan(o->frequency_ratio))
-			prsm_jw_number(w, vo, "screw_speed_rad_s", o->screw_speed_rad_s);
-		else
-			prsm_jw_number(w, vo, "frequency_ratio", o->frequency_ratio);
-		if (!isnan(o->axial_load_N))
-			prsm_jw_number(w, vo, "axial_load_N", o->axial_load_N);
-		prsm_jw_number(w, vo, "axial_damping_ratio", o->axial_damping_ratio);
-		prsm_jw_number(w, vo, "mesh_damping_ratio", o->mesh_damping_ratio);
-		prsm_jw_number(w, vo, "mesh_single_stiffness_N_per_mm_um", o->mesh_single_stiffness_N_per_mm_um);
-		prsm_jw_number(w, vo, "double_to_single_stiffness", o->double_to_single_stiffness);
-		prsm_jw_number(w, vo, "gear_backlash_um", o->gear_backlash_um);
-		prsm_jw_number(w, vo, "mesh_error_um", o->mesh_error_um);
-		if (!isnan(o->axial_stiffness_N_per_um))
-			prsm_jw_number(w, vo, "axial_stiffness_N_per_um", o->axial_stiffness_N_per_um);
-		if (!isnan(o->axial_half_play_um))
-			prsm_jw_number(w, vo, "axial_half_play_um", o->axial_half_play_um);
-		if (!isnan(o->gear_contact_ratio))
-			prsm_jw_number(w, vo, "gear_contact_ratio", o->gear_contact_ratio);
-		if (!isnan(o->gear_pressure_angle_rad))
-			prsm_jw_number(w, vo, "gear_pressure_angle_deg", o->gear_pressure_angle_rad * DEG);
-		if (o->gear_teeth_roller > 0)
-			prsm_jw_number(w, vo, "gear_teeth_roller", o->gear_teeth_roller);
-		if (o->gear_teeth_ring > 0)
-			prsm_jw_number(w, vo, "gear_teeth_ring", o->gear_teeth_ring);
-		prsm_jw_string(w, vo, "branches", NAME(branch_names, o->branches));
-		if (o->te_source == PRSM_VIB_TE_LINES)
-			write_te_lines(w, vo, "te_lines", o->te_line, o->te_lines);
-		else
-			prsm_jw_string(w, vo, "te_lines", o->te_source == PRSM_VIB_TE_STATICS ? "statics" : "none");
-		prsm_jw_number(w, vo, "te_threshold", o->te_threshold);
-		prsm_jw_number(w, vo, "te_max_lines", o->te_max_lines);
-	}
-	switch (q->analysis) {
-	case PRSM_IO_DYN_VIBRATION: {
-		const prsm_io_vib_steady *s = &q->steady_state;
-		cJSON *o = prsm_jw_object(w, par, "steady_state");
-		write_steady_params(w, o, s->transient_periods, s->recorded_periods, s->clock, s->observable, s->roller,
-		                    s->period_tolerance);
-		prsm_jw_number(w, o, "samples_per_period", s->samples_per_period);
-		prsm_jw_bool(w, o, "lyapunov", s->lyapunov);
-		prsm_jw_string(w, o, "lyapunov_method", NAME(method_names, s->lyapunov_method));
-		prsm_jw_number(w, o, "lyapunov_exponents", s->lyapunov_exponents);
-		prsm_jw_number(w, o, "lyapunov_periods", s->lyapunov_periods);
-		break;
-	}
-	case PRSM_IO_DYN_SWEEP:
-	case PRSM_IO_DYN_FREQUENCY_RESPONSE: {
-		const prsm_io_vib_sweep *s = &q->sweep;
-		const int fr = q->analysis == PRSM_IO_DYN_FREQUENCY_RESPONSE;
-		cJSON *o = prsm_jw_object(w, par, "sweep");
-		prsm_jw_string(w, o, "parameter", prsm_io_sweep_parameter_name(s->parameter));
-		prsm_jw_number(w, o, "from", s->from);
-		prsm_jw_number(w, o, "to", s->to);
-		prsm_jw_number(w, o, "step", s->step);
-		cJSON *dirs = prsm_jw_array(w, o, "directions");
-		if (s->up || fr)
-			prsm_jw_string(w, dirs, NULL, "up");
-		if (s->down || fr)
-			prsm_jw_string(w, dirs, NULL, "down");
-		prsm_jw_bool(w, o, "continuation", fr ? 1 : s->continuation);
-		write_steady_params(w, o, s->transient_periods, s->recorded_periods, s->clock, s->observable, s->roller,
-		                    s->period_tolerance);
-		prsm_jw_bool(w, o, "lyapunov", s->lyapunov);
-		prsm_jw_number(w, o, "lyapunov_periods", s->lyapunov_periods);
-		if (fr) {
-			cJSON *f = prsm_jw_object(w, par, "frequency_response");
-			prsm_jw_number(w, f, "agreement_tolerance", q->frequency_response.agreement_tolerance);
-		}
-		break;
-	}
-	case PRSM_IO_DYN_BASINS: {
-		const prsm_io_vib_basins *b = &q->basins;
-		cJSON *o = prsm_jw_object(w, par, "basins");
-		prsm_jw_number(w, o, "deflection_min", b->deflection_min);
-		prsm_jw_number(w, o, "deflection_max", b->deflection_max);
-		prsm_jw_number(w, o, "deflection_cells", b->deflection_cells);
-		prsm_jw_number(w, o, "rate_min", b->rate_min);
-		prsm_jw_number(w, o, "rate_max", b->rate_max);
-		prsm_jw_number(w, o, "rate_cells", b->rate_cells);
-		prsm_jw_number(w, o, "periods", b->periods);
-		prsm_jw_number(w, o, "identify_periods", b->identify_periods);
-		prsm_jw_number(w, o, "distance", b->distance);
-		prsm_jw_number(w, o, "roller", b->roller);
-		if (!isnan(b->period_tolerance))
-			prsm_jw_number(w, o, "period_tolerance", b->period_tolerance);
-		break;
-	}
-	case PRSM_IO_DYN_LINEAR: {
-		const prsm_io_vib_linear *l = &q->linear;
-		cJSON *o = prsm_jw_object(w, par, "linear");
-		prsm_jw_string(w, o, "input", NAME(in_names, l->input));
-		prsm_jw_number(w, o, "input_roller", l->input_roller);
-		prsm_jw_string(w, o, "output", NAME(out_names, l->output));
-		prsm_jw_number(w, o, "output_roller", l->output_roller);
-		if (q->gear_pair_model) {
-			prsm_jw_number(w, o, "from_frequency_ratio", l->from_frequency_ratio);
-			prsm_jw_number(w, o, "to_frequency_ratio", l->to_frequency_ratio);
-		} else {
-			prsm_jw_number(w, o, "from_Hz", l->from_Hz);
-			prsm_jw_number(w, o, "to_Hz", l->to_Hz);
-		}
-		prsm_jw_number(w, o, "points", l->points);
-		break;
-	}
-	default:
-		break;
-	}
-	cJSON *t = prsm_jw_object(w, par, "time");
-	prsm_jw_number(w, t, "rel_tol", q->integration.rel_tol);
-	prsm_jw_number(w, t, "abs_tol", q->integration.abs_tol);
-	prsm_jw_number(w, t, "max_steps", (double)q->integration.max_steps);
-}
-
-/* What the model runs with (prsm_vib_params), in the request's units. */
-static void write_vib_model(prsm_jw *w, cJSON *d, const prsm_vib_params *P)
-{
-	cJSON *m = prsm_jw_object(w, d, "model");
-	const int pair = P->kind == PRSM_VIB_GEAR_PAIR;
-	prsm_jw_string(w, m, "kind", pair ? "gear_pair" : "reduced");
-	prsm_jw_number(w, m, "states", P->states);
-	prsm_jw_number(w, m, "poincare_size", P->poincare_size);
-	prsm_jw_number(w, m, "contacts", P->contacts);
-	if (pair) {
-		write_gear_pair(w, m, "gear_pair", &P->gear_pair);
-		return;
-	}
-	prsm_jw_string(w, m, "branches", NAME(branch_names, P->branches));
-	prsm_jw_number(w, m, "rollers", P->rollers);
-	prsm_jw_number(w, m, "screw_speed_rad_s", P->screw_speed_rad_s);
-	prsm_jw_number(w, m, "frequency_ratio", P->frequency_ratio);
-	prsm_jw_number(w, m, "axial_load_N", P->axial_load_N);
-	prsm_jw_number(w, m, "carrier_ratio", P->carrier_ratio);
-	prsm_jw_number(w, m, "ring_gear_ratio", P->ring_gear_ratio);
-	prsm_jw_number(w, m, "mesh_order_per_rev", P->teeth_ring * P->carrier_ratio);
-	prsm_jw_number(w, m, "mesh_frequency_Hz", P->mesh_frequency_rad_s / (2.0 * M_PI));
-	prsm_jw_number(w, m, "reference_frequency_Hz", P->reference_frequency_rad_s / (2.0 * M_PI));
-	prsm_jw_number(w, m, "axial_frequency_Hz", P->axial_frequency_rad_s / (2.0 * M_PI));
-	cJSON *a = prsm_jw_object(w, m, "axial");
-	prsm_jw_number(w, a, "mass_kg", P->axial_mass_kg);
-	prsm_jw_number(w, a, "stiffness_N_per_um", P->axial_stiffness_N_per_m / UM);
-	prsm_jw_number(w, a, "damping_N_s_per_m", P->axial_damping_N_s_per_m);
-	prsm_jw_number(w, a, "damping_ratio", P->axial_damping_ratio);
-	prsm_jw_number(w, a, "half_play_um", P->axial_half_play_m * UM);
-	prsm_jw_number(w, a, "static_deflection_um", P->axial_static_m * UM);
-	cJSON *g = prsm_jw_object(w, m, "gear");
-	prsm_jw_number(w, g, "teeth_roller", P->teeth_roller);
-	prsm_jw_number(w, g, "teeth_ring", P->teeth_ring);
-	prsm_jw_number(w, g, "pressure_angle_deg", P->pressure_angle_rad * DEG);
-	prsm_jw_number(w, g, "contact_ratio", P->contact_ratio);
-	prsm_jw_number(w, g, "face_width_mm", P->gear_face_width_mm);
-	prsm_jw_number(w, g, "base_radius_roller_mm", P->base_radius_roller_m * MM);
-	prsm_jw_number(w, g, "base_radius_ring_mm", P->base_radius_ring_m * MM);
-	prsm_jw_number(w, g, "single_stiffness_N_per_um", P->mesh_single_N_per_m / UM);
-	prsm_jw_number(w, g, "double_stiffness_N_per_um", P->mesh_double_N_per_m / UM);
-	prsm_jw_number(w, g, "mean_stiffness_N_per_um", P->mesh_mean_N_per_m / UM);
-	prsm_jw_number(w, g, "half_backlash_um", P->gear_half_backlash_m * UM);
-	prsm_jw_number(w, g, "mesh_error_um", P->mesh_error_m * UM);
-	prsm_jw_number(w, g, "damping_ratio", P->mesh_damping_ratio);
-	prsm_jw_number(w, g, "damping_N_s_per_m", P->mesh_damping_N_s_per_m);
-	series(w, g, "mesh_phase", P->mesh_phase, sizeof P->mesh_phase[0], (size_t)P->rollers, 1.0);
-	prsm_jw_number(w, g, "inertia_psipsi_kg_mm2", P->inertia_psipsi_kg_m2 * KG_MM2);
-	prsm_jw_number(w, g, "inertia_psiphi_kg_mm2", P->inertia_psiphi_kg_m2 * KG_MM2);
-	prsm_jw_number(w, g, "inertia_phiphi_kg_mm2", P->inertia_phiphi_kg_m2 * KG_MM2);
-	prsm_jw_number(w, g, "roller_lead_mm_per_rad", P->roller_lead_m_per_rad * MM);
-	cJSON *f = prsm_jw_object(w, m, "friction");
-	prsm_jw_number(w, f, "mu", P->mu);
-	prsm_jw_number(w, f, "smoothing_velocity_m_s", P->smoothing_velocity_m_s);
-	prsm_jw_string(w, f, "flank", NAME(flank_names, P->flank));
-	vec3(w, f, "slip_m_s", P->slip_m_s);
-	series(w, f, "slip_per_roller_spin_mm", P->G_phi_m, sizeof P->G_phi_m[0], 3, MM);
-	series(w, f, "slip_per_carrier_rate_mm", P->G_psi_m, sizeof P->G_psi_m[0], 3, MM);
-	prsm_jw_number(w, f, "normal_force_N", P->normal_force_N);
-	prsm_jw_number(w, f, "mean_mesh_force_N", P->mean_mesh_force_N);
-	prsm_jw_number(w, f, "static_mesh_deflection_um", P->static_mesh_deflection_m * UM);
-	write_gear_pair(w, m, "equivalent_gear_pair", &P->gear_pair);
-	write_te_lines(w, m, "te_lines", P->te_line, P->te_lines);
-	prsm_jw_number(w, m, "te_period_rev", P->te_period_rev);
-}
-
-static void write_observable(prsm_jw *w, cJSON *o, const char *key, int observable, int index)
-{
-	cJSON *ob = prsm_jw_object(w, o, key);
-	prsm_jw_string(w, ob, "name", NAME(obs_names, observable));
-	if (axial_observable(observable))
-		prsm_jw_null(w, ob, "roller");
+	const prsm_vib_options *o = at;
+	if (o->te_source == PRSM_VIB_TE_LINES)
+		write_te_lines(w, obj, key, o->te_line, o->te_lines);
 	else
-		prsm_jw_number(w, ob, "roller", index);
+		prsm_jw_string(w, obj, key, o->te_source == PRSM_VIB_TE_STATICS ? "statics" : "none");
 }
 
-static void write_lyapunov(prsm_jw *w, cJSON *o, const char *key, const prsm_vib_lyapunov *l, int method,
-                           const prsm_vib_params *P)
+/* The Poincare vectors, one per recorded period. */
+void prsm_io_whook_vib_poincare_vectors(prsm_jw *w, cJSON *obj, const char *key, const void *at)
 {
-	cJSON *ly = prsm_jw_object(w, o, key);
-	const int pair = P->kind == PRSM_VIB_GEAR_PAIR;
-	prsm_jw_string(w, ly, "method", NAME(method_names, method));
-	series(w, ly, "exponents_per_tau", l->lambda, sizeof l->lambda[0], (size_t)l->exponents, 1.0);
-	cJSON *ps = prsm_jw_array(w, ly, "exponents_per_s");
-	for (int i = 0; ps && i < l->exponents; i++)
-		prsm_jw_number(w, ps, NULL, pair ? NAN : l->lambda[i] * P->reference_frequency_rad_s);
-	prsm_jw_number(w, ly, "sum_per_tau", l->sum);
-	prsm_jw_number(w, ly, "periods", l->periods);
-	prsm_jw_number(w, ly, "blocks", l->blocks);
-	prsm_jw_number(w, ly, "block_min_per_tau", l->block_min);
-	prsm_jw_number(w, ly, "block_max_per_tau", l->block_max);
-	prsm_jw_number(w, ly, "block_sd_per_tau", l->block_sd);
-}
-
-static void write_vibration(prsm_jw *w, cJSON *d, const prsm_io_vib_request *q, const prsm_vib_params *P,
-                            const prsm_io_vib_result *r)
-{
-	const prsm_vib_steady *s = &r->steady;
-	const prsm_io_vib_steady *o = &q->steady_state;
-	const int pair = P->kind == PRSM_VIB_GEAR_PAIR;
-	cJSON *v = prsm_jw_object(w, d, "vibration");
-	prsm_jw_string(w, v, "classification", NAME(class_names, s->classification));
-	prsm_jw_number(w, v, "period", s->period);
-	prsm_jw_string(w, v, "clock", NAME(clock_names, s->clock));
-	prsm_jw_number(w, v, "forcing_period_tau", s->period_tau);
-	prsm_jw_number(w, v, "forcing_period_s", pair ? NAN : s->period_s);
-	prsm_jw_number(w, v, "period_tolerance", s->period_tol);
-	prsm_jw_number(w, v, "max_return_distance", s->max_return_distance);
-	write_observable(w, v, "observable", o->observable, o->roller);
-	cJSON *pc = prsm_jw_object(w, v, "poincare");
-	prsm_jw_number(w, pc, "points", s->recorded);
-	prsm_jw_number(w, pc, "size", s->poincare_size);
-	series(w, pc, "observable", s->poincare_observable, sizeof(double), (size_t)s->recorded, 1.0);
-	cJSON *vecs = prsm_jw_array(w, pc, "vectors");
+	const prsm_vib_steady *s = &((const prsm_io_vib_result_view *)w->ctx)->r->steady;
+	cJSON *vecs = prsm_jw_array(w, obj, key);
 	for (int i = 0; vecs && i < s->recorded; i++)
 		series(w, vecs, NULL, s->poincare + (size_t)i * s->poincare_size, sizeof(double), (size_t)s->poincare_size,
 		       1.0);
-	cJSON *ex = prsm_jw_array(w, v, "extremes");
-	for (int i = 0; ex && i < s->extremes; i++) {
-		const prsm_vib_extreme *x = &s->extreme[i];
-		cJSON *e = prsm_jw_object(w, ex, NULL);
-		prsm_jw_string(w, e, "observable", NAME(obs_names, x->observable));
-		if (axial_observable(x->observable))
-			prsm_jw_null(w, e, "roller");
-		else
-			prsm_jw_number(w, e, "roller", x->index);
-		prsm_jw_number(w, e, "min", x->min);
-		prsm_jw_number(w, e, "max", x->max);
-		prsm_jw_number(w, e, "mean", x->mean);
-		prsm_jw_number(w, e, "rms", x->rms);
-		prsm_jw_number(w, e, "amplitude", 0.5 * (x->max - x->min));
-	}
-	cJSON *sp = prsm_jw_array(w, v, "spectrum");
-	for (int i = 0; sp && i < s->lines; i++) {
-		const prsm_vib_line *l = &s->line[i];
-		cJSON *e = prsm_jw_object(w, sp, NULL);
-		prsm_jw_string(w, e, "name", l->name);
-		prsm_jw_number(w, e, "order_per_rev", pair ? NAN : l->order_per_rev);
-		prsm_jw_number(w, e, "frequency_Hz", pair ? NAN : l->frequency);
-		prsm_jw_number(w, e, "frequency_ratio",
-		               pair ? l->frequency : l->frequency * 2.0 * M_PI / P->reference_frequency_rad_s);
-		prsm_jw_number(w, e, "amplitude", l->amplitude);
-	}
-	cJSON *sf = prsm_jw_object(w, v, "spectrum_full");
-	prsm_jw_string(w, sf, "window", s->spectrum_window_hann ? "hann" : "rectangular");
-	prsm_jw_number(w, sf, "periods", s->spectrum_periods);
-	prsm_jw_number(w, sf, "bins", s->spectrum_bins);
-	const size_t nb = (size_t)s->spectrum_bins;
-	if (pair) {
-		series(w, sf, "frequency_ratio", s->spectrum_frequency, sizeof(double), nb, 1.0);
-	} else {
-		series(w, sf, "frequency_Hz", s->spectrum_frequency, sizeof(double), nb, 1.0);
-		series(w, sf, "frequency_ratio", s->spectrum_frequency, sizeof(double), nb,
-		       2.0 * M_PI / P->reference_frequency_rad_s);
-	}
-	series(w, sf, "amplitude", s->spectrum_amplitude, sizeof(double), nb, 1.0);
-	cJSON *pp = prsm_jw_object(w, v, "phase_portrait");
-	prsm_jw_number(w, pp, "points", (double)s->portrait_points);
-	prsm_jw_number(w, pp, "samples_per_period", o->samples_per_period);
-	series(w, pp, "observable", s->portrait_x, sizeof(double), s->portrait_points, 1.0);
-	series(w, pp, "rate", s->portrait_v, sizeof(double), s->portrait_points, 1.0);
-	cJSON *ct = prsm_jw_array(w, v, "contacts");
-	for (int k = 0; ct && k < s->contacts; k++) {
-		cJSON *e = prsm_jw_object(w, ct, NULL);
-		char name[32];
-		if (!pair && k == P->rollers)
-			snprintf(name, sizeof name, "thread");
-		else
-			snprintf(name, sizeof name, "mesh_%d", k);
-		prsm_jw_string(w, e, "contact", name);
-		prsm_jw_number(w, e, "open_share", s->loss_share[k]);
-		prsm_jw_number(w, e, "back_flank_share", s->back_share[k]);
-	}
-	if (r->with_lyapunov)
-		write_lyapunov(w, v, "lyapunov", &r->lyapunov, o->lyapunov_method, P);
+}
+
+/* An extreme's roller: null for an axial observable (at: the extreme). */
+void prsm_io_whook_vib_extreme_roller(prsm_jw *w, cJSON *obj, const char *key, const void *at)
+{
+	const prsm_vib_extreme *x = at;
+	if (axial_observable(x->observable))
+		prsm_jw_null(w, obj, key);
 	else
-		prsm_jw_null(w, v, "lyapunov");
+		prsm_jw_number(w, obj, key, x->index);
 }
 
-/* One sweep point; value in the request's unit. */
-static void write_sweep_point(prsm_jw *w, cJSON *arr, const prsm_vib_sweep *s, size_t k, const char *par_name,
-                              double from_engine)
+void prsm_io_whook_vib_extreme_amplitude(prsm_jw *w, cJSON *obj, const char *key, const void *at)
 {
-	const prsm_vib_sweep_point *p = &s->point[k];
-	cJSON *o = prsm_jw_object(w, arr, NULL);
-	prsm_jw_number(w, o, par_name, p->parameter * from_engine);
-	const int failed = p->classification == PRSM_VIB_FAILED;
-	prsm_jw_bool(w, o, "converged", !failed);
-	prsm_jw_string(w, o, "classification", NAME(class_names, p->classification));
-	if (failed) {
-		prsm_jw_string(w, o, "error", prsm_error_name(p->status));
-		prsm_jw_null(w, o, "period");
-	} else {
-		prsm_jw_null(w, o, "error");
-		prsm_jw_number(w, o, "period", p->period);
+	const prsm_vib_extreme *x = at;
+	prsm_jw_number(w, obj, key, 0.5 * (x->max - x->min));
+}
+
+/* A spectral line's order or frequency in Hz: the reduced model's (gear pair: null). */
+void prsm_io_whook_vib_line_reduced(prsm_jw *w, cJSON *obj, const char *key, const void *at)
+{
+	prsm_jw_number(w, obj, key, ((const prsm_io_vib_result_view *)w->ctx)->pair ? NAN : *(const double *)at);
+}
+
+void prsm_io_whook_vib_line_frequency_ratio(prsm_jw *w, cJSON *obj, const char *key, const void *at)
+{
+	const prsm_io_vib_result_view *v = w->ctx;
+	const prsm_vib_line *l = at;
+	prsm_jw_number(w, obj, key, v->pair ? l->frequency : l->frequency * 2.0 * M_PI / v->P->reference_frequency_rad_s);
+}
+
+/* A contact's name (at: its open share): mesh_<k>, the reduced model's thread last. */
+void prsm_io_whook_vib_contact_name(prsm_jw *w, cJSON *obj, const char *key, const void *at)
+{
+	const prsm_io_vib_result_view *v = w->ctx;
+	const long k = (const double *)at - v->r->steady.loss_share;
+	char name[32];
+	if (!v->pair && k == v->P->rollers)
+		snprintf(name, sizeof name, "thread");
+	else
+		snprintf(name, sizeof name, "mesh_%ld", k);
+	prsm_jw_string(w, obj, key, name);
+}
+
+/* The sweep's points of one direction (at: the sweep), each by its table; the parameter's value
+ * in the request's unit. */
+static void sweep_points(prsm_jw *w, cJSON *obj, const char *key, const prsm_vib_sweep *s, int direction)
+{
+	const prsm_io_vib_result_view *v = w->ctx;
+	cJSON *a = prsm_jw_array(w, obj, key);
+	for (size_t k = 0; a && k < s->points; k++) {
+		const prsm_vib_sweep_point *p = &s->point[k];
+		if (p->direction != direction)
+			continue;
+		const int failed = p->classification == PRSM_VIB_FAILED;
+		prsm_io_vib_sweep_point_view pv = {
+			.p = p, .parameter = v->point_parameter, .value = p->parameter * v->from_engine, .failed = failed,
+			.converged = !failed, .error = failed ? prsm_error_name(p->status) : NULL,
+			.poincare = s->poincare + k * (size_t)s->recorded, .poincare_n = failed ? 0 : s->recorded,
+		};
+		prsm_io_write(w, a, NULL, &pv, &prsm_io_w_vib_sweep_point);
 	}
-	const double nan = NAN;
-	prsm_jw_number(w, o, "min", failed ? nan : p->min);
-	prsm_jw_number(w, o, "max", failed ? nan : p->max);
-	prsm_jw_number(w, o, "mean", failed ? nan : p->mean);
-	prsm_jw_number(w, o, "rms", failed ? nan : p->rms);
-	prsm_jw_number(w, o, "amplitude", failed ? nan : p->amplitude);
-	prsm_jw_number(w, o, "lyapunov_per_tau", failed ? nan : p->lyapunov);
-	prsm_jw_number(w, o, "max_return_distance", failed ? nan : p->max_return_distance);
-	series(w, o, "poincare", s->poincare + k * (size_t)s->recorded, sizeof(double), failed ? 0 : (size_t)s->recorded,
-	       1.0);
 }
 
-static void write_sweep_direction(prsm_jw *w, cJSON *o, const char *key, const prsm_vib_sweep *s, int direction,
-                                  const char *par_name, double from_engine)
+void prsm_io_whook_vib_points_up(prsm_jw *w, cJSON *obj, const char *key, const void *at)
 {
-	cJSON *a = prsm_jw_array(w, o, key);
-	for (size_t k = 0; a && k < s->points; k++)
-		if (s->point[k].direction == direction)
-			write_sweep_point(w, a, s, k, par_name, from_engine);
+	sweep_points(w, obj, key, at, 1);
+}
+
+void prsm_io_whook_vib_points_down(prsm_jw *w, cJSON *obj, const char *key, const void *at)
+{
+	sweep_points(w, obj, key, at, -1);
 }
 
 static size_t failed_points(const prsm_vib_sweep *s)
@@ -1806,117 +1224,50 @@ static size_t failed_points(const prsm_vib_sweep *s)
 	return n;
 }
 
-static void write_sweep(prsm_jw *w, cJSON *d, const prsm_io_vib_request *q, const prsm_vib_sweep *s)
+/* The grid of initial deflections (rates): n values from min to max (at: the basins). */
+static void grid(prsm_jw *w, cJSON *obj, const char *key, double lo, double hi, int n)
 {
-	const prsm_io_vib_sweep *o = &q->sweep;
-	double to_engine = 1.0;
-	prsm_io_sweep_parameter_engine(o->parameter, &to_engine);
-	const char *name = prsm_io_sweep_parameter_name(o->parameter);
-	cJSON *sw = prsm_jw_object(w, d, "sweep");
-	prsm_jw_string(w, sw, "parameter", name);
-	prsm_jw_number(w, sw, "grid", (double)s->grid);
-	prsm_jw_number(w, sw, "recorded_periods", s->recorded);
-	prsm_jw_bool(w, sw, "continuation", o->continuation);
-	write_observable(w, sw, "observable", o->observable, o->roller);
-	prsm_jw_number(w, sw, "failed_points", (double)failed_points(s));
-	if (s->first_error[0])
-		prsm_jw_string(w, sw, "first_error", s->first_error);
-	else
-		prsm_jw_null(w, sw, "first_error");
-	write_sweep_direction(w, sw, "up", s, 1, name, 1.0 / to_engine);
-	write_sweep_direction(w, sw, "down", s, -1, name, 1.0 / to_engine);
+	cJSON *a = prsm_jw_array(w, obj, key);
+	for (int i = 0; a && i < n; i++)
+		prsm_jw_number(w, a, NULL, n > 1 ? lo + (hi - lo) * i / (n - 1) : lo);
 }
 
-static void write_frequency_response(prsm_jw *w, cJSON *d, const prsm_io_vib_request *q, const prsm_io_vib_result *r)
+void prsm_io_whook_vib_basins_deflection(prsm_jw *w, cJSON *obj, const char *key, const void *at)
 {
-	const prsm_vib_frequency_response *f = &r->fr;
-	cJSON *o = prsm_jw_object(w, d, "frequency_response");
-	if (r->with_harmonic_balance) {
-		const prsm_vib_hb *h = &f->hb;
-		cJSON *hb = prsm_jw_object(w, o, "harmonic_balance");
-		prsm_jw_number(w, hb, "points", (double)h->points);
-		const size_t ps = sizeof *h->point;
-		series(w, hb, "frequency_ratio", &h->point->omega, ps, h->points, 1.0);
-		series(w, hb, "amplitude", &h->point->amplitude, ps, h->points, 1.0);
-		series(w, hb, "mean", &h->point->mean, ps, h->points, 1.0);
-		cJSON *br = prsm_jw_array(w, hb, "branch");
-		cJSON *sg = prsm_jw_array(w, hb, "segment");
-		cJSON *st = prsm_jw_array(w, hb, "stable");
-		for (size_t i = 0; i < h->points; i++) {
-			prsm_jw_string(w, br, NULL, h->point[i].branch ? "high" : "low");
-			prsm_jw_number(w, sg, NULL, h->point[i].segment);
-			prsm_jw_bool(w, st, NULL, h->point[i].stable);
-		}
-		cJSON *fo = prsm_jw_array(w, hb, "folds");
-		for (int i = 0; fo && i < h->folds; i++) {
-			cJSON *e = prsm_jw_object(w, fo, NULL);
-			prsm_jw_number(w, e, "frequency_ratio", h->fold[i].omega);
-			prsm_jw_number(w, e, "amplitude", h->fold[i].amplitude);
-			prsm_jw_number(w, e, "mean", h->fold[i].mean);
-			prsm_jw_string(w, e, "kind", h->fold[i].kind > 0 ? "maximum" : "minimum");
-		}
-	} else {
-		prsm_jw_null(w, o, "harmonic_balance");
-	}
-	const char *name = prsm_io_sweep_parameter_name(PRSM_IO_SWEEP_FREQUENCY_RATIO);
-	prsm_jw_number(w, o, "grid", (double)f->sweep.grid);
-	prsm_jw_number(w, o, "agreement_tolerance", q->frequency_response.agreement_tolerance);
-	prsm_jw_number(w, o, "failed_points", (double)failed_points(&f->sweep));
-	write_sweep_direction(w, o, "sweep_up", &f->sweep, 1, name, 1.0);
-	write_sweep_direction(w, o, "sweep_down", &f->sweep, -1, name, 1.0);
-	cJSON *jumps = prsm_jw_array(w, o, "jumps");
-	for (int k = 0; jumps && k < f->jumps; k++) {
-		const prsm_vib_jump *j = &f->jump[k];
-		const prsm_vib_exact_fold *x = &f->exact_fold[k];
-		cJSON *e = prsm_jw_object(w, jumps, NULL);
-		prsm_jw_string(w, e, "direction", j->direction > 0 ? "up" : "down");
-		prsm_jw_number(w, e, "from_frequency_ratio", j->from);
-		prsm_jw_number(w, e, "to_frequency_ratio", j->to);
-		cJSON *ef = prsm_jw_object(w, e, "exact_fold");
-		prsm_jw_bool(w, ef, "found", x->found);
-		prsm_jw_number(w, ef, "frequency_ratio", x->found ? x->omega : NAN);
-		prsm_jw_number(w, ef, "last_frequency_ratio", x->orbits > 0 ? x->last_omega : NAN);
-		prsm_jw_number(w, ef, "last_multiplier", x->orbits > 0 ? x->last_multiplier : NAN);
-		prsm_jw_number(w, ef, "amplitude", x->orbits > 0 ? x->amplitude : NAN);
-		prsm_jw_number(w, ef, "period", x->period);
-		prsm_jw_number(w, ef, "orbits", x->orbits);
-	}
+	const prsm_vib_basins *b = at;
+	grid(w, obj, key, b->x_min, b->x_max, b->nx);
 }
 
-static void write_basins(prsm_jw *w, cJSON *d, const prsm_vib_basins *b)
+void prsm_io_whook_vib_basins_rate(prsm_jw *w, cJSON *obj, const char *key, const void *at)
 {
-	cJSON *o = prsm_jw_object(w, d, "basins");
-	prsm_jw_number(w, o, "deflection_cells", b->nx);
-	prsm_jw_number(w, o, "rate_cells", b->nv);
-	const int nx = b->nx, nv = b->nv;
-	cJSON *xs = prsm_jw_array(w, o, "deflection");
-	for (int i = 0; xs && i < nx; i++)
-		prsm_jw_number(w, xs, NULL, nx > 1 ? b->x_min + (b->x_max - b->x_min) * i / (nx - 1) : b->x_min);
-	cJSON *vs = prsm_jw_array(w, o, "rate");
-	for (int i = 0; vs && i < nv; i++)
-		prsm_jw_number(w, vs, NULL, nv > 1 ? b->v_min + (b->v_max - b->v_min) * i / (nv - 1) : b->v_min);
-	cJSON *lab = prsm_jw_array(w, o, "labels");
-	for (int i = 0; lab && i < nx; i++)
-		int_series(w, lab, NULL, b->label + (size_t)i * (size_t)nv, (size_t)nv);
-	cJSON *at = prsm_jw_array(w, o, "attractors");
-	for (int a = 0; at && a < b->attractors; a++) {
-		const prsm_vib_attractor *x = &b->attractor[a];
-		cJSON *e = prsm_jw_object(w, at, NULL);
-		prsm_jw_number(w, e, "label", a);
-		prsm_jw_number(w, e, "period", x->period);
-		prsm_jw_number(w, e, "cells", (double)x->cells);
-		prsm_jw_number(w, e, "fraction", x->fraction);
-		cJSON *pts = prsm_jw_array(w, e, "poincare");
-		for (int k = 0; pts && k < x->period; k++)
-			series(w, pts, NULL, x->poincare + (size_t)k * b->poincare_size, sizeof(double), (size_t)b->poincare_size,
-			       1.0);
-	}
-	cJSON *ot = prsm_jw_object(w, o, "other");
-	prsm_jw_number(w, ot, "cells", (double)b->other);
-	prsm_jw_number(w, ot, "fraction", b->other_fraction);
-	cJSON *fa = prsm_jw_object(w, o, "failed");
-	prsm_jw_number(w, fa, "cells", (double)b->failed);
-	prsm_jw_number(w, fa, "fraction", b->failed_fraction);
+	const prsm_vib_basins *b = at;
+	grid(w, obj, key, b->v_min, b->v_max, b->nv);
+}
+
+/* The attractor's label of every cell, row i the i-th deflection (at: the basins). */
+void prsm_io_whook_vib_basins_labels(prsm_jw *w, cJSON *obj, const char *key, const void *at)
+{
+	const prsm_vib_basins *b = at;
+	cJSON *lab = prsm_jw_array(w, obj, key);
+	for (int i = 0; lab && i < b->nx; i++)
+		int_series(w, lab, NULL, b->label + (size_t)i * (size_t)b->nv, (size_t)b->nv);
+}
+
+/* An attractor's label: its index (at: the attractor). */
+void prsm_io_whook_vib_attractor_label(prsm_jw *w, cJSON *obj, const char *key, const void *at)
+{
+	const prsm_vib_attractor *x = at;
+	prsm_jw_number(w, obj, key, (int)(x - ((const prsm_io_vib_result_view *)w->ctx)->r->basins.attractor));
+}
+
+/* Its Poincare points, period x poincare_size (at: the attractor). */
+void prsm_io_whook_vib_attractor_poincare(prsm_jw *w, cJSON *obj, const char *key, const void *at)
+{
+	const prsm_vib_attractor *x = at;
+	const int size = ((const prsm_io_vib_result_view *)w->ctx)->r->basins.poincare_size;
+	cJSON *pts = prsm_jw_array(w, obj, key);
+	for (int k = 0; pts && k < x->period; k++)
+		series(w, pts, NULL, x->poincare + (size_t)k * size, sizeof(double), (size_t)size, 1.0);
 }
 
 /* The FRF's unit: output over input (gear pair: dimensionless). */
@@ -1928,38 +1279,35 @@ static const char *frf_unit(int pair, int input, int output)
 	return in_N ? (out_N ? "N/N" : "m/N") : (out_N ? "N/m" : "m/m");
 }
 
-static void write_linear(prsm_jw *w, cJSON *d, const prsm_vib_params *P, const prsm_io_vib_result *r)
+/* An eigenvalue's |Im| per unit tau (at: its imaginary part). */
+void prsm_io_whook_vib_eig_frequency_ratio(prsm_jw *w, cJSON *obj, const char *key, const void *at)
 {
-	const prsm_vib_linear *l = &r->linear;
-	const int pair = P->kind == PRSM_VIB_GEAR_PAIR;
-	const double wref = pair ? 1.0 : P->reference_frequency_rad_s;
-	cJSON *o = prsm_jw_object(w, d, "linear");
-	prsm_jw_number(w, o, "dofs", l->dofs);
-	cJSON *ev = prsm_jw_array(w, o, "eigenvalues");
-	for (int i = 0; ev && i < l->eigenvalues; i++) {
-		cJSON *e = prsm_jw_object(w, ev, NULL);
-		prsm_jw_number(w, e, "real_per_s", pair ? NAN : l->eig_re[i]);
-		prsm_jw_number(w, e, "imag_rad_s", pair ? NAN : l->eig_im[i]);
-		prsm_jw_number(w, e, "frequency_Hz", pair ? NAN : l->frequency_Hz[i]);
-		prsm_jw_number(w, e, "real_per_tau", l->eig_re[i] / wref);
-		prsm_jw_number(w, e, "imag_per_tau", l->eig_im[i] / wref);
-		prsm_jw_number(w, e, "frequency_ratio", fabs(l->eig_im[i]) / wref);
-		prsm_jw_number(w, e, "damping_ratio", l->damping_ratio[i]);
-		prsm_jw_string(w, e, "kind", NAME(eig_kind_names, l->kind[i]));
-	}
-	cJSON *md = prsm_jw_object(w, o, "modes");
-	cJSON *co = prsm_jw_array(w, md, "coordinates");
+	prsm_jw_number(w, obj, key, fabs(*(const double *)at) / ((const prsm_io_vib_result_view *)w->ctx)->wref);
+}
+
+/* The mode shapes' coordinates: each roller's mesh deflection, then the axial one. */
+void prsm_io_whook_vib_mode_coordinates(prsm_jw *w, cJSON *obj, const char *key, const void *at)
+{
+	const prsm_io_vib_result_view *v = w->ctx;
+	const prsm_vib_linear *l = &v->r->linear;
+	cJSON *co = prsm_jw_array(w, obj, key);
 	for (int k = 0; co && k < l->shape_size; k++) {
 		char name[40];
-		if (pair)
+		if (v->pair)
 			snprintf(name, sizeof name, "x");
-		else if (k < P->rollers && l->shape_size > (P->branches == PRSM_VIB_BRANCHES_AXIAL ? 1 : 0))
+		else if (k < v->P->rollers && l->shape_size > (v->P->branches == PRSM_VIB_BRANCHES_AXIAL ? 1 : 0))
 			snprintf(name, sizeof name, "mesh_deflection_%d", k);
 		else
 			snprintf(name, sizeof name, "axial_deflection");
 		prsm_jw_string(w, co, NULL, name);
 	}
-	cJSON *sh = prsm_jw_array(w, md, "shapes");
+}
+
+/* Each eigenvalue's right eigenvector, its real and imaginary parts. */
+void prsm_io_whook_vib_mode_shapes(prsm_jw *w, cJSON *obj, const char *key, const void *at)
+{
+	const prsm_vib_linear *l = &((const prsm_io_vib_result_view *)w->ctx)->r->linear;
+	cJSON *sh = prsm_jw_array(w, obj, key);
 	for (int i = 0; sh && i < l->eigenvalues; i++) {
 		cJSON *e = prsm_jw_object(w, sh, NULL);
 		prsm_jw_number(w, e, "eigenvalue", i);
@@ -1967,89 +1315,22 @@ static void write_linear(prsm_jw *w, cJSON *d, const prsm_vib_params *P, const p
 		series(w, e, "re", l->shape_re + off, sizeof(double), (size_t)l->shape_size, 1.0);
 		series(w, e, "im", l->shape_im + off, sizeof(double), (size_t)l->shape_size, 1.0);
 	}
-	cJSON *fr = prsm_jw_object(w, o, "frf");
-	prsm_jw_string(w, fr, "input", NAME(in_names, r->input));
-	prsm_jw_number(w, fr, "input_roller", r->input_roller);
-	prsm_jw_string(w, fr, "output", NAME(out_names, r->output));
-	prsm_jw_number(w, fr, "output_roller", r->output_roller);
-	prsm_jw_string(w, fr, "unit", frf_unit(pair, r->input, r->output));
-	prsm_jw_number(w, fr, "points", (double)r->frf_points);
-	const size_t n = r->frf_points;
-	if (!pair)
-		series(w, fr, "frequency_Hz", r->frf_omega, sizeof(double), n, 1.0 / (2.0 * M_PI));
-	series(w, fr, "frequency_ratio", r->frf_omega, sizeof(double), n, 1.0 / wref);
-	cJSON *mag = prsm_jw_array(w, fr, "magnitude");
-	cJSON *ph = prsm_jw_array(w, fr, "phase_deg");
-	for (size_t i = 0; mag && ph && i < n; i++) {
-		prsm_jw_number(w, mag, NULL, hypot(r->frf_re[i], r->frf_im[i]));
-		prsm_jw_number(w, ph, NULL, atan2(r->frf_im[i], r->frf_re[i]) * DEG);
-	}
-	series(w, fr, "real", r->frf_re, sizeof(double), n, 1.0);
-	series(w, fr, "imag", r->frf_im, sizeof(double), n, 1.0);
-	const prsm_vib_half_power *h = &r->half_power;
-	cJSON *hp = prsm_jw_object(w, o, "half_power");
-	prsm_jw_bool(w, hp, "defined", h->defined);
-	if (h->defined)
-		prsm_jw_null(w, hp, "reason");
-	else
-		prsm_jw_string(w, hp, "reason", h->reason);
-	const double hz = pair ? NAN : 1.0 / (2.0 * M_PI);
-	prsm_jw_number(w, hp, "peak_frequency_Hz", h->peak_omega * hz);
-	prsm_jw_number(w, hp, "peak_frequency_ratio", h->peak_omega / wref);
-	prsm_jw_number(w, hp, "peak_magnitude", h->peak_magnitude);
-	prsm_jw_number(w, hp, "lower_frequency_Hz", h->omega_1 * hz);
-	prsm_jw_number(w, hp, "upper_frequency_Hz", h->omega_2 * hz);
-	prsm_jw_number(w, hp, "lower_frequency_ratio", h->omega_1 / wref);
-	prsm_jw_number(w, hp, "upper_frequency_ratio", h->omega_2 / wref);
-	prsm_jw_number(w, hp, "damping_ratio", h->defined ? h->damping_ratio : NAN);
-	prsm_jw_number(w, hp, "modal_damping_ratio", h->modal_damping_ratio);
-	prsm_jw_number(w, hp, "modal_frequency_Hz", h->modal_omega * hz);
-	prsm_jw_number(w, hp, "modal_frequency_ratio", h->modal_omega / wref);
-	prsm_jw_number(w, hp, "grid", (double)h->grid);
 }
 
-static void write_vib_dynamics(prsm_jw *w, cJSON *root, const prsm_io_vib_request *q, const prsm_dyn_options *dyn,
-                               const prsm_vib_model *m, const prsm_io_vib_result *r)
+void prsm_io_whook_vib_frf_magnitude(prsm_jw *w, cJSON *obj, const char *key, const void *at)
 {
-	const prsm_vib_params *P = prsm_vib_model_params(m);
-	cJSON *d = prsm_jw_object(w, root, "dynamics");
-	prsm_jw_string(w, d, "analysis", prsm_io_dynamics_analysis_name(q->analysis));
-	write_vib_parameters(w, d, q, dyn, P);
-	write_vib_model(w, d, P);
-	size_t failed = 0;
-	switch (q->analysis) {
-	case PRSM_IO_DYN_LINEAR:
-		write_linear(w, d, P, r);
-		break;
-	case PRSM_IO_DYN_VIBRATION:
-		write_vibration(w, d, q, P, r);
-		break;
-	case PRSM_IO_DYN_SWEEP:
-		write_sweep(w, d, q, &r->sweep);
-		failed = failed_points(&r->sweep);
-		break;
-	case PRSM_IO_DYN_FREQUENCY_RESPONSE:
-		write_frequency_response(w, d, q, r);
-		failed = failed_points(&r->fr.sweep);
-		break;
-	case PRSM_IO_DYN_BASINS:
-		write_basins(w, d, &r->basins);
-		failed = r->basins.failed;
-		break;
-	default:
-		break;
-	}
-	cJSON *cv = prsm_jw_object(w, d, "convergence");
-	prsm_jw_bool(w, cv, "converged", failed == 0);
-	prsm_jw_number(w, cv, "failed_points", (double)failed);
-	prsm_jw_number(w, cv, "steps", (double)r->effort.steps);
-	prsm_jw_number(w, cv, "rejected_steps", (double)r->effort.rejected);
-	prsm_jw_number(w, cv, "rhs_evaluations", (double)r->effort.rhs_evaluations);
-	prsm_jw_number(w, cv, "kink_crossings", (double)r->effort.events);
-	prsm_jw_number(w, cv, "stiffness_switches", (double)r->effort.switches);
-	prsm_jw_number(w, cv, "max_steps", (double)q->integration.max_steps);
-	prsm_jw_number(w, cv, "rel_tol", q->integration.rel_tol);
-	prsm_jw_number(w, cv, "abs_tol", q->integration.abs_tol);
+	const prsm_io_vib_result *r = ((const prsm_io_vib_result_view *)w->ctx)->r;
+	cJSON *mag = prsm_jw_array(w, obj, key);
+	for (size_t i = 0; mag && i < r->frf_points; i++)
+		prsm_jw_number(w, mag, NULL, hypot(r->frf_re[i], r->frf_im[i]));
+}
+
+void prsm_io_whook_vib_frf_phase(prsm_jw *w, cJSON *obj, const char *key, const void *at)
+{
+	const prsm_io_vib_result *r = ((const prsm_io_vib_result_view *)w->ctx)->r;
+	cJSON *ph = prsm_jw_array(w, obj, key);
+	for (size_t i = 0; ph && i < r->frf_points; i++)
+		prsm_jw_number(w, ph, NULL, atan2(r->frf_im[i], r->frf_re[i]) * DEG);
 }
 
 cJSON *prsm_io_vibration_result_to_json(const char *name, const prsm_io_vib_request *q, const prsm_dyn_options *dyn,
@@ -2058,18 +1339,52 @@ cJSON *prsm_io_vibration_result_to_json(const char *name, const prsm_io_vib_requ
 {
 	prsm_problems none;
 	prsm_problems_init(&none);
-	prsm_jw w = PRSM_JW_INIT;
-	cJSON *root = prsm_jw_root(&w);
-	cJSON *eng = prsm_jw_object(&w, root, "engine");
-	prsm_jw_string(&w, eng, "name", "prsm");
-	prsm_jw_string(&w, eng, "version", PRSM_VERSION);
-	prsm_jw_string(&w, eng, "model", PRSM_VIB_MODEL_VERSION);
-	prsm_jw_string(&w, eng, "build", prsm_engine_build());
-	if (name && name[0])
-		prsm_jw_string(&w, root, "name", name);
-	write_problems(&w, root, "warnings", warnings ? warnings : &none);
-	write_vib_dynamics(&w, root, q, dyn, m, r);
-	return prsm_jw_done(&w, root);
+	prsm_io_vib_result_view v = {.q = q, .dyn = dyn, .P = prsm_vib_model_params(m), .r = r};
+	v.pair = v.P->kind == PRSM_VIB_GEAR_PAIR;
+	/* the request's dynamics object as the analysis ran it, every default written out: a valid
+	 * dynamics object that reproduces the run (the statics engine's values the reduced model takes
+	 * when they are not given stay out: model has them) */
+	const int fr = q->analysis == PRSM_IO_DYN_FREQUENCY_RESPONSE;
+	v.mu = isnan(dyn->friction.mu) ? v.P->mu : dyn->friction.mu;
+	v.speed_given = isnan(q->vibration.frequency_ratio);
+	v.sweep_shown = q->analysis == PRSM_IO_DYN_SWEEP || fr;
+	v.directions = (q->sweep.up || fr ? 1 : 0) | (q->sweep.down || fr ? 2 : 0);
+	v.continuation = fr ? 1 : q->sweep.continuation;
+	v.mesh_order_per_rev = v.P->teeth_ring * v.P->carrier_ratio;
+	v.wref = v.pair ? 1.0 : v.P->reference_frequency_rad_s;
+	v.inv_wref = 1.0 / v.wref;
+	v.hz = v.pair ? NAN : 1.0 / (2.0 * M_PI);
+	v.frf_unit = frf_unit(v.pair, r->input, r->output);
+	v.spectrum_ratio_scale = v.pair ? 1.0 : 2.0 * M_PI / v.P->reference_frequency_rad_s;
+	v.lyapunov_scale = v.pair ? NAN : v.P->reference_frequency_rad_s;
+	switch (q->analysis) {
+	case PRSM_IO_DYN_SWEEP: {
+		double to_engine = 1.0;
+		prsm_io_sweep_parameter_engine(q->sweep.parameter, &to_engine);
+		v.point_parameter = q->sweep.parameter;
+		v.from_engine = 1.0 / to_engine;
+		v.failed = failed_points(&r->sweep);
+		break;
+	}
+	case PRSM_IO_DYN_FREQUENCY_RESPONSE:
+		v.point_parameter = PRSM_IO_SWEEP_FREQUENCY_RATIO;
+		v.from_engine = 1.0;
+		v.failed = failed_points(&r->fr.sweep);
+		break;
+	case PRSM_IO_DYN_BASINS:
+		v.failed = r->basins.failed;
+		break;
+	default:
+		break;
+	}
+	v.converged = v.failed == 0;
+	const int steady = q->analysis == PRSM_IO_DYN_VIBRATION;
+	v.observable = steady ? q->steady_state.observable : q->sweep.observable;
+	v.observable_roller = steady ? q->steady_state.roller : q->sweep.roller;
+	v.observable_has_roller = !axial_observable(v.observable);
+	prsm_io_dyn_document_view d = {.name = name, .model = PRSM_VIB_MODEL_VERSION, .warnings = warnings ? warnings : &none,
+	                               .vib = &v};
+	return document(&d);
 }
 
 /* ---- CSV and text of the vibration analyses ----------------------------------------------------- */

@@ -1,6 +1,6 @@
 /*
- * measured_result.c: the calibration result document (schemas/measured-result.schema.json) on
- * the sticky-error writer (io/write.h) and its text summary (see measured.h;
+ * measured_result.c: the calibration result document (schemas/measured-result.schema.json) by
+ * its generated table (the view it reads and the hooks) and its text summary (see measured.h;
  * docs/measured-data.md). Units are in every key: um, um/300mm, deg, N, rad/s, N m s/rad.
  */
 #include <math.h>
@@ -9,284 +9,96 @@
 #include "io/errors_json.h"
 #include "io/measured.h"
 #include "io/write.h"
+#include "prsm_io_writers.h"
 #include "util/error.h"
-#include "util/version.h"
 
 #define DEG (180.0 / M_PI)
 
-static const char *const caveat_names[PRSM_CALIB_CAVEAT_KINDS] = {
-	"resolution", "slope_low_order", "screw_runout", "same_part_order", "roller_sum", "correlated_residuals"};
-
-static void write_problems(prsm_jw *w, cJSON *obj, const char *key, const prsm_problems *p)
+/* The estimates (or standard errors: at) by parameter name. */
+void prsm_io_whook_calib_by_name(prsm_jw *w, cJSON *obj, const char *key, const void *at)
 {
-	cJSON *a = prsm_jw_array(w, obj, key);
-	for (int i = 0; a && i < p->count; i++) {
-		cJSON *o = prsm_jw_object(w, a, NULL);
-		prsm_jw_string(w, o, "pointer", p->items[i].pointer);
-		prsm_jw_string(w, o, "code", p->items[i].code);
-		prsm_jw_string(w, o, "message", p->items[i].message);
-	}
+	const prsm_io_calibration_result_view *v = w->ctx;
+	const double *x = at;
+	cJSON *o = prsm_jw_object(w, obj, key);
+	for (int j = 0; j < v->fit->params; j++)
+		prsm_jw_number(w, o, v->key[j], x[j]);
 }
 
-/* the uncertainty block every fit has (MODEL-DYNAMICS §8.5, §8.7 `calibration`) */
-static void write_fit(prsm_jw *w, cJSON *o, const prsm_calib_fit *f)
+/* The correlation matrix, row by row (at: the fit). */
+void prsm_io_whook_calib_correlation(prsm_jw *w, cJSON *obj, const char *key, const void *at)
 {
+	const prsm_calib_fit *f = at;
 	const int P = f->params;
-	cJSON *params = prsm_jw_array(w, o, "parameters");
-	cJSON *est = prsm_jw_object(w, o, "estimates");
-	cJSON *se = prsm_jw_object(w, o, "standard_errors");
-	for (int j = 0; j < P; j++) {
-		char key[PRSM_CALIB_NAME_MAX + 24];
-		/* the unit in the key: name_um, name_um_per_300mm, ... */
-		const char *u = f->unit[j];
-		const char *suffix = strcmp(u, "um") == 0 ? "_um" : strcmp(u, "um/300mm") == 0 ? "_um_per_300mm" : "";
-		const int has_unit = strstr(f->name[j], "_um") || strstr(f->name[j], "_mrad") || strstr(f->name[j], "_deg");
-		snprintf(key, sizeof key, "%s%s", f->name[j], has_unit ? "" : suffix);
-		cJSON *p = prsm_jw_object(w, params, NULL);
-		prsm_jw_string(w, p, "name", key);
-		prsm_jw_string(w, p, "unit", u);
-		prsm_jw_number(w, p, "estimate", f->estimate[j]);
-		prsm_jw_number(w, p, "standard_error", f->standard_error[j]);
-		prsm_jw_number(w, p, "standard_error_white", f->standard_error_white[j]);
-		prsm_jw_number(w, est, key, f->estimate[j]);
-		prsm_jw_number(w, se, key, f->standard_error[j]);
-	}
-	cJSON *corr = prsm_jw_array(w, o, "correlation");
+	cJSON *corr = prsm_jw_array(w, obj, key);
 	for (int a = 0; a < P; a++) {
 		cJSON *row = prsm_jw_array(w, corr, NULL);
 		for (int b = 0; b < P; b++)
 			prsm_jw_number(w, row, NULL, f->correlation[a * P + b]);
 	}
-	prsm_jw_number(w, o, "points", (double)f->points);
-	prsm_jw_number(w, o, "residual_sd_um", f->residual_sd_um);
-	prsm_jw_number(w, o, "sum_of_squares_um2", f->sum_of_squares_um2);
-	prsm_jw_number(w, o, "condition_number", f->condition_number);
-	prsm_jw_number(w, o, "condition_number_scaled", f->condition_number_scaled);
-	prsm_jw_number(w, o, "residual_lag1_autocorrelation", f->lag1_autocorrelation);
-	prsm_jw_number(w, o, "inflation", f->inflation);
-	prsm_jw_number(w, o, "gauss_newton_iterations", f->gauss_newton_iterations);
-	prsm_jw_bool(w, o, "converged", f->converged);
-	cJSON *cav = prsm_jw_array(w, o, "caveats");
-	for (int i = 0; i < f->caveats; i++) {
-		cJSON *c = prsm_jw_object(w, cav, NULL);
-		prsm_jw_string(w, c, "code", caveat_names[f->caveat[i].code]);
-		prsm_jw_bool(w, c, "triggered", f->caveat[i].triggered);
-		prsm_jw_string(w, c, "message", f->caveat[i].message);
-	}
 }
 
-static void write_line(prsm_jw *w, cJSON *o, const prsm_calib_line_result *r)
+/* A physical field's sensitivity (at: its element of sensitivity_um), the key naming the unit. */
+void prsm_io_whook_calib_sensitivity(prsm_jw *w, cJSON *obj, const char *key, const void *at)
 {
-	prsm_jw_string(w, o, "model", "line");
-	write_fit(w, o, &r->fit);
-	cJSON *lines = prsm_jw_array(w, o, "lines");
-	for (int l = 0; l < r->lines; l++) {
-		cJSON *x = prsm_jw_object(w, lines, NULL);
-		prsm_jw_string(w, x, "name", prsm_calib_line_name(r->kind[l]));
-		prsm_jw_number(w, x, "order_per_rev", r->order_per_rev[l]);
-		prsm_jw_number(w, x, "amplitude_um", r->amplitude_um[l]);
-		prsm_jw_number(w, x, "amplitude_se_um", r->amplitude_se_um[l]);
-		prsm_jw_number(w, x, "phase_deg", r->phase_rad[l] * DEG);
-		prsm_jw_number(w, x, "phase_se_deg", r->phase_se_rad[l] * DEG);
-	}
-	cJSON *dropped = prsm_jw_array(w, o, "dropped_lines");
-	for (int l = 0; l < r->dropped; l++)
-		prsm_jw_string(w, dropped, NULL, prsm_calib_line_name(r->dropped_kind[l]));
-	cJSON *k = prsm_jw_object(w, o, "carrier_ratio");
-	prsm_jw_number(w, k, "estimate", r->carrier_ratio);
-	prsm_jw_number(w, k, "standard_error", r->carrier_ratio_se);
-	prsm_jw_number(w, k, "prior", r->carrier_ratio_prior);
-	cJSON *g = prsm_jw_object(w, k, "grid");
-	prsm_jw_number(w, g, "from", r->grid_from);
-	prsm_jw_number(w, g, "to", r->grid_to);
-	prsm_jw_number(w, g, "points", r->grid_points);
-	prsm_jw_number(w, g, "best", r->grid_best_k);
-	prsm_jw_number(w, g, "best_sum_of_squares_um2", r->grid_best_S_um2);
-	prsm_jw_number(w, g, "local_minima", r->grid_local_minima);
-	prsm_jw_number(w, k, "refined", r->refined_k);
-	prsm_jw_string(w, k, "refine_method", r->refine_used == PRSM_CALIB_REFINE_COBYLA ? "cobyla" : "bobyqa");
-	prsm_jw_number(w, k, "refine_evaluations", r->refine_evaluations);
-	prsm_jw_number(w, o, "revolutions", r->revolutions);
-	prsm_jw_number(w, o, "resolution_per_rev", r->resolution_per_rev);
+	const prsm_calib_physical_result *r = ((const prsm_io_calibration_result_view *)w->ctx)->phys;
+	const double *s = at;
+	const char *unit = r->fit.unit[s - r->sensitivity_um];
+	char name[48];
+	snprintf(name, sizeof name, "sensitivity_um_per_%s", strcmp(unit, "um/300mm") == 0 ? "um_per_300mm" : unit);
+	prsm_jw_number(w, obj, name, *s);
 }
 
-static void write_physical(prsm_jw *w, cJSON *o, const prsm_io_calibration *c)
+void prsm_io_whook_calib_errors(prsm_jw *w, cJSON *obj, const char *key, const void *at)
 {
-	const prsm_calib_physical_result *r = &c->physical;
-	prsm_jw_string(w, o, "model", "physical");
-	write_fit(w, o, &r->fit);
-	cJSON *s = prsm_jw_array(w, o, "fields");
-	for (int i = 0; i < r->fields; i++) {
-		cJSON *x = prsm_jw_object(w, s, NULL);
-		prsm_jw_string(w, x, "name", r->fit.name[i]);
-		prsm_jw_number(w, x, "start", r->start[i]);
-		prsm_jw_number(w, x, "estimate", r->fit.estimate[i]);
-		prsm_jw_number(w, x, "standard_error", r->fit.standard_error[i]);
-		char key[48];
-		snprintf(key, sizeof key, "sensitivity_um_per_%s",
-		         strcmp(r->fit.unit[i], "um/300mm") == 0 ? "um_per_300mm" : r->fit.unit[i]);
-		prsm_jw_number(w, x, key, r->sensitivity_um[i]);
-	}
-	prsm_jw_item(w, o, "errors", prsm_io_errors_to_json(&c->calibrated, c->starts));
-	prsm_jw_number(w, o, "evaluations", r->evaluations);
-	prsm_jw_number(w, o, "optimizer_status", r->optimizer_status);
-	prsm_jw_string(w, o, "mode", c->options.mode == PRSM_MODE_EXACT ? "exact" : "linear");
-	prsm_jw_number(w, o, "measuring_load_N", c->options.measuring_load_N);
+	const prsm_io_calibration *c = ((const prsm_io_calibration_result_view *)w->ctx)->c;
+	prsm_jw_item(w, obj, key, prsm_io_errors_to_json(&c->calibrated, c->starts));
+}
+
+/* The calibrated model's TE at every measured point: measured - residual, um. */
+void prsm_io_whook_calib_fitted_te(prsm_jw *w, cJSON *obj, const char *key, const void *at)
+{
+	const prsm_io_calibration_result_view *v = w->ctx;
+	cJSON *fitted = prsm_jw_array(w, obj, key);
+	for (size_t i = 0; i < v->curve->n; i++)
+		prsm_jw_number(w, fitted, NULL, v->curve->te_um[i] - v->fit->residual_um[i]);
 }
 
 cJSON *prsm_io_calibration_to_json(const prsm_io_calibration *c)
 {
-	prsm_jw w = PRSM_JW_INIT;
-	cJSON *root = prsm_jw_root(&w);
-	cJSON *eng = prsm_jw_object(&w, root, "engine");
-	prsm_jw_string(&w, eng, "name", "prsm");
-	prsm_jw_string(&w, eng, "version", PRSM_VERSION);
-	prsm_jw_string(&w, eng, "model", PRSM_CALIB_MODEL_VERSION);
-	prsm_jw_string(&w, eng, "build", prsm_engine_build());
-	if (c->name[0])
-		prsm_jw_string(&w, root, "name", c->name);
-	write_problems(&w, root, "warnings", &c->warnings);
-	const prsm_meas_data *m = c->measured;
-	/* what was measured */
-	cJSON *mo = prsm_jw_object(&w, root, "measured");
+	prsm_io_calibration_result_view v = {
+		.c = c, .curve = c->curve, .m = c->measured, .has_curve = c->curve != NULL,
+		.file_shown = c->curve && c->source_csv == 1, .has_fit = c->has_line || c->has_physical,
+		.line = c->has_line ? &c->line : NULL, .phys = c->has_physical ? &c->physical : NULL,
+		.cage_difference = c->has_cage ? c->cage.ratio - c->cage.k_star : NAN,
+		.efficiency_difference = c->has_friction ? c->friction.efficiency - c->friction.efficiency_model : NAN,
+	};
 	if (c->curve) {
-		prsm_jw_string(&w, mo, "source", c->source_csv ? "csv" : "json");
-		if (c->source_csv == 1)
-			prsm_jw_string(&w, mo, "file", c->source);
-		prsm_jw_number(&w, mo, "points", (double)c->curve->n);
-		prsm_jw_number(&w, mo, "revolutions", prsm_meas_revolutions(c->curve));
-		prsm_jw_number(&w, mo, "stroke_mm", c->curve->travel_mm[c->curve->n - 1] - c->curve->travel_mm[0]);
+		v.revolutions = prsm_meas_revolutions(c->curve);
+		v.stroke_mm = c->curve->travel_mm[c->curve->n - 1] - c->curve->travel_mm[0];
 	}
-	prsm_jw_number(&w, mo, "lead_mm", c->lead_mm);
-	prsm_jw_number(&w, mo, "te_noise_sd_um", m->te_noise_sd_um);
-	/* §8.5 item 1 */
-	cJSON *cmp = prsm_jw_object(&w, root, "comparison");
-	cJSON *kin = prsm_jw_object(&w, cmp, "kinematics");
-	prsm_jw_number(&w, kin, "carrier_ratio_min_slip", c->k_star);
-	prsm_jw_number(&w, kin, "carrier_ratio_statics", c->k_statics);
-	prsm_jw_number(&w, kin, "ring_gear_ratio", c->ring_gear_ratio);
-	prsm_jw_number(&w, kin, "rollers", c->rollers);
-	if (c->ring_gear_teeth > 0)
-		prsm_jw_number(&w, kin, "ring_gear_teeth", c->ring_gear_teeth);
-	if (c->has_comparison) {
-		const prsm_meas_comparison *t = &c->comparison;
-		cJSON *te = prsm_jw_object(&w, cmp, "te");
-		prsm_jw_bool(&w, te, "with_errors", c->with_errors);
-		prsm_jw_number(&w, te, "measuring_load_N", c->measuring_load_N);
-		prsm_jw_number(&w, te, "offset_um", t->offset_um);
-		prsm_jw_number(&w, te, "residual_rms_um", t->rms_um);
-		prsm_jw_number(&w, te, "residual_peak_to_peak_um", t->peak_to_peak_um);
-		prsm_jw_number(&w, te, "residual_max_abs_um", t->max_abs_um);
-		prsm_jw_number(&w, te, "residual_lead_deviation_um_per_300mm", t->lead_deviation_um_per_300mm);
-		prsm_jw_number(&w, te, "measured_rms_um", t->measured_rms_um);
-		prsm_jw_number(&w, te, "model_rms_um", t->model_rms_um);
-		prsm_jw_number(&w, te, "z_rms", t->z_rms);
-	}
-	if (c->has_cage) {
-		const prsm_calib_cage *k = &c->cage;
-		cJSON *o = prsm_jw_object(&w, cmp, "cage_ratio");
-		prsm_jw_number(&w, o, "measured", k->ratio);
-		prsm_jw_number(&w, o, "standard_uncertainty", k->ratio_sd);
-		prsm_jw_number(&w, o, "axial_load_N", k->axial_load_N);
-		prsm_jw_number(&w, o, "screw_speed_rad_s", k->screw_speed_rad_s);
-		prsm_jw_number(&w, o, "carrier_ratio_min_slip", k->k_star);
-		prsm_jw_number(&w, o, "carrier_ratio_statics", k->k_statics);
-		prsm_jw_number(&w, o, "difference_min_slip", k->ratio - k->k_star);
-		prsm_jw_number(&w, o, "z_min_slip", k->z_k_star);
-		prsm_jw_number(&w, o, "z_statics", k->z_statics);
-	}
-	if (c->has_friction) {
-		const prsm_calib_friction *f = &c->friction;
-		cJSON *o = prsm_jw_object(&w, cmp, "efficiency");
-		prsm_jw_number(&w, o, "measured", f->efficiency);
-		prsm_jw_number(&w, o, "standard_uncertainty", f->efficiency_sd);
-		prsm_jw_number(&w, o, "axial_load_N", f->axial_load_N);
-		prsm_jw_number(&w, o, "screw_speed_rad_s", f->screw_speed_rad_s);
-		prsm_jw_number(&w, o, "model", f->efficiency_model);
-		prsm_jw_number(&w, o, "difference", f->efficiency - f->efficiency_model);
-		prsm_jw_number(&w, o, "z", f->z);
-	}
-	/* §8.5 item 2 */
-	if (c->has_spectrum) {
+	if (c->has_spectrum) { /* the spectrum up to 1.5 x the highest named order below Nyquist */
 		const prsm_meas_spectrum *s = &c->spectrum;
-		cJSON *id = prsm_jw_object(&w, root, "identification");
-		prsm_jw_number(&w, id, "lead_deviation_um_per_300mm", s->lead_deviation_um_per_300mm);
-		prsm_jw_number(&w, id, "line_offset_um", s->line_offset_um);
-		prsm_jw_number(&w, id, "revolutions", s->revolutions);
-		prsm_jw_number(&w, id, "resolution_per_rev", s->resolution_per_rev);
-		prsm_jw_number(&w, id, "samples_per_rev", s->samples_per_rev);
-		prsm_jw_number(&w, id, "carrier_ratio", c->k_star);
-		prsm_jw_bool(&w, id, "resampled", s->resampled);
-		cJSON *lines = prsm_jw_array(&w, id, "lines");
 		double top = 0.0;
-		for (int l = 0; l < s->orders; l++) {
-			cJSON *x = prsm_jw_object(&w, lines, NULL);
-			prsm_jw_string(&w, x, "name", prsm_calib_line_name(c->spectrum_kind[l]));
-			prsm_jw_number(&w, x, "order_per_rev", s->order_per_rev[l]);
-			prsm_jw_number(&w, x, "found_order_per_rev", s->found_order_per_rev[l]);
-			prsm_jw_number(&w, x, "amplitude_um", s->found_amplitude_um[l]);
-			prsm_jw_bool(&w, x, "above_nyquist", s->above_nyquist[l]);
+		for (int l = 0; l < s->orders; l++)
 			if (!s->above_nyquist[l])
 				top = fmax(top, s->order_per_rev[l]);
-		}
-		/* the spectrum up to 1.5 x the highest named order below Nyquist (at most 8192 bins) */
-		cJSON *sp = prsm_jw_object(&w, id, "spectrum");
-		prsm_jw_number(&w, sp, "step_per_rev", s->step_per_rev);
-		cJSON *amp = prsm_jw_array(&w, sp, "amplitude_um");
 		size_t nb = (size_t)ceil((1.5 * top + 2.0 * s->resolution_per_rev) / s->step_per_rev) + 1;
-		if (nb > s->bins)
-			nb = s->bins;
-		if (nb > 8192)
-			nb = 8192;
-		for (size_t b = 0; b < nb; b++)
-			prsm_jw_number(&w, amp, NULL, s->amplitude_um[b]);
+		nb = nb > s->bins ? s->bins : nb;
+		v.spectrum_bins = nb > 8192 ? 8192 : nb;
 	}
-	/* §8.5 item 3 */
-	if (c->has_line || c->has_physical) {
-		cJSON *cal = prsm_jw_object(&w, root, "calibration");
-		if (c->has_line)
-			write_line(&w, cal, &c->line);
-		else
-			write_physical(&w, cal, c);
-		/* the calibrated model's TE at every measured point (measured - residual), um: what a
-		 * plot overlays on the measurement, for either model */
-		const prsm_calib_fit *fit = c->has_line ? &c->line.fit : &c->physical.fit;
-		if (c->curve && fit->residual_um && fit->points == c->curve->n) {
-			cJSON *fitted = prsm_jw_array(&w, cal, "fitted_te_um");
-			for (size_t i = 0; i < c->curve->n; i++)
-				prsm_jw_number(&w, fitted, NULL, c->curve->te_um[i] - fit->residual_um[i]);
+	if (v.has_fit) {
+		const prsm_calib_fit *f = v.fit = c->has_line ? &c->line.fit : &c->physical.fit;
+		for (int j = 0; j < f->params; j++) { /* the unit in the key: name_um, name_um_per_300mm, ... */
+			const char *u = f->unit[j];
+			const char *suffix = strcmp(u, "um") == 0 ? "_um" : strcmp(u, "um/300mm") == 0 ? "_um_per_300mm" : "";
+			const int has_unit = strstr(f->name[j], "_um") || strstr(f->name[j], "_mrad") || strstr(f->name[j], "_deg");
+			snprintf(v.key[j], sizeof v.key[j], "%s%s", f->name[j], has_unit ? "" : suffix);
 		}
+		v.fitted = c->curve && f->residual_um && f->points == c->curve->n;
 	}
-	/* §8.5 item 4 */
-	if (c->has_friction) {
-		const prsm_calib_friction *f = &c->friction;
-		cJSON *o = prsm_jw_object(&w, root, "friction");
-		prsm_jw_bool(&w, o, "found", f->found);
-		prsm_jw_number(&w, o, "mu", f->mu);
-		prsm_jw_number(&w, o, "mu_standard_error", f->mu_se);
-		prsm_jw_number(&w, o, "mu_design", f->mu_design);
-		prsm_jw_number(&w, o, "mu_sliding_only", f->mu_sliding_only);
-		prsm_jw_number(&w, o, "efficiency_per_mu", f->deta_dmu);
-		cJSON *l = prsm_jw_object(&w, o, "losses_assumed");
-		prsm_jw_bool(&w, l, "spin", f->spin);
-		prsm_jw_bool(&w, l, "gear_mesh", f->gear);
-		prsm_jw_number(&w, l, "input_torque_Nm", f->input_torque_Nm);
-		prsm_jw_number(&w, l, "ideal_torque_Nm", f->ideal_torque_Nm);
-		prsm_jw_number(&w, l, "sliding_torque_Nm", f->sliding_torque_Nm);
-		prsm_jw_number(&w, l, "spin_torque_Nm", f->spin_torque_Nm);
-		prsm_jw_number(&w, l, "gear_torque_Nm", f->gear_torque_Nm);
-		prsm_jw_number(&w, l, "drag_torque_Nm", f->drag_torque_Nm);
-		prsm_jw_number(&w, l, "seal_torque_Nm", f->seal_torque_Nm);
-	}
-	if (c->has_cage) {
-		const prsm_calib_cage *k = &c->cage;
-		cJSON *o = prsm_jw_object(&w, root, "carrier_drag");
-		prsm_jw_bool(&w, o, "above_min_slip", k->above_k_star);
-		prsm_jw_bool(&w, o, "found", k->drag_found);
-		prsm_jw_number(&w, o, "carrier_drag_Nm_s_per_rad", k->carrier_drag_Nm_s_per_rad);
-		prsm_jw_number(&w, o, "carrier_drag_se_Nm_s_per_rad", k->carrier_drag_se_Nm_s_per_rad);
-		prsm_jw_number(&w, o, "ratio_per_drag_rad_per_N_m_s", k->dk_dcC);
-	}
+	prsm_jw w = {0, &v};
+	cJSON *root = prsm_jw_root(&w);
+	prsm_io_write_fields(&w, root, &v, &prsm_io_w_calibration_result, 0);
 	return prsm_jw_done(&w, root);
 }
 

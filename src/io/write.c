@@ -113,7 +113,7 @@ static const char *member(const void *base, const prsm_io_wref *r, size_t i)
 		p += r->offset2;
 	if (p && r->pointer)
 		p = *(const char *const *)p;
-	return p ? p + i * r->stride : NULL;
+	return p ? p + i * r->stride + r->after : NULL;
 }
 
 static double number(const char *p, int type)
@@ -127,9 +127,20 @@ static double number(const char *p, int type)
 		return (double)*(const uint64_t *)p;
 	case PRSM_IO_W_ULONG:
 		return (double)*(const unsigned long *)p;
+	case PRSM_IO_W_LONG:
+		return (double)*(const long *)p;
 	default:
 		return *(const double *)p;
 	}
+}
+
+/* The number v of field f scaled: x scale, then / divide (each a constant or a double member). */
+static double scaled(const void *base, const prsm_io_wfield *f, double v, size_t row)
+{
+	const char *s = f->scale_by ? member(base, &f->scale_at, row) : NULL;
+	const char *d = f->divide_by ? member(base, &f->divide_at, row) : NULL;
+	v *= s ? *(const double *)(const void *)s : f->scale != 0.0 ? f->scale : 1.0;
+	return d ? v / *(const double *)(const void *)d : f->divide != 0.0 ? v / f->divide : v;
 }
 
 /* 1 when field f is written (at row i). */
@@ -160,6 +171,19 @@ static const char *string(const char *p, int type)
 	return type == PRSM_IO_W_CSTR ? *(const char *const *)p : p;
 }
 
+/* An enum's name for the int at p (else its text, or null). */
+static void enum_name(prsm_jw *w, cJSON *o, const prsm_io_wfield *f, const char *key, const char *p)
+{
+	const char *name = f->text;
+	for (int i = 0; i < f->n_values; i++)
+		if (f->values[i] == *(const int *)p)
+			name = f->names[i];
+	if (name)
+		prsm_jw_string(w, o, key, name);
+	else
+		prsm_jw_null(w, o, key);
+}
+
 static void array(prsm_jw *w, cJSON *arr, const void *base, const prsm_io_wfield *f, size_t row)
 {
 	size_t n = (size_t)f->count;
@@ -177,10 +201,14 @@ static void array(prsm_jw *w, cJSON *arr, const void *base, const prsm_io_wfield
 			break;
 		if (f->child)
 			prsm_io_write_fields(w, prsm_jw_object(w, arr, NULL), p, f->child, f->shape == PRSM_IO_W_ROWS ? i : 0);
+		else if (f->names)
+			enum_name(w, arr, f, NULL, p);
+		else if (f->mask)
+			prsm_jw_bool(w, arr, NULL, (*(const int *)p & f->mask) != 0);
 		else if (f->type >= PRSM_IO_W_CHARS)
 			prsm_jw_string(w, arr, NULL, string(p, f->type));
 		else
-			prsm_jw_number(w, arr, NULL, number(p, f->type) * (f->scale != 0.0 ? f->scale : 1.0));
+			prsm_jw_number(w, arr, NULL, scaled(base, f, number(p, f->type), row));
 	}
 }
 
@@ -190,26 +218,16 @@ static void field(prsm_jw *w, cJSON *o, const void *base, const prsm_io_wfield *
 	if (p == NULL)
 		return;
 	switch (f->kind) {
-	case PRSM_IO_W_NUMBER: {
-		double v = number(p, f->type) * (f->scale != 0.0 ? f->scale : 1.0);
-		prsm_jw_number(w, o, f->name, f->divide != 0.0 ? v / f->divide : v);
+	case PRSM_IO_W_NUMBER:
+		prsm_jw_number(w, o, f->name, scaled(base, f, number(p, f->type), row));
 		break;
-	}
 	case PRSM_IO_W_BOOL:
 		prsm_jw_bool(w, o, f->name, f->type ? (f->mask ? (*(const int *)p & f->mask) != 0 : *(const int *)p != 0)
 		                                    : f->mask);
 		break;
-	case PRSM_IO_W_ENUM: {
-		const char *name = f->text;
-		for (int i = 0; i < f->n_values; i++)
-			if (f->values[i] == *(const int *)p)
-				name = f->names[i];
-		if (name)
-			prsm_jw_string(w, o, f->name, name);
-		else
-			prsm_jw_null(w, o, f->name);
+	case PRSM_IO_W_ENUM:
+		enum_name(w, o, f, f->name, p);
 		break;
-	}
 	case PRSM_IO_W_FLAGS: {
 		cJSON *arr = prsm_jw_array(w, o, f->name);
 		for (int i = 0; i < f->n_values; i++)

@@ -61,22 +61,25 @@ void prsm_io_whook_problems(prsm_jw *w, cJSON *obj, const char *key, const void 
 
 /* Where a member is: at base + offset, or (deref) through the pointer there, at offset2 in what
  * it points to; then (pointer) through the pointer found there; item (or row) i stride x i
- * further on. Left out when a pointer on the way is NULL. */
+ * further on, and after further (the member of a pointed-to struct). Left out when a pointer on
+ * the way is NULL. */
 typedef struct {
-	size_t offset, offset2, stride;
+	size_t offset, offset2, stride, after;
 	unsigned char deref, pointer;
 } prsm_io_wref;
 
 typedef enum {
-	PRSM_IO_W_NUMBER = 1, /* a number of C type `type`, x scale (/ divide) */
+	PRSM_IO_W_NUMBER = 1, /* a number of C type `type`, x scale (/ divide), constants or members */
 	PRSM_IO_W_BOOL,       /* an int, true when nonzero (& mask when set); no type: mask itself */
 	PRSM_IO_W_ENUM,       /* an int: names[i] where values[i] is it, else text (or null) */
 	PRSM_IO_W_FLAGS,      /* an int: an array of names[i] whose bit values[i] is set */
 	PRSM_IO_W_STRING,     /* a char array (type CHARS) or a const char * (type CSTR) */
 	PRSM_IO_W_TEXT,       /* text, as it is (the schema's const) */
 	PRSM_IO_W_OBJECT,     /* the child table's members of the struct here */
-	PRSM_IO_W_ARRAY,      /* count items (shape): of C type `type`, structs (child), rows (the
-	                         child's members at row i), or a tuple (the child's members) */
+	PRSM_IO_W_ARRAY,      /* count items (shape): of C type `type` (ints with names: their
+	                         names, as ENUM; with a mask: booleans, as BOOL), structs (child),
+	                         rows (the child's members at row i), or a tuple (the child's
+	                         members) */
 	PRSM_IO_W_HOOK        /* hook(w, obj, name, the member here, or the table's struct) */
 } prsm_io_wkind;
 
@@ -86,6 +89,7 @@ typedef enum {
 	PRSM_IO_W_SIZE,
 	PRSM_IO_W_U64,
 	PRSM_IO_W_ULONG,
+	PRSM_IO_W_LONG,
 	PRSM_IO_W_CHARS,
 	PRSM_IO_W_CSTR
 } prsm_io_wtype;
@@ -112,6 +116,8 @@ typedef struct {
 	unsigned char kind, type;          /* prsm_io_wkind, prsm_io_wtype (items, for arrays) */
 	prsm_io_wref at;
 	double scale, divide;              /* numbers: x scale (0: 1), then / divide (0: not) */
+	unsigned char scale_by, divide_by; /* ... or x (/) the double at scale_at (divide_at) */
+	prsm_io_wref scale_at, divide_at;
 	const char *text;                  /* TEXT */
 	const char *const *names;          /* ENUM, FLAGS */
 	const int *values;
