@@ -1271,9 +1271,15 @@ def study_checks(name, study, res):
 
 
 def reduced(doc):
-    """The study with monte_carlo.samples 512 and sensitivity.sobol.samples 128 when present."""
+    """The study with monte_carlo.samples 512 and sensitivity.sobol.samples 128 when present; a
+    study with dynamic outputs 32 samples and at most 3 integrated windows (its contact-loss
+    samples are integrated: seconds each)."""
     d = copy.deepcopy(doc)
     d.setdefault("monte_carlo", {})["samples"] = 512
+    if "dynamics" in d:
+        d["monte_carlo"]["samples"] = 32
+        d["monte_carlo"]["block_size"] = 16
+        d.setdefault("dynamic_monte_carlo", {})["max_windows"] = 3
     sob = d.get("sensitivity", {}).get("sobol")
     if isinstance(sob, dict):
         sob["samples"] = 128
@@ -1737,8 +1743,15 @@ for name, doc, pointer in STUDY_INVALID[::10]:
           err[:300])
 
 # 9d. beyond the schema: the schema accepts, the C reader refuses (study.schema.json says so)
-ALL_DESIGN = [c["const"] for c in schemas["study.schema.json"]["$defs"]["design_parameter"]["oneOf"]]
-ALL_OUTPUTS = [c["const"] for c in schemas["study.schema.json"]["$defs"]["output_name"]["oneOf"]] + ["y"]
+ALL_DESIGN = [c["const"] for c in schemas["study.schema.json"]["$defs"]["design_parameter"]["oneOf"]
+              if c["const"] not in ("ring_gear.mesh_error_um", "ring_gear.backlash_um", "damping_ratio")]
+# the outputs of the static model (the dynamic ones, issue 17 item 4, need a dynamics section)
+DYNAMIC_OUTPUTS = ["peak_dynamic_te_um", "peak_thread_force_N", "axial_vibration_rms_m_s2", "contact_loss",
+                   "mesh_force_peak_N", "regime", "integrated"]
+DYNAMIC_PARAMETERS = ["ring_gear.mesh_error_um", "ring_gear.backlash_um", "damping_ratio"]
+ALL_OUTPUTS = [c["const"] for c in schemas["study.schema.json"]["$defs"]["output_name"]["oneOf"]
+               if c["const"] not in ("peak_dynamic_te_um", "peak_thread_force_N", "axial_vibration_rms_m_s2",
+                                     "contact_loss", "mesh_force_peak_N", "regime", "integrated")] + ["y"]
 PER_ROLLER = ["roller.pitch_radius_um", "roller.thickness_um", "roller.arc_radius_um", "roller.pin_radial_um",
               "roller.pin_tangential_um", "roller.gear_phase_mrad", "roller.tilt_radial_mrad",
               "roller.tilt_tangential_mrad"]
@@ -1881,6 +1894,10 @@ c_outputs = [s.split('"')[1] for s in block[:block.index("};")].split(",") if '"
 # ("efficiency" is the older name of efficiency_sliding: the schema lists both, the C table one)
 schema_outputs = [c["const"] for c in schemas["study.schema.json"]["$defs"]["output_name"]["oneOf"]
                   if c["const"] != "efficiency"]
+schema_dynamic = [c["const"] for c in schemas["study.schema.json"]["$defs"]["design_parameter"]["oneOf"]
+                  if c["const"] in DYNAMIC_PARAMETERS]
+check("study.schema.json names the dynamic model's tolerance parameters", sorted(schema_dynamic) == sorted(DYNAMIC_PARAMETERS),
+      f"{schema_dynamic}")
 check("study.schema.json output names are prsm_model.c's", c_outputs == schema_outputs,
       f"{c_outputs} vs {schema_outputs}")
 with open(os.path.join(SRC, "src", "io", "errors_json.c"), encoding="utf-8") as f:

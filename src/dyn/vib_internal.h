@@ -65,6 +65,8 @@ struct prsm_vib_model {
 	double v_basis_A[3], v_basis_B[3]; /* slip basis of the loaded flank, m per rad */
 	double te_order_base[PRSM_VIB_TE_LINES_MAX]; /* orders per screw revolution */
 	double k_axial, m_axial;     /* k_a (N/m), m_a (kg) */
+	double mesh_order_per_rev;   /* > 0: the mesh frequency omega_m = this x omega_s (the dynamic
+	                                Monte Carlo rounds z_2 k* to its window, vib_mc.c); 0: z_2 k* */
 };
 
 /* state indices of the reduced model */

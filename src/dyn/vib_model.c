@@ -296,7 +296,8 @@ void vib_core_derive(prsm_vib_model *m)
 	P->mesh_damping_N_s_per_m = P->mesh_damping_ratio * sqrt(2.0 * kbar * c->Mff) / c->rb1;
 	c->two_zeta_g = 2.0 * P->mesh_damping_ratio;
 	c->eg = P->mesh_error_m / c->bg;
-	P->mesh_frequency_rad_s = P->teeth_ring * P->carrier_ratio * P->screw_speed_rad_s;
+	P->mesh_frequency_rad_s = (m->mesh_order_per_rev > 0.0 ? m->mesh_order_per_rev : P->teeth_ring * P->carrier_ratio) *
+	                          P->screw_speed_rad_s;
 	c->we = P->mesh_frequency_rad_s / c->wref;
 	P->frequency_ratio = c->we;
 	for (int j = 0; j < Z; j++) {

@@ -27,6 +27,7 @@
 #include "io/analyze_request.h"
 #include "io/design_json.h"
 #include "io/doc.h"
+#include "io/dynamics_json.h"
 #include "io/errors_json.h"
 #include "io/json_util.h"
 #include "model/analysis.h"
@@ -101,6 +102,10 @@ static int param_find(param_info *pi, const char *path, const prsm_io_study *s, 
 		         s->bench.inputs);
 		return PRSM_ENOTFOUND;
 	}
+	if (strcmp(path, "damping_ratio") == 0) { /* the dynamic model's zeta_a = zeta_g, absolute */
+		*pi = (param_info){PRSM_PART_DYNAMICS, PRSM_DYN_TOL_DAMPING, 1.0, 0, 0, 0, 0, "", -1};
+		return 0;
+	}
 	const char *dot = strchr(path, '.');
 	char part[16];
 	if (!dot || (size_t)(dot - path) >= sizeof part) {
@@ -118,18 +123,35 @@ static int param_find(param_info *pi, const char *path, const prsm_io_study *s, 
 		                   "(deviations added to the design's coefficients)");
 		return PRSM_ENOTFOUND;
 	}
+	if (strcmp(part, "ring_gear") == 0) { /* the dynamic model's gear branch, absolute values in um */
+		static const char *const keys[] = {"mesh_error_um", "backlash_um", NULL};
+		for (int k = 0; keys[k]; k++)
+			if (strcmp(key, keys[k]) == 0) {
+				*pi = (param_info){PRSM_PART_DYNAMICS, k == 0 ? PRSM_DYN_TOL_MESH_ERROR : PRSM_DYN_TOL_BACKLASH, 1e-6,
+				                   0, 0, 0, 0, "um", -1};
+				return 0;
+			}
+		const char *guess = prsm_json_closest_name(key, keys);
+		if (guess)
+			snprintf(msg, cap, "'%s' is not a ring-gear parameter (did you mean 'ring_gear.%s'?): mesh_error_um or "
+			         "backlash_um", key, guess);
+		else
+			snprintf(msg, cap, "'%s' is not a ring-gear parameter: mesh_error_um or backlash_um", key);
+		return PRSM_ENOTFOUND;
+	}
 	static const char *const parts[] = {"screw", "nut", "carrier", "roller"}; /* = prsm_part */
 	int p = 0;
 	while (p < 4 && strcmp(part, parts[p]) != 0)
 		p++;
 	if (p == 4) {
-		static const char *const all_parts[] = {"screw", "nut", "carrier", "roller", "friction", NULL};
+		static const char *const all_parts[] = {"screw", "nut", "carrier", "roller", "friction", "ring_gear", NULL};
 		const char *guess = prsm_json_closest_name(part, all_parts);
 		if (guess)
-			snprintf(msg, cap, "unknown part '%s' (did you mean '%s'?): screw, nut, carrier, roller or friction", part,
-			         guess);
+			snprintf(msg, cap, "unknown part '%s' (did you mean '%s'?): screw, nut, carrier, roller, friction or "
+			         "ring_gear (or damping_ratio)", part, guess);
 		else
-			snprintf(msg, cap, "unknown part '%s': screw, nut, carrier, roller or friction", part);
+			snprintf(msg, cap, "unknown part '%s': screw, nut, carrier, roller, friction or ring_gear (or "
+			         "damping_ratio)", part);
 		return PRSM_ENOTFOUND;
 	}
 	pi->part = (prsm_part)p;
@@ -683,6 +705,13 @@ static void build_vars(prsm_io_study *s, size_t g)
 		return;
 	}
 	static const prsm_dist phase = {PRSM_DIST_UNIFORM, {0.0, 2.0 * M_PI, 0.0, 0.0}, NULL};
+	if (pi->part == PRSM_PART_DYNAMICS) { /* one variable, named as the tolerance */
+		const prsm_mc_binding b = {pi->part, 0, pi->offset, pi->scale};
+		gr->first_var = st->d;
+		add_var(s, &t->dist, (int)g, &b, "%s", t->parameter);
+		gr->n_vars = 1;
+		return;
+	}
 	const char *key = strchr(t->parameter, '.') + 1;
 	/* the key without its unit: runout_um -> runout, tilt_mrad -> tilt */
 	const size_t unit_len = strlen(unit_of(key));
@@ -844,7 +873,8 @@ static int nominal_unit_terms(prsm_io_study *s, prsm_problems *pr)
 {
 	int first = -1, unit = 0, losses = 0;
 	for (size_t o = 0; o < s->study.m; o++) {
-		int u = s->prsm.outputs[o] == PRSM_OUT_UNIT_STIFFNESS, l = s->prsm.outputs[o] == PRSM_OUT_EFFICIENCY_LOSSES;
+		int u = s->prsm.outputs[o] == PRSM_OUT_UNIT_STIFFNESS || prsm_output_is_dynamic(s->prsm.outputs[o]),
+		    l = s->prsm.outputs[o] == PRSM_OUT_EFFICIENCY_LOSSES;
 		if ((u || l) && first < 0)
 			first = (int)o;
 		unit |= u;
@@ -1001,7 +1031,7 @@ int prsm_io_step_output(prsm_io_at *at, prsm_problems *pr)
 	}
 	if (!s->is_benchmark && c->design_rc == 0 && !(s->design.axial_load_N > 0.0) &&
 	    (k == PRSM_OUT_SHARING || k == PRSM_OUT_STIFFNESS || k == PRSM_OUT_STIFFNESS_RATIO ||
-	     k == PRSM_OUT_UNIT_STIFFNESS || k == PRSM_OUT_EFFICIENCY_LOSSES)) {
+	     k == PRSM_OUT_UNIT_STIFFNESS || k == PRSM_OUT_EFFICIENCY_LOSSES || prsm_output_is_dynamic(k))) {
 		prsm_problems_add(pr, at->pointer, "no_load", "%s needs an operating axial load "
 		                  "(/design/operating_point/axial_load_N > 0)", name);
 		return 0;
@@ -1110,6 +1140,18 @@ static void check_ranges(prsm_io_study *out, prsm_problems *warnings, prsm_probl
 		}
 		if (out->is_benchmark)
 			continue;
+		param_info dpi;
+		char dmsg[200];
+		if (param_find(&dpi, t->parameter, out, dmsg, sizeof dmsg) == 0 && dpi.part == PRSM_PART_DYNAMICS) {
+			/* absolute values: a damping ratio in (0, 1), a mesh error >= 0, a backlash > 0 */
+			const int damping = dpi.offset == PRSM_DYN_TOL_DAMPING, error = dpi.offset == PRSM_DYN_TOL_MESH_ERROR;
+			const int bad = damping ? !(q[0] > 0.0 && q[1] < 1.0) : error ? !(q[0] >= 0.0) : !(q[0] > 0.0);
+			if (bad)
+				prsm_problems_add(pr, tp, "range", "%s spans %.6g to %.6g (0.135 to 99.865 %%): it must be %s there",
+				                  t->parameter, q[0], q[1],
+				                  damping ? "in (0, 1)" : error ? ">= 0 um" : "> 0 um");
+			continue;
+		}
 		const char *key = strchr(t->parameter, '.');
 		const char *unit = key ? unit_of(key + 1) : "";
 		if (strcmp(unit, "um") != 0 && strcmp(unit, "um_per_300mm") != 0)
@@ -1236,8 +1278,157 @@ int prsm_io_step_model(prsm_io_at *at, prsm_problems *pr)
 	p->n_bindings = st->d;
 	p->bindings = out->bindings;
 	p->n_outputs = st->m;
+	p->dyn = NULL;
+	if (out->has_dynamics) {
+		prsm_mc_dyn *d = &out->dynamics;
+		d->design = &out->design;
+		d->analysis = &out->analysis;
+		prsm_error err = PRSM_ERROR_INIT;
+		if (prsm_mc_dyn_prepare(d, &out->assembly, p->angles_per_revolution, d->window_rev, &err)) {
+			prsm_problems_add(pr, err.pointer[0] ? err.pointer : "/dynamics", "computation",
+			                  "the dynamic model of the nominal design: %s", err.message);
+			return 0;
+		}
+		p->dyn = d;
+	}
 	if (nominal_unit_terms(out, pr) == 0)
 		prsm_prsm_mc_model(&st->model, p);
+	return 0;
+}
+
+/* "dynamics" and "dynamic_monte_carlo" (docs/vibration.md, "Monte Carlo over dynamic outputs"):
+ * read when a dynamic output is asked (the section as a vibration analysis takes it), refused
+ * otherwise; contact_loss, regime and integrated are added to the outputs when missing (the
+ * probabilities and the screening summary count them); the stop rule becomes yield-width
+ * targets on them (checked on the completed blocks, like the other targets). */
+int prsm_io_step_dynamics(prsm_io_at *at, prsm_problems *pr)
+{
+	prsm_io_study *s = at->root;
+	const study_reading *c = at->ctx;
+	const cJSON *dyn = cJSON_GetObjectItemCaseSensitive(at->obj, "dynamics");
+	const cJSON *dmc = cJSON_GetObjectItemCaseSensitive(at->obj, "dynamic_monte_carlo");
+	s->has_dynamics = 0;
+	if (c->design_rc != 0)
+		return 0;
+	int first_out = -1, first_tol = -1;
+	for (size_t o = 0; o < s->study.m && !s->is_benchmark; o++)
+		if (first_out < 0 && prsm_output_is_dynamic(s->prsm.outputs[o]))
+			first_out = (int)o;
+	for (size_t g = 0; g < s->n_tolerances && !s->is_benchmark; g++) {
+		const char *name = s->tolerances[g].parameter;
+		if (first_tol < 0 && (strncmp(name, "ring_gear.", 10) == 0 || strcmp(name, "damping_ratio") == 0))
+			first_tol = (int)g;
+	}
+	if (first_out < 0) {
+		if (dyn)
+			prsm_problems_add(pr, "/dynamics", "not_used", "the dynamics section is for dynamic outputs (%s): name one "
+			                  "in outputs, or leave the section out", "peak_dynamic_te_um, peak_thread_force_N, "
+			                  "axial_vibration_rms_m_s2, contact_loss, mesh_force_peak_N, regime, integrated");
+		if (dmc)
+			prsm_problems_add(pr, "/dynamic_monte_carlo", "not_used", "dynamic_monte_carlo is for dynamic outputs");
+		if (first_tol >= 0) {
+			char tp[PRSM_JSON_POINTER_MAX];
+			prsm_json_pointer_append_index(tp, sizeof tp, "/tolerances", first_tol);
+			prsm_io_problem(pr, tp, "parameter", "not_used", "%s is a parameter of the dynamic model: it needs a "
+			                "dynamic output and the dynamics section", s->tolerances[first_tol].parameter);
+		}
+		return 0;
+	}
+	if (dyn == NULL) {
+		char op[PRSM_JSON_POINTER_MAX];
+		prsm_json_pointer_append_index(op, sizeof op, "/outputs", first_out);
+		prsm_problems_add(pr, "/dynamics", "required", "output %s (at %s) needs the dynamics section: the reduced "
+		                  "vibration model as a vibration analysis takes it (docs/vibration.md)",
+		                  s->study.outputs[first_out].name, op);
+		return 0;
+	}
+	s->dyn_stop_half_width = NAN;
+	prsm_io_vib_request *v = malloc(sizeof *v);
+	prsm_dyn_options o;
+	if (v == NULL) {
+		prsm_problems_add(pr, "/dynamics", "memory", "out of memory reading the dynamics section");
+		return 0;
+	}
+	const int before = prsm_problems_total(pr);
+	if (prsm_io_dynamics_read(&o, v, dyn, 1, pr) == 0) {
+		if (v->analysis != PRSM_IO_DYN_VIBRATION)
+			prsm_problems_add(pr, "/dynamics/analysis", "enum", "the dynamic outputs take the vibration analysis's "
+			                  "model: \"analysis\": \"vibration\"");
+		else if (v->gear_pair_model)
+			prsm_problems_add(pr, "/dynamics/gear_pair", "not_allowed", "the dynamic outputs take the reduced model of "
+			                  "the design, not the gear pair");
+		else if (v->vibration.branches != PRSM_VIB_BRANCHES_BOTH)
+			prsm_problems_add(pr, "/dynamics/vibration/branches", "enum", "the dynamic outputs need both branches "
+			                  "(the thread and the ring gears)");
+	}
+	prsm_mc_dyn *d = &s->dynamics;
+	d->dyn = o;
+	d->vib = v->vibration;
+	free(v);
+	if (!cJSON_GetObjectItemCaseSensitive(dyn, "load"))
+		d->dyn.load.value = s->design.axial_load_N; /* F_0: the operating load of the statics */
+	/* the sample replaces the TE lines, the axial stiffness and the play */
+	d->vib.te_source = PRSM_VIB_TE_NONE;
+	d->vib.te_lines = 0;
+	d->vib.axial_stiffness_N_per_um = NAN;
+	d->vib.axial_half_play_um = NAN;
+	prsm_vib_mc_options_init(&d->options);
+	d->window_rev = 0.0;
+	if (dmc && prsm_json_object_value(dmc, "/dynamic_monte_carlo", pr) == 0) {
+		static const char *const keys[] = {"window_revolutions", "max_windows", "max_period", "period_tolerance",
+		                                   "rel_tol", "grid_per_segment", "stop_half_width", NULL};
+		const char *mp = "/dynamic_monte_carlo";
+		prsm_json_check_keys(dmc, mp, keys, pr);
+		prsm_json_get_number(&d->window_rev, dmc, mp, "window_revolutions", PRSM_JSON_OPTIONAL,
+		                     (prsm_json_range){0.0, 64.0, 1, 0}, pr);
+		prsm_json_get_int(&d->options.max_windows, dmc, mp, "max_windows", PRSM_JSON_OPTIONAL, 3, 200, pr);
+		prsm_json_get_int(&d->options.max_period, dmc, mp, "max_period", PRSM_JSON_OPTIONAL, 1, 16, pr);
+		prsm_json_get_number(&d->options.period_tol, dmc, mp, "period_tolerance", PRSM_JSON_OPTIONAL,
+		                     (prsm_json_range){0.0, 1.0, 1, 0}, pr);
+		double tol = d->options.integration.rel_tol;
+		prsm_json_get_number(&tol, dmc, mp, "rel_tol", PRSM_JSON_OPTIONAL, (prsm_json_range){1e-13, 1e-5, 0, 0}, pr);
+		d->options.integration.rel_tol = d->options.integration.abs_tol = tol;
+		int grid = d->options.grid_per_segment;
+		if (prsm_json_get_int(&grid, dmc, mp, "grid_per_segment", PRSM_JSON_OPTIONAL, 8, 256, pr) == PRSM_JSON_PRESENT &&
+		    (grid & (grid - 1)) != 0)
+			prsm_io_problem(pr, mp, "grid_per_segment", "enum", "grid_per_segment is a power of 2 (8 to 256)");
+		d->options.grid_per_segment = grid;
+		prsm_json_get_number(&s->dyn_stop_half_width, dmc, mp, "stop_half_width", PRSM_JSON_OPTIONAL,
+		                     (prsm_json_range){0.0, 0.5, 1, 0}, pr);
+	}
+	if (prsm_problems_total(pr) != before)
+		return 0;
+	/* contact_loss, regime, integrated always (the probabilities and the screening summary) */
+	static const prsm_output_kind always[3] = {PRSM_OUT_DYN_CONTACT_LOSS, PRSM_OUT_DYN_REGIME, PRSM_OUT_DYN_INTEGRATED};
+	int idx[3];
+	for (int k = 0; k < 3; k++) {
+		idx[k] = output_index(s, prsm_output_name(always[k]));
+		if (idx[k] >= 0)
+			continue;
+		if (s->study.m >= PRSM_MC_MAX_OUTPUTS) {
+			prsm_problems_add(pr, "/outputs", "too_many", "dynamic outputs add contact_loss, regime and integrated: "
+			                  "at most %d outputs in all", PRSM_MC_MAX_OUTPUTS);
+			return 0;
+		}
+		idx[k] = (int)s->study.m;
+		snprintf(s->study.outputs[s->study.m].name, sizeof s->study.outputs[0].name, "%s", prsm_output_name(always[k]));
+		s->prsm.outputs[s->study.m] = always[k];
+		s->study.m++;
+	}
+	/* the stop rule: 95 % Wilson width of P(loss) and P(periodic) <= 2 x half-width */
+	if (!isnan(s->dyn_stop_half_width)) {
+		prsm_mc_options *mo = &s->study.mc;
+		if (mo->n_targets + 2 > PRSM_MC_MAX_TARGETS) {
+			prsm_problems_add(pr, "/dynamic_monte_carlo/stop_half_width", "too_many", "the stop rule adds two targets: "
+			                  "at most %d in all", PRSM_MC_MAX_TARGETS);
+			return 0;
+		}
+		prsm_mc_target t = {PRSM_TARGET_YIELD_WIDTH, (size_t)idx[0], 2.0 * s->dyn_stop_half_width, 0, 1, 0.0, 0.5};
+		mo->targets[mo->n_targets++] = t;
+		prsm_mc_target r = {PRSM_TARGET_YIELD_WIDTH, (size_t)idx[1], 2.0 * s->dyn_stop_half_width, 1, 0, 0.5, 0.0};
+		mo->targets[mo->n_targets++] = r;
+	}
+	s->has_dynamics = 1;
 	return 0;
 }
 

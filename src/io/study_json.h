@@ -60,6 +60,11 @@ typedef struct {
 	 * contacts, screw side then nut side, N (prsm.loss_*_loads_N point here) */
 	int loss_threads;
 	double loss_loads_N[2][PRSM_IO_STUDY_MAX_LOSS_THREADS];
+	/* dynamic outputs (docs/vibration.md, "Monte Carlo over dynamic outputs"): the dynamics and
+	 * dynamic_monte_carlo sections (prsm.dyn points here when has_dynamics) */
+	int has_dynamics;
+	prsm_mc_dyn dynamics;
+	double dyn_stop_half_width;     /* dynamic_monte_carlo/stop_half_width; NaN: none */
 } prsm_io_study;
 
 /* Read and check the study document doc, load its design (nominal analysis and assembly) and

@@ -197,6 +197,40 @@ void prsm_io_whook_outputs(prsm_jw *w, cJSON *obj, const char *key, const void *
 		prsm_io_write(w, outs, v->s->study.outputs[v->o].name, &v->r->out[v->o], &prsm_io_w_output);
 }
 
+static void write_probability(prsm_jw *w, cJSON *obj, const char *key, const prsm_study_probability *p)
+{
+	cJSON *o = prsm_jw_object(w, obj, key);
+	prsm_jw_number(w, o, "p", p->p);
+	prsm_jw_pair(w, o, "wilson95", p->low95, p->high95);
+	prsm_jw_number(w, o, "half_width", 0.5 * (p->high95 - p->low95));
+	prsm_jw_number(w, o, "count", (double)p->count);
+	prsm_jw_number(w, o, "n", (double)p->n);
+}
+
+/* "dynamics" (schemas/study-result.schema.json): the probabilities, the screen, the model's settings */
+static void write_dynamics(prsm_jw *w, cJSON *doc, const prsm_io_study *s, const prsm_study_dynamics *d)
+{
+	cJSON *o = prsm_jw_object(w, doc, "dynamics");
+	write_probability(w, o, "probability_contact_loss", &d->contact_loss);
+	write_probability(w, o, "probability_non_periodic", &d->non_periodic);
+	cJSON *sc = prsm_jw_object(w, o, "screening");
+	prsm_jw_number(w, sc, "screened", (double)d->screened);
+	prsm_jw_number(w, sc, "integrated", (double)d->integrated);
+	prsm_jw_number(w, sc, "integration_failures", (double)d->failed);
+	prsm_jw_number(w, sc, "no_axial_play", (double)d->no_play);
+	const prsm_mc_dyn *m = &s->dynamics;
+	prsm_jw_number(w, o, "window_revolutions", m->window_rev);
+	prsm_jw_number(w, o, "screw_speed_rad_s", m->vib.screw_speed_rad_s);
+	prsm_jw_number(w, o, "axial_load_N", isnan(m->vib.axial_load_N) ? m->dyn.load.value : m->vib.axial_load_N);
+	cJSON *tl = prsm_jw_array(w, o, "te_orders_per_rev");
+	for (int k = 0; k < m->n_orders; k++)
+		prsm_jw_number(w, tl, NULL, m->order_kstar[k]);
+	if (isnan(s->dyn_stop_half_width))
+		prsm_jw_null(w, o, "stop_half_width");
+	else
+		prsm_jw_number(w, o, "stop_half_width", s->dyn_stop_half_width);
+}
+
 cJSON *prsm_io_study_result_to_json(const prsm_io_study *s, const prsm_study_result *r)
 {
 	prsm_io_study_result_view v = {
@@ -207,6 +241,8 @@ cJSON *prsm_io_study_result_to_json(const prsm_io_study *s, const prsm_study_res
 	prsm_jw w = {0, &v};
 	cJSON *doc = prsm_jw_root(&w);
 	prsm_io_write_fields(&w, doc, &v, &prsm_io_w_study_result, 0);
+	if (s->has_dynamics && r->dynamics.present)
+		write_dynamics(&w, doc, s, &r->dynamics);
 	return prsm_jw_done(&w, doc);
 }
 

@@ -9,6 +9,7 @@
 #ifndef PRSM_MC_PRSM_MODEL_H
 #define PRSM_MC_PRSM_MODEL_H
 
+#include "dyn/vib_mc.h"
 #include "mc/engine.h"
 #include "model/assembly.h"
 
@@ -17,8 +18,14 @@ typedef enum {
 	PRSM_PART_NUT = 1,
 	PRSM_PART_CARRIER = 2,
 	PRSM_PART_ROLLER = 3,
-	PRSM_PART_FRICTION = 4          /* offset 0: screw-roller mu, 1: nut-roller mu */
+	PRSM_PART_FRICTION = 4,         /* offset 0: screw-roller mu, 1: nut-roller mu */
+	PRSM_PART_DYNAMICS = 5          /* the dynamic model's own tolerances (MODEL-DYNAMICS.md §8.6),
+	                                   absolute values: offset PRSM_DYN_TOL_* */
 } prsm_part;
+
+/* PRSM_PART_DYNAMICS offsets: ring_gear.mesh_error_um (e_g, m), ring_gear.backlash_um (b_g, m),
+ * damping_ratio (zeta_a = zeta_g, -) */
+enum { PRSM_DYN_TOL_MESH_ERROR = 0, PRSM_DYN_TOL_BACKLASH = 1, PRSM_DYN_TOL_DAMPING = 2, PRSM_DYN_TOLS = 3 };
 
 typedef struct {
 	prsm_part part;
@@ -52,17 +59,59 @@ typedef enum {
 	                                   docs/model/kinematics-efficiency-stiffness-life.md (sliding, spin, gear mesh, drag) at the sample's
 	                                   friction and the nominal load distribution, so the error-free
 	                                   sample is prsm analyze's efficiency.eta */
+	/* dynamic outputs (MODEL-DYNAMICS.md §8.6; need the study's dynamics section, prsm_mc_dyn) */
+	PRSM_OUT_DYN_PEAK_TE,           /* peak_dynamic_te_um: max |X - X_static| over the window */
+	PRSM_OUT_DYN_THREAD_FORCE,      /* peak_thread_force_N */
+	PRSM_OUT_DYN_AXIAL_RMS,         /* axial_vibration_rms_m_s2: RMS nut acceleration */
+	PRSM_OUT_DYN_CONTACT_LOSS,      /* contact_loss: 1 when a contact leaves its loaded flank, else 0 */
+	PRSM_OUT_DYN_MESH_FORCE,        /* mesh_force_peak_N: both meshes of a roller, max over rollers */
+	PRSM_OUT_DYN_REGIME,            /* regime: 1 P1, m period m windows, 0 non-periodic */
+	PRSM_OUT_DYN_INTEGRATED,        /* integrated: 1 when the screen failed and the sample was integrated */
 	PRSM_OUT_COUNT
 } prsm_output_kind;
+
+#define PRSM_OUT_DYN_FIRST PRSM_OUT_DYN_PEAK_TE
+/* 1 for an output of the dynamic model */
+int prsm_output_is_dynamic(prsm_output_kind k);
 
 /* Every output name, for messages. */
 #define PRSM_OUTPUT_NAMES_TEXT                                                                     \
 	"backlash_um, backlash_min_um, backlash_max_um, load_sharing_factor, stiffness_N_per_um, "    \
 	"stiffness_ratio, te_pp_um, te_rms_um, efficiency_sliding, efficiency_back, nut_unit_stiffness_N_per_um, " \
-	"efficiency_with_losses"
+	"efficiency_with_losses, peak_dynamic_te_um, peak_thread_force_N, axial_vibration_rms_m_s2, "        \
+	"contact_loss, mesh_force_peak_N, regime, integrated"
 
 const char *prsm_output_name(prsm_output_kind k);
 int prsm_output_parse(const char *name, prsm_output_kind *out); /* 0 or PRSM_ENOTFOUND */
+
+/* The dynamic model of a study (MODEL-DYNAMICS.md §8.6): each sample's statics in the study's
+ * assembly mode give the inputs of §8.3 (the TE lines fitted at the named orders, the backlash,
+ * the nut unit's axial stiffness), its dynamic tolerances the gear branch and damping; every
+ * thread builds its own reduced model from design, analysis, dyn and vib. */
+#define PRSM_MC_DYN_ORDERS 5
+#define PRSM_MC_DYN_RECORD_MAX 4096
+typedef struct {
+	const prsm_design *design;      /* the study's design and its nominal analysis */
+	const prsm_analysis *analysis;
+	prsm_dyn_options dyn;           /* inertia, friction, load of the dynamics section */
+	prsm_vib_options vib;           /* its vibration section (the nominal gear backlash, mesh error,
+	                                   damping ratios, speed) */
+	prsm_vib_mc_options options;    /* screen and integration */
+	double window_rev;              /* W, screw revolutions */
+	int n_orders;                   /* named TE orders (§8.3.4) */
+	double order_kstar[PRSM_MC_DYN_ORDERS]; /* their orders with k*, per screw revolution */
+	double order_kc[PRSM_MC_DYN_ORDERS];    /* with the statics' carrier ratio (the fit's) */
+	int record_n;                   /* TE record: record_n angles ... */
+	int per_rev;                    /* ... per_rev per screw revolution from 0 */
+	double projection[2 * PRSM_MC_DYN_ORDERS][PRSM_MC_DYN_RECORD_MAX]; /* least squares: cos and
+	                                   sin coefficient of order k = row 2k, 2k+1 dotted with the record, mm/mm */
+} prsm_mc_dyn;
+
+/* Set up d's TE fit for the assembly as in mode, measuring angles_per_revolution (W from the
+ * named orders at the statics ratio when window_rev <= 0). design, analysis, dyn, vib, options
+ * set by the caller. Returns 0 or PRSM_EINVAL / PRSM_ENOCONVERGE (err). */
+int prsm_mc_dyn_prepare(prsm_mc_dyn *d, const prsm_assembly *as, int angles_per_revolution, double window_rev,
+                        prsm_error *err);
 
 typedef struct {
 	const prsm_assembly *as;        /* prepared design (prsm_assembly_init) */
@@ -80,6 +129,7 @@ typedef struct {
 	const prsm_mc_binding *bindings;/* one per variable */
 	size_t n_outputs;
 	prsm_output_kind outputs[PRSM_MC_MAX_OUTPUTS];
+	const prsm_mc_dyn *dyn;         /* the dynamic outputs' model (NULL: none asked) */
 } prsm_mc_prsm;
 
 /* The engine's view of p (p must outlive it). Its workspace is allocated once per thread. */

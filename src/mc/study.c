@@ -156,9 +156,56 @@ cleanup:
 	return rc;
 }
 
+static int output_named(const prsm_study *s, const char *name)
+{
+	for (size_t o = 0; o < s->m; o++)
+		if (strcmp(s->outputs[o].name, name) == 0)
+			return (int)o;
+	return -1;
+}
+
+static void probability(prsm_study_probability *p, size_t count, size_t n)
+{
+	p->count = count;
+	p->n = n;
+	p->p = n ? (double)count / (double)n : NAN;
+	prsm_stats_wilson(count, n, PRSM_STATS_Z95, &p->low95, &p->high95);
+}
+
+void prsm_study_dynamics_summary(prsm_study_dynamics *out, const prsm_study *s, const prsm_mc_result *run)
+{
+	memset(out, 0, sizeof *out);
+	const int ol = output_named(s, "contact_loss"), orr = output_named(s, "regime"), oi = output_named(s, "integrated");
+	if (ol < 0 || orr < 0 || oi < 0 || run->y == NULL)
+		return;
+	out->present = 1;
+	size_t n = 0, loss = 0, np = 0;
+	for (size_t j = 0; j < run->n; j++) {
+		if (run->status[j] == PRSM_SAMPLE_FAILED) {
+			if (run->fail_code != NULL && run->fail_code[j] == PRSM_EGEOMETRY)
+				out->no_play++;
+			else
+				out->failed++;
+		}
+		if (!prsm_mc_sample_kept(&s->mc, run->status[j]))
+			continue;
+		const double *y = run->y + j * s->m;
+		n++;
+		loss += y[ol] > 0.5;
+		np += y[orr] < 0.5; /* regime 0: non-periodic */
+		if (y[oi] > 0.5)
+			out->integrated++;
+		else
+			out->screened++;
+	}
+	probability(&out->contact_loss, loss, n);
+	probability(&out->non_periodic, np, n);
+}
+
 int prsm_study_summarise(prsm_study_result *r, const prsm_study *s, prsm_error *err)
 {
 	const prsm_mc_result *run = &r->run;
+	prsm_study_dynamics_summary(&r->dynamics, s, run);
 	const size_t d = s->d, m = s->m, n = run->n;
 	int rc = 0;
 	size_t nk = 0;

@@ -141,6 +141,29 @@ typedef struct {
 
 #define PRSM_STUDY_WARNINGS 8
 
+/* A probability counted from the kept samples, with its 95 % Wilson interval. */
+typedef struct {
+	size_t count, n;                 /* samples with the event, kept samples */
+	double p, low95, high95;         /* count / n and the Wilson interval (z = PRSM_STATS_Z95) */
+} prsm_study_probability;
+
+/* The dynamic outputs' summary (MODEL-DYNAMICS.md §8.6; a study with the outputs contact_loss,
+ * regime and integrated): P(contact loss), P(non-periodic: regime 0), and the screen's count. */
+typedef struct {
+	int present;
+	prsm_study_probability contact_loss, non_periodic;
+	size_t screened;                 /* kept samples whose outputs are the linear closed form */
+	size_t integrated;               /* kept samples integrated after the screen found contact loss */
+	size_t failed;                   /* failed samples other than no_play (an integration or a closed
+	                                    form that failed) */
+	size_t no_play;                  /* failed samples without axial play (backlash <= 0: the thread
+	                                    model of §8.3.2 needs b_a > 0; fail code PRSM_EGEOMETRY) */
+} prsm_study_dynamics;
+
+/* The dynamics summary of a run whose outputs (names) include contact_loss, regime and
+ * integrated; present 0 otherwise. */
+void prsm_study_dynamics_summary(prsm_study_dynamics *out, const prsm_study *s, const prsm_mc_result *run);
+
 typedef struct {
 	prsm_mc_result run;              /* the samples (inputs, outputs, status) */
 	size_t rare_outputs;             /* out[0 .. rare_outputs - 1] may hold rare-event design
@@ -153,6 +176,7 @@ typedef struct {
 	double elapsed_run_s, elapsed_sensitivity_s;
 	int n_warnings;
 	char warnings[PRSM_STUDY_WARNINGS][256];
+	prsm_study_dynamics dynamics;    /* the dynamic outputs' probabilities and screen (present 0: none) */
 } prsm_study_result;
 
 /* Run the study and summarise it. Allocates inside *r (free with prsm_study_result_free).

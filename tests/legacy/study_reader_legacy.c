@@ -25,9 +25,12 @@
 #include "util/utf8.h"
 #include "util/version.h"
 
+/* dynamics and dynamic_monte_carlo (issue 17 item 4) came after the port: known here only so that
+ * the unknown-key message lists the same names; test_io_doc leaves documents with them out */
 static const char *const study_keys[] = {"name", "design", "model", "errors", "assembly",
                                          "tolerances", "correlations", "outputs", "specs",
-                                         "monte_carlo", "sensitivity", "rare_events", NULL};
+                                         "monte_carlo", "sensitivity", "rare_events", "dynamics",
+                                         "dynamic_monte_carlo", NULL};
 static const char *const model_keys[] = {"benchmark", "a", "b", "coefficients", "constant", NULL};
 static const char *const bench_names[] = {"ishigami", "gfunction", "linear", NULL};
 static const char *const tolerance_keys[] = {
@@ -139,13 +142,16 @@ static int param_find(param_info *pi, const char *path, const prsm_io_study *s, 
 	else if (strcmp(part, "roller") == 0)
 		pi->part = PRSM_PART_ROLLER;
 	else {
-		static const char *const all_parts[] = {"screw", "nut", "carrier", "roller", "friction", NULL};
+		/* the message names the dynamic model's parameters too (issue 17 item 4: today's reader
+		 * knows them; documents using them are left out of the comparison) */
+		static const char *const all_parts[] = {"screw", "nut", "carrier", "roller", "friction", "ring_gear", NULL};
 		const char *guess = prsm_json_closest_name(part, all_parts);
 		if (guess)
-			snprintf(msg, cap, "unknown part '%s' (did you mean '%s'?): screw, nut, carrier, roller or friction", part,
-			         guess);
+			snprintf(msg, cap, "unknown part '%s' (did you mean '%s'?): screw, nut, carrier, roller, friction or "
+			         "ring_gear (or damping_ratio)", part, guess);
 		else
-			snprintf(msg, cap, "unknown part '%s': screw, nut, carrier, roller or friction", part);
+			snprintf(msg, cap, "unknown part '%s': screw, nut, carrier, roller, friction or ring_gear (or "
+			         "damping_ratio)", part);
 		return PRSM_ENOTFOUND;
 	}
 	pi->per_roller = pi->part == PRSM_PART_ROLLER;

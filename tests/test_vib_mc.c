@@ -1,0 +1,257 @@
+/*
+ * test_vib_mc.c: one sample of the dynamic Monte Carlo (src/dyn/vib_mc.c; MODEL-DYNAMICS.md §8.6 on
+ * the model of §8.3) on case A with V5's setting (payload 400 kg, F_0 7 kN, 330 rad/s):
+ *  - a screened sample's closed form (every contact on its loaded flank) against the integrator
+ *    started anywhere else (the static state): peak dynamic TE, peak thread force, RMS nut
+ *    acceleration, peak mesh force; and the closed form's state at t = 0 is a periodic orbit of
+ *    the integrator (one window later it returns to itself);
+ *  - the axial closed form against §8.3.2's line formula evaluated independently here;
+ *  - a sample forced into contact loss (a large mesh error, or a tiny axial load with a TE line on
+ *    the axial resonance) is not screened, is integrated, and the integrated steady state shows
+ *    the contact loss;
+ *  - the refusals of prsm_vib_mc_apply.
+ */
+#include "test_support.h"
+
+#include <complex.h>
+
+#include "dyn/vib_mc.h"
+#include "io/design_json.h"
+#include "io/global.h"
+
+typedef struct {
+	prsm_design d;
+	prsm_analysis a;
+} case_fixture;
+
+static case_fixture *fx;
+
+static int setup(void **state)
+{
+	(void)state;
+	fx = calloc(1, sizeof *fx);
+	cJSON *doc = prsm_test_read_study("case-a.json");
+	prsm_geometry g;
+	prsm_problems pr;
+	prsm_problems_init(&pr);
+	if (prsm_io_design_load(&fx->d, &g, NULL, doc, "", &pr))
+		return -1;
+	prsm_io_operating_point_from_json(&fx->d, doc, "", &pr);
+	cJSON_Delete(doc);
+	prsm_error err = PRSM_ERROR_INIT;
+	if (prsm_analysis_nominal(&fx->a, &fx->d, &pr, &err))
+		return -1;
+	return 0;
+}
+
+static int teardown(void **state)
+{
+	(void)state;
+	free(fx);
+	return 0;
+}
+
+/* case A, V5's operating point, the V5 lines (orders at k_c) */
+static prsm_vib_model *model(double load_N)
+{
+	prsm_dyn_options dopt;
+	prsm_dyn_options_init(&dopt);
+	dopt.inertia.payload_kg = 400.0;
+	dopt.load.value = load_N;
+	prsm_vib_options vo;
+	prsm_vib_options_init(&vo);
+	vo.screw_speed_rad_s = 330.0;
+	const double ord[5] = {1.0, 1.875, 0.625, 3.75, 0.375}, amp[5] = {1.84, 0.443, 0.260, 0.181, 0.141};
+	vo.te_source = PRSM_VIB_TE_LINES;
+	vo.te_lines = 5;
+	for (int k = 0; k < 5; k++) {
+		vo.te_line[k].order_per_rev = ord[k];
+		vo.te_line[k].amplitude_m = amp[k] * 1e-6;
+		vo.te_line[k].phase_rad = 0.3 * k;
+	}
+	prsm_vib_model *m = NULL;
+	prsm_error err = PRSM_ERROR_INIT;
+	const int rc = prsm_vib_model_new(&m, &fx->d, &fx->a, &dopt, &vo, NULL, NULL, &err);
+	if (rc) {
+		print_error("model: %s (%s) at %s\n", err.message, prsm_error_name(rc), err.pointer);
+		fail();
+	}
+	return m;
+}
+
+static void apply(prsm_vib_model *m, double mesh_error_um, double zeta)
+{
+	prsm_vib_mc_sample s;
+	prsm_vib_mc_sample_init(&s);
+	s.mesh_error_m = mesh_error_um * 1e-6;
+	s.axial_damping_ratio = zeta;
+	s.mesh_damping_ratio = zeta;
+	s.window_rev = 8.0;
+	prsm_error err = PRSM_ERROR_INIT;
+	int rc = prsm_vib_mc_apply(m, &s, &err);
+	if (rc)
+		print_error("apply: %s\n", err.message);
+	assert_int_equal(rc, 0);
+}
+
+static void show(const char *what, const prsm_vib_mc_out *o)
+{
+	print_message("%s: screened %d integrated %d loss %d regime %d windows %d: peak TE %.6g um, F_th %.8g N, rms %.6g "
+	              "m/s2, mesh %.6g N; margins axial %.4g mesh %.4g, F_th min %.6g N\n",
+	              what, o->screened, o->integrated, o->contact_loss, o->regime, o->windows, o->peak_dynamic_te_m * 1e6,
+	              o->peak_thread_force_N, o->axial_vibration_rms_m_s2, o->mesh_force_peak_N, o->axial_margin,
+	              o->mesh_margin, o->thread_force_min_N);
+}
+
+/* (a) the closed form of a screened sample against the integrator */
+static void test_screened_equals_integrated(void **state)
+{
+	(void)state;
+	prsm_vib_model *m = model(7000.0);
+	apply(m, 0.02, 0.05);
+	prsm_vib_mc_options o;
+	prsm_vib_mc_options_init(&o);
+	prsm_vib_mc_out cf, in;
+	prsm_error err = PRSM_ERROR_INIT;
+	double y0[PRSM_VIB_STATE_MAX];
+	assert_int_equal(prsm_vib_mc_screen(&cf, y0, m, &o, &err), 0);
+	show("closed form", &cf);
+	assert_int_equal(cf.screened, 1);
+	assert_int_equal(cf.contact_loss, 0);
+	/* from the static state: the transient decays to the same orbit */
+	in = cf;
+	o.integration.rel_tol = o.integration.abs_tol = 1e-10;
+	assert_int_equal(prsm_vib_mc_integrate(&in, m, NULL, &o, NULL, &err), 0);
+	show("integrated", &in);
+	assert_int_equal(in.regime, 1);
+	assert_int_equal(in.contact_loss, 0);
+	assert_close(in.peak_dynamic_te_m, cf.peak_dynamic_te_m, 2e-3 * cf.peak_dynamic_te_m);
+	assert_close(in.peak_thread_force_N, cf.peak_thread_force_N, 2e-4 * cf.peak_thread_force_N);
+	assert_close(in.axial_vibration_rms_m_s2, cf.axial_vibration_rms_m_s2, 2e-3 * cf.axial_vibration_rms_m_s2);
+	assert_close(in.mesh_force_peak_N, cf.mesh_force_peak_N, 1e-3 * cf.mesh_force_peak_N);
+	/* from the closed form's state at t = 0: periodic at once (one window returns to itself) */
+	prsm_vib_mc_out on = cf;
+	assert_int_equal(prsm_vib_mc_integrate(&on, m, y0, &o, NULL, &err), 0);
+	show("integrated from the closed form", &on);
+	assert_int_equal(on.regime, 1);
+	assert_int_equal(on.windows, 3); /* two returns checked, one recorded */
+	assert_true(on.max_return_distance < 1e-5);
+	assert_close(on.peak_dynamic_te_m, cf.peak_dynamic_te_m, 1e-4 * cf.peak_dynamic_te_m);
+	assert_close(on.peak_thread_force_N, cf.peak_thread_force_N, 1e-5 * cf.peak_thread_force_N);
+	assert_close(on.axial_vibration_rms_m_s2, cf.axial_vibration_rms_m_s2, 1e-4 * cf.axial_vibration_rms_m_s2);
+	assert_close(on.mesh_force_peak_N, cf.mesh_force_peak_N, 1e-3 * cf.mesh_force_peak_N);
+	prsm_vib_model_free(m);
+}
+
+/* (b) contact loss: a mesh error far beyond the static mesh deflection (the gear rattles), and a
+ * light axial load whose thread lifts off under the TE lines */
+static void test_contact_loss_integrated(void **state)
+{
+	(void)state;
+	prsm_vib_mc_options o;
+	prsm_vib_mc_options_init(&o);
+	prsm_error err = PRSM_ERROR_INIT;
+	prsm_vib_mc_out r;
+	prsm_vib_model *m = model(7000.0);
+	apply(m, 30.0, 0.05);
+	assert_int_equal(prsm_vib_mc_eval(&r, m, &o, NULL, &err), 0);
+	show("mesh error 30 um", &r);
+	assert_true(r.mesh_margin < 0.0);
+	assert_true(r.axial_margin > 0.0);
+	assert_int_equal(r.screened, 0);
+	assert_int_equal(r.integrated, 1);
+	assert_int_equal(r.contact_loss, 1);
+	assert_true(r.windows >= 3);
+	assert_true(r.effort.steps > 0);
+	prsm_vib_model_free(m);
+
+	m = model(150.0);
+	apply(m, 0.0, 0.05);
+	assert_int_equal(prsm_vib_mc_eval(&r, m, &o, NULL, &err), 0);
+	show("F_0 150 N", &r);
+	assert_true(r.axial_margin < 0.0);
+	assert_int_equal(r.screened, 0);
+	assert_int_equal(r.integrated, 1);
+	assert_int_equal(r.contact_loss, 1);
+	prsm_vib_model_free(m);
+}
+
+/* the axial closed form against §8.3.2's formula for one line: F_th = F_0 + |F_1| cos(...),
+ * |X - X_static| peaks at |Y_1 - A_1|, the RMS acceleration is |F_1| / (sqrt 2 m_a) */
+static void test_axial_single_line(void **state)
+{
+	(void)state;
+	prsm_vib_model *m = model(7000.0);
+	prsm_vib_mc_sample s;
+	prsm_vib_mc_sample_init(&s);
+	s.te_source = 1;
+	s.te_lines = 1;
+	s.te_line[0].order_per_rev = 3.75;
+	s.te_line[0].amplitude_m = 0.181e-6;
+	s.te_line[0].phase_rad = 0.7;
+	s.mesh_error_m = 0.0;
+	prsm_error err = PRSM_ERROR_INIT;
+	assert_int_equal(prsm_vib_mc_apply(m, &s, &err), 0);
+	const prsm_vib_params *P = prsm_vib_model_params(m);
+	const double w = 3.75 * P->screw_speed_rad_s, k = P->axial_stiffness_N_per_m, ma = P->axial_mass_kg,
+	             c = P->axial_damping_N_s_per_m;
+	const double complex A = 0.181e-6 * cexp(I * 0.7);
+	const double complex Y = -ma * w * w * A / (k - ma * w * w + I * w * c), F = (k + I * w * c) * Y;
+	prsm_vib_mc_options o;
+	prsm_vib_mc_options_init(&o);
+	prsm_vib_mc_out r;
+	assert_int_equal(prsm_vib_mc_screen(&r, NULL, m, &o, &err), 0);
+	print_message("one line: |F| %.6g N, |Y - A| %.6g um; closed form %.8g N, %.6g um, %.6g m/s2\n", cabs(F),
+	              cabs(Y - A) * 1e6, r.peak_thread_force_N, r.peak_dynamic_te_m * 1e6, r.axial_vibration_rms_m_s2);
+	assert_int_equal(r.screened, 1);
+	assert_close(r.peak_thread_force_N, 7000.0 + cabs(F), 1e-6 * cabs(F));
+	assert_close(r.thread_force_min_N, 7000.0 - cabs(F), 1e-3 * cabs(F));
+	assert_close(r.peak_dynamic_te_m, cabs(Y - A), 1e-6 * cabs(Y - A));
+	assert_close(r.axial_vibration_rms_m_s2, cabs(F) / (sqrt(2.0) * ma), 1e-12 * cabs(F) / ma);
+	/* the window is the line's period rounded: 3.75 = 30 / 8, W = 4 revolutions would do; the
+	 * model keeps W = 8 and the order */
+	assert_close(P->te_line[0].order_per_rev, 3.75, 0.0);
+	prsm_vib_model_free(m);
+}
+
+/* prsm_vib_mc_apply refuses values out of range */
+static void test_apply_refusals(void **state)
+{
+	(void)state;
+	prsm_vib_model *m = model(7000.0);
+	prsm_error err = PRSM_ERROR_INIT;
+	prsm_vib_mc_sample s;
+	prsm_vib_mc_sample_init(&s);
+	s.mesh_error_m = -1e-6;
+	assert_int_equal(prsm_vib_mc_apply(m, &s, &err), PRSM_EINVAL);
+	prsm_vib_mc_sample_init(&s);
+	s.axial_half_play_m = 0.0;
+	assert_int_equal(prsm_vib_mc_apply(m, &s, &err), PRSM_EINVAL);
+	prsm_vib_mc_sample_init(&s);
+	s.mesh_damping_ratio = 1.0;
+	assert_int_equal(prsm_vib_mc_apply(m, &s, &err), PRSM_EINVAL);
+	prsm_vib_mc_sample_init(&s);
+	s.axial_damping_ratio = -0.01;
+	assert_int_equal(prsm_vib_mc_apply(m, &s, &err), PRSM_EINVAL);
+	prsm_vib_mc_sample_init(&s);
+	s.window_rev = 0.0;
+	assert_int_equal(prsm_vib_mc_apply(m, &s, &err), PRSM_EINVAL);
+	/* the screen needs the window set by apply */
+	prsm_vib_mc_options o;
+	prsm_vib_mc_options_init(&o);
+	prsm_vib_mc_out r;
+	assert_int_equal(prsm_vib_mc_screen(&r, NULL, m, &o, &err), PRSM_EINVAL);
+	prsm_vib_model_free(m);
+}
+
+int main(void)
+{
+	prsm_global_init();
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_screened_equals_integrated),
+		cmocka_unit_test(test_contact_loss_integrated),
+		cmocka_unit_test(test_axial_single_line),
+		cmocka_unit_test(test_apply_refusals),
+	};
+	return cmocka_run_group_tests(tests, setup, teardown);
+}
