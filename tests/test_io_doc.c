@@ -43,10 +43,12 @@ static void check_same(const char *what, const cJSON *doc, int ra, int rb, const
 	for (int i = 0; same && i < pa->count; i++)
 		same = !strcmp(pa->items[i].pointer, pb->items[i].pointer) && !strcmp(pa->items[i].code, pb->items[i].code) &&
 		       !strcmp(pa->items[i].message, pb->items[i].message);
-	size_t at = 0;
+	/* memcmp first: a study is some 700 kB, and a byte loop is slow under the sanitizers */
+	size_t at = size;
 	const unsigned char *x = sa, *y = sb;
-	while (at < size && x[at] == y[at])
-		at++;
+	if (size && memcmp(sa, sb, size) != 0)
+		for (at = 0; at < size && x[at] == y[at]; at++)
+			;
 	if (same && at == size)
 		return;
 	char *text = cJSON_PrintUnformatted(doc);
