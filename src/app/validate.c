@@ -115,15 +115,10 @@ cJSON *prsm_app_validation_to_json(int rc, prsm_doc_kind kind, const prsm_proble
 		prsm_problems_add(&why, "", "invalid", "the document cannot be read (%s)", prsm_error_name(rc));
 		problems = &why;
 	}
-	cJSON *e = prsm_io_problems_to_json(problems), *w = prsm_io_problems_to_json(warnings);
-	if (!cJSON_AddBoolToObject(res, "valid", rc == 0) || !cJSON_AddStringToObject(res, "read_as", prsm_app_doc_kind_name(kind)) ||
-	    e == NULL || w == NULL) {
-		cJSON_Delete(e);
-		cJSON_Delete(w);
-		cJSON_Delete(res);
-		return NULL;
-	}
-	cJSON_AddItemToObject(res, "errors", e);
-	cJSON_AddItemToObject(res, "warnings", w);
-	return res;
+	prsm_jw w = PRSM_JW_INIT;
+	prsm_jw_bool(&w, res, "valid", rc == 0);
+	prsm_jw_string(&w, res, "read_as", prsm_app_doc_kind_name(kind));
+	prsm_io_whook_problems(&w, res, "errors", problems);
+	prsm_io_whook_problems(&w, res, "warnings", warnings);
+	return prsm_jw_done(&w, res);
 }
