@@ -16,7 +16,11 @@ compared with a service that runs the same requests in its own workers:
     study below it runs locally (no sbatch); the same request again is a cache hit (no sbatch);
   * an allocation above the size goes to Slurm too, with the local result;
   * a study whose failure policy aborts fails on Slurm with the local run's problem document;
-  * a job cancelled while Slurm holds it is scancel'ed and ends cancelled.
+  * a job cancelled while Slurm holds it is scancel'ed and ends cancelled;
+  * a service stopped (SIGTERM) while Slurm holds a job leaves that job running, and the
+    restarted service picks it up (no second sbatch, no scancel) with the local result; a service
+    killed (SIGKILL) while its job was held, which then finished, reads the result back at the
+    restart.
 """
 import json
 import os
@@ -111,9 +115,9 @@ def call(port, method, path, body=None):
         return e.code, e.read().decode()
 
 
-def start(tmp, name, args, env):
+def start(tmp, name, args, env, log_name=None):
     port = free_port()
-    log = open(os.path.join(tmp, name + ".log"), "w")
+    log = open(os.path.join(tmp, (log_name or name) + ".log"), "w")
     p = subprocess.Popen([prsm, "serve", "--port", str(port), "--db", os.path.join(tmp, name + ".db"),
                           "--data-dir", src] + args, stdout=log, stderr=subprocess.STDOUT, env=env, cwd=tmp)
     deadline = time.time() + 20
@@ -177,8 +181,10 @@ def main():
                 f.write(text)
             os.chmod(path, 0o755)
         env = dict(os.environ, FAKE_SLURM=fake, PATH=bindir + ":" + os.environ.get("PATH", ""))
-        slurm, sport = start(tmp, "slurm", ["--executor", "slurm", "--slurm-min-samples", "1000", "--slurm-spool",
-                                            "spool", "--slurm-poll-s", "0.1", "--sbatch-arg", "--partition=test"], env)
+        slurm_args = ["--executor", "slurm", "--slurm-min-samples", "1000", "--slurm-spool", "spool",
+                      "--slurm-poll-s", "0.1", "--sbatch-arg", "--partition=test"]
+        slurm, sport = start(tmp, "slurm", slurm_args, env)
+        slurm_log = "slurm"
         local, lport = start(tmp, "local", [], dict(os.environ))
         try:
             base = json.load(open(os.path.join(src, "studies/case-a-tolerances.json")))
@@ -269,6 +275,64 @@ def main():
             if hdone["state"] != "cancelled" or not any(c.startswith("scancel") for c in calls(fake)):
                 fail("the held job: %s, scancel %s" % (hdone["state"], [c for c in calls(fake) if c.startswith("scancel")]))
             print("slurm: a job cancelled while queued was scancel'ed")
+
+            def n_calls(prefix):
+                return len([c for c in calls(fake) if c.startswith(prefix)])
+
+            def held_job(seed):
+                open(os.path.join(fake, "hold"), "w").close()
+                doc = json.loads(json.dumps(big))
+                doc["monte_carlo"]["seed"] = seed
+                before = n_calls("sbatch")
+                job = submit(sport, "studies", doc)
+                deadline = time.time() + 30
+                while n_calls("sbatch") == before and time.time() < deadline:
+                    time.sleep(0.05)
+                if n_calls("sbatch") != before + 1:
+                    fail("the held study (seed %d) was not submitted" % seed)
+                return doc, job, open(os.path.join(fake, "next")).read().strip()
+
+            # the service stopped (SIGTERM) while Slurm holds a job: the Slurm job is left to run,
+            # and the restarted service picks it up (no second sbatch, no scancel)
+            doc, rj, slurm_id = held_job(7)
+            sbatches, scancels = n_calls("sbatch"), n_calls("scancel")
+            slurm.terminate()
+            if slurm.wait(timeout=20) != 0:
+                fail("the service stopped with a Slurm job held exited non-zero: %s" %
+                     open(os.path.join(tmp, slurm_log + ".log")).read()[-2000:])
+            if n_calls("scancel") != scancels:
+                fail("stopping the service cancelled its Slurm job: %s" % calls(fake)[-3:])
+            slurm_log = "slurm-restart-1"
+            slurm, sport = start(tmp, "slurm", slurm_args, env, slurm_log)
+            os.unlink(os.path.join(fake, "hold"))
+            rdone = wait(sport, "studies", rj["id"])
+            lr = submit(lport, "studies", doc)
+            lrdone = wait(lport, "studies", lr["id"])
+            if rdone["state"] != "done" or masked(rdone["result"]) != masked(lrdone["result"]):
+                fail("the job picked up after a restart: %s, or its result differs from the local one" % rdone["state"])
+            if n_calls("sbatch") != sbatches:
+                fail("the restarted service submitted the job again: %s" % [c for c in calls(fake) if c.startswith("sbatch")])
+            print("slurm: a service stopped with Slurm job %s queued left it running and picked it up at the restart" %
+                  slurm_id)
+
+            # the service killed (SIGKILL) while Slurm holds a job, which then finishes while the
+            # service is down: the restart reads its result without a second sbatch
+            doc, kj, slurm_id = held_job(8)
+            sbatches = n_calls("sbatch")
+            slurm.kill()
+            slurm.wait(timeout=20)
+            os.unlink(os.path.join(fake, "hold"))
+            deadline = time.time() + 60
+            while time.time() < deadline and open(os.path.join(fake, slurm_id + ".state")).read().strip() != "COMPLETED":
+                time.sleep(0.1)
+            slurm_log = "slurm-restart-2"
+            slurm, sport = start(tmp, "slurm", slurm_args, env, slurm_log)
+            kdone = wait(sport, "studies", kj["id"])
+            if kdone["state"] != "done" or kdone.get("progress", {}).get("samples_done") != 2048:
+                fail("the job finished while the service was down: %s %s" % (kdone["state"], kdone.get("progress")))
+            if n_calls("sbatch") != sbatches:
+                fail("the restarted service submitted the finished job again")
+            print("slurm: a Slurm job that finished while the service was down was read back at the restart")
         finally:
             codes = []
             for p in (slurm, local):
@@ -279,7 +343,7 @@ def main():
                     p.kill()
                     codes.append("killed")
         # a service stopped by SIGTERM exits 0 (under a sanitizer: nothing to report)
-        for name, code in zip(("slurm", "local"), codes):
+        for name, code in zip((slurm_log, "local"), codes):
             if code != 0:
                 fail("the %s service exited %s: %s" % (name, code, open(os.path.join(tmp, name + ".log")).read()[-3000:]))
     print("slurm: ok")

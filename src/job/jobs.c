@@ -132,7 +132,7 @@ static void run_one(worker *w, prsm_store_job *job)
 static void register_claim(worker *w, const prsm_store_job *job)
 {
 	snprintf(w->id, sizeof w->id, "%s", job->id);
-	prsm_cancel_set(&w->cancel, w->jobs->stopping);
+	prsm_cancel_set(&w->cancel, w->jobs->stopping ? PRSM_CANCEL_SHUTDOWN : PRSM_CANCEL_NONE);
 	w->progress = (prsm_progress)PRSM_PROGRESS_INIT;
 	w->started_clock_s = prsm_clock_seconds();
 }
@@ -144,7 +144,7 @@ static void read_back_cancel(worker *w, const char *id)
 	prsm_error err = PRSM_ERROR_INIT;
 	if (prsm_store_get(w->jobs->store, &row, id, 0, &err) == 0) {
 		if (row.state == PRSM_JOB_CANCELLED)
-			prsm_cancel_set(&w->cancel, 1);
+			prsm_cancel_set(&w->cancel, PRSM_CANCEL_JOB);
 		prsm_store_job_clear(&row);
 	}
 }
@@ -239,7 +239,7 @@ void prsm_jobs_close(prsm_jobs *j)
 	j->stopping = 1;
 	for (int i = 0; i < j->n_workers; i++)
 		if (j->w[i].id[0])
-			prsm_cancel_set(&j->w[i].cancel, 1);
+			prsm_cancel_set(&j->w[i].cancel, PRSM_CANCEL_SHUTDOWN);
 	pthread_cond_broadcast(&j->cv);
 	pthread_mutex_unlock(&j->mu);
 	for (int i = 0; i < j->n_workers; i++)
@@ -378,7 +378,7 @@ int prsm_jobs_cancel(prsm_jobs *j, prsm_job_view *out, const prsm_job_kind *k, c
 		pthread_mutex_lock(&j->mu);
 		for (int i = 0; i < j->n_workers; i++)
 			if (j->w[i].id[0] && strcmp(j->w[i].id, id) == 0)
-				prsm_cancel_set(&j->w[i].cancel, 1);
+				prsm_cancel_set(&j->w[i].cancel, PRSM_CANCEL_JOB);
 		pthread_mutex_unlock(&j->mu);
 	}
 	out->samples_done = out->row.samples_done;

@@ -280,6 +280,45 @@ static int read_exit_code(const char *dir, int *code)
 	return 0;
 }
 
+/* The id of the Slurm job an earlier run of this prsm job submitted from dir, into jobid, and 1,
+ * when it can be picked up: dir holds the same request and script (so the same work, with the
+ * same limits, by the same prsm) and the job is still queued or running, or has written its exit
+ * code. 0 otherwise: the job is then submitted anew. */
+static int previous_job(char *jobid, size_t cap, const char *dir, const char *request, const char *script)
+{
+	char path[PRSM_SLURM_PATH_MAX + 96];
+	const char *want[] = {"request.json", request, "job.sh", script};
+	for (int i = 0; i < 4; i += 2) {
+		char *text = NULL;
+		size_t len = 0;
+		prsm_error ferr = PRSM_ERROR_INIT;
+		if (path_in(path, sizeof path, dir, want[i]) || prsm_file_read(&text, &len, path, RESULT_MAX, &ferr))
+			return 0;
+		const int same = len == strlen(want[i + 1]) && memcmp(text, want[i + 1], len) == 0;
+		free(text);
+		if (!same)
+			return 0;
+	}
+	char *text = NULL;
+	size_t len = 0;
+	prsm_error ferr = PRSM_ERROR_INIT;
+	if (path_in(path, sizeof path, dir, "jobid") || prsm_file_read(&text, &len, path, 64, &ferr))
+		return 0;
+	size_t digits = strspn(text, "0123456789");
+	const int ok = digits > 0 && digits < cap && digits == len;
+	if (ok)
+		snprintf(jobid, cap, "%.*s", (int)digits, text);
+	free(text);
+	if (!ok)
+		return 0;
+	int code;
+	char state[64];
+	if (read_exit_code(dir, &code) == 0 || squeue_state(state, sizeof state, jobid) == 0)
+		return 1;
+	jobid[0] = '\0';
+	return 0;
+}
+
 static int slurm_run(void *ctx, prsm_job_output *out, const prsm_job_kind *k, const char *id, const char *request,
                      const prsm_job_run_ctx *run_ctx, prsm_error *err)
 {
@@ -289,16 +328,6 @@ static int slurm_run(void *ctx, prsm_job_output *out, const prsm_job_kind *k, co
 		return prsm_error_set(err, PRSM_EIO, NULL, "the Slurm spool path is too long");
 	if (mkdir(dir, 0755) && errno != EEXIST)
 		return prsm_error_set(err, PRSM_EIO, NULL, "%s: %s", dir, strerror(errno));
-	/* a job run again (the service restarted, or it was cancelled and submitted anew) starts clean */
-	static const char *const stale[] = {"result.json", "samples.csv", "error.json", "counts.txt", "exit_code",
-	                                    "slurm.out", "jobid", NULL};
-	for (int i = 0; stale[i]; i++)
-		if (path_in(path, sizeof path, dir, stale[i]) == 0)
-			unlink(path);
-	int rc;
-	if (path_in(path, sizeof path, dir, "request.json") ||
-	    (rc = write_text(path, request, strlen(request), err)) != 0)
-		return prsm_error_set(err, PRSM_EIO, NULL, "cannot write the Slurm job's request in %s", dir);
 	char script[4 * PRSM_SLURM_PATH_MAX + 512];
 	int n = snprintf(script, sizeof script,
 	                 "#!/bin/sh\n"
@@ -309,49 +338,71 @@ static int slurm_run(void *ctx, prsm_job_output *out, const prsm_job_kind *k, co
 	                 "echo $? > exit_code\n",
 	                 id, k->name, dir, s->prsm, k->name, run_ctx->limits.threads, run_ctx->limits.max_time_s,
 	                 run_ctx->limits.max_samples);
-	if (n >= (int)sizeof script || path_in(path, sizeof path, dir, "job.sh") ||
-	    write_text(path, script, (size_t)n, err))
+	if (n >= (int)sizeof script)
 		return prsm_error_set(err, PRSM_EIO, NULL, "cannot write the Slurm job's script in %s", dir);
 
-	/* sbatch */
-	char name[64], chdir_arg[PRSM_SLURM_PATH_MAX + 96], output_arg[PRSM_SLURM_PATH_MAX + 96];
-	snprintf(name, sizeof name, "--job-name=prsm-%.12s", id);
-	snprintf(chdir_arg, sizeof chdir_arg, "--chdir=%s", dir);
-	snprintf(output_arg, sizeof output_arg, "--output=%s/slurm.out", dir);
-	char *argv[8 + PRSM_SLURM_MAX_ARGS];
-	int a = 0;
-	argv[a++] = "sbatch";
-	argv[a++] = "--parsable";
-	argv[a++] = name;
-	argv[a++] = chdir_arg;
-	argv[a++] = output_arg;
-	for (int i = 0; i < s->n_sbatch_args; i++)
-		argv[a++] = s->sbatch_args[i];
-	argv[a++] = path;
-	argv[a] = NULL;
-	char *sout = NULL;
-	int status;
-	if ((rc = run_command(&sout, &status, argv, err)) != 0)
-		return rc;
+	/* the Slurm job of an earlier run of this job, left running when the service stopped or died:
+	 * picked up again instead of submitting the work twice */
 	char jobid[32] = "";
-	size_t digits = strspn(sout, "0123456789");
-	if (status != 0 || digits == 0 || digits >= sizeof jobid) {
-		char line[256];
-		first_line(line, sizeof line, sout);
+	int rc;
+	if (!previous_job(jobid, sizeof jobid, dir, request, script)) {
+		/* a job run again (the service restarted, or it was cancelled and submitted anew) starts clean */
+		static const char *const stale[] = {"result.json", "samples.csv", "error.json", "counts.txt", "exit_code",
+		                                    "slurm.out", "jobid", NULL};
+		for (int i = 0; stale[i]; i++)
+			if (path_in(path, sizeof path, dir, stale[i]) == 0)
+				unlink(path);
+		if (path_in(path, sizeof path, dir, "request.json") || write_text(path, request, strlen(request), err))
+			return prsm_error_set(err, PRSM_EIO, NULL, "cannot write the Slurm job's request in %s", dir);
+		if (path_in(path, sizeof path, dir, "job.sh") || write_text(path, script, (size_t)n, err))
+			return prsm_error_set(err, PRSM_EIO, NULL, "cannot write the Slurm job's script in %s", dir);
+
+		/* sbatch */
+		char name[64], chdir_arg[PRSM_SLURM_PATH_MAX + 96], output_arg[PRSM_SLURM_PATH_MAX + 96];
+		snprintf(name, sizeof name, "--job-name=prsm-%.12s", id);
+		snprintf(chdir_arg, sizeof chdir_arg, "--chdir=%s", dir);
+		snprintf(output_arg, sizeof output_arg, "--output=%s/slurm.out", dir);
+		char *argv[8 + PRSM_SLURM_MAX_ARGS];
+		int a = 0;
+		argv[a++] = "sbatch";
+		argv[a++] = "--parsable";
+		argv[a++] = name;
+		argv[a++] = chdir_arg;
+		argv[a++] = output_arg;
+		for (int i = 0; i < s->n_sbatch_args; i++)
+			argv[a++] = s->sbatch_args[i];
+		argv[a++] = path;
+		argv[a] = NULL;
+		char *sout = NULL;
+		int status;
+		if ((rc = run_command(&sout, &status, argv, err)) != 0)
+			return rc;
+		size_t digits = strspn(sout, "0123456789");
+		if (status != 0 || digits == 0 || digits >= sizeof jobid) {
+			char line[256];
+			first_line(line, sizeof line, sout);
+			free(sout);
+			return prsm_error_set(err, PRSM_EIO, NULL, "sbatch refused the job (exit %d): %s", status, line);
+		}
+		snprintf(jobid, sizeof jobid, "%.*s", (int)digits, sout);
 		free(sout);
-		return prsm_error_set(err, PRSM_EIO, NULL, "sbatch refused the job (exit %d): %s", status, line);
+		if (path_in(path, sizeof path, dir, "jobid") == 0)
+			write_text(path, jobid, strlen(jobid), err);
 	}
-	snprintf(jobid, sizeof jobid, "%.*s", (int)digits, sout);
-	free(sout);
-	if (path_in(path, sizeof path, dir, "jobid") == 0)
-		write_text(path, jobid, strlen(jobid), err);
 
 	/* poll until it leaves the queue, then its exit code */
 	char state[64] = "PENDING", final[64] = "";
 	int settle = 0, code = -1;
 	for (;;) {
 		if (nap(s, run_ctx)) {
+			if (prsm_cancel_reason(run_ctx->cancel) == PRSM_CANCEL_SHUTDOWN)
+				return prsm_error_set(err, PRSM_ECANCELLED, NULL,
+				                      "the service is stopping: Slurm job %s is left to run and picked up at the restart",
+				                      jobid);
 			scancel(jobid);
+			/* never picked up again: a new run of this job submits anew */
+			if (path_in(path, sizeof path, dir, "jobid") == 0)
+				unlink(path);
 			return prsm_error_set(err, PRSM_ECANCELLED, NULL, "cancelled: Slurm job %s cancelled (scancel)", jobid);
 		}
 		if (squeue_state(state, sizeof state, jobid) == 0)

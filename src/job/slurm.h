@@ -15,7 +15,10 @@
  *      --output=SPOOL/<id>/slurm.out [sbatch_args...] SPOOL/<id>/job.sh` (the Slurm job id from
  *      its output);
  *   3. polls every poll_s: `squeue -h -j ID -o %T` while the job is queued or running (a cancel
- *      of the prsm job, or the service stopping, runs `scancel ID`); once squeue no longer lists
+ *      of the prsm job runs `scancel ID`; the service stopping leaves the Slurm job to run: the
+ *      prsm job is queued again, and its next run finds SPOOL/<id>/ with the same request.json,
+ *      job.sh and a jobid that Slurm still lists or that wrote its exit_code, and picks that
+ *      Slurm job up instead of submitting it again); once squeue no longer lists
  *      it, `sacct -n -P -X -j ID -o State` for its final state (where accounting is set up) and
  *      the exit_code file;
  *   4. reads the result, the CSV and the counts back (exit code 0), or the kind's error from

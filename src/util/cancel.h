@@ -18,7 +18,18 @@ static inline int prsm_cancel_requested(const prsm_cancel_flag *flag)
 	return flag != NULL && atomic_load_explicit(flag, memory_order_relaxed) != 0;
 }
 
-/* Raise (value 1) or lower (0) the flag. */
+/* The values a flag holds: lowered, raised by a cancel of the job, raised because the service is
+ * stopping (its job is queued again; an executor that hands work to another system, such as
+ * Slurm, may leave that work running and pick it up at the restart). */
+enum { PRSM_CANCEL_NONE = 0, PRSM_CANCEL_JOB = 1, PRSM_CANCEL_SHUTDOWN = 2 };
+
+/* The flag's value (PRSM_CANCEL_NONE when flag is NULL). */
+static inline int prsm_cancel_reason(const prsm_cancel_flag *flag)
+{
+	return flag != NULL ? atomic_load_explicit(flag, memory_order_relaxed) : PRSM_CANCEL_NONE;
+}
+
+/* Raise (value PRSM_CANCEL_JOB or PRSM_CANCEL_SHUTDOWN) or lower (0) the flag. */
 static inline void prsm_cancel_set(prsm_cancel_flag *flag, int value)
 {
 	atomic_store_explicit(flag, value, memory_order_relaxed);
