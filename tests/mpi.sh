@@ -166,6 +166,15 @@ run_mpi 2 study - --quiet --threads 2 --csv target.2t.csv < target.json > target
 mask target.2t.json | cmp -s - target.plain.m || fail "target study at 2 ranks x 2 threads from stdin differs"
 cmp -s target.2t.csv target.plain.csv || fail "the samples CSV at 2 ranks x 2 threads differs"
 echo "mpi: 2 ranks x 2 threads, the CSV, the document from standard input: byte-identical"
+# without --quiet rank 0 prints a progress line at the start and at the end of each run (stderr
+# is not a terminal here), and none for a phase with nothing to sample ("0 / 0")
+run_mpi 2 study target.json > /dev/null 2> progress.err
+grep -q "samples on 2 ranks" progress.err || fail "no progress lines under MPI: $(cat progress.err)"
+! grep -q " 0 / 0 " progress.err || fail "a progress line of a phase with nothing to sample: $(cat progress.err)"
+# the run stops early on its target: the count it stopped at, then the summary phase
+grep -q "samples on 2 ranks, interval .* (goal 0.25)" progress.err || fail "no line of the count the run stopped at: $(cat progress.err)"
+grep -q "^prsm study: summary on 2 ranks" progress.err || fail "no line of the summary phase: $(cat progress.err)"
+echo "mpi: progress lines on rank 0: the count the run stopped at, the summary phase, no 0 / 0"
 
 # the failure policy `abort` stops at the same sample with the same message
 rc=0

@@ -59,7 +59,7 @@ static int allocate(const prsm_cli_doc_options *opt)
 	}
 	int show = !o.quiet && isatty(STDERR_FILENO);
 	const int par = prsm_par_active();
-	prsm_cli_progress_lines lines = {"allocate", "Monte Carlo samples", -1e9};
+	prsm_cli_progress_lines lines = {.command = "allocate", .unit = "Monte Carlo samples", .last_s = -1e9};
 	prsm_progress_fn fn = show ? progress : par && !o.quiet ? prsm_cli_progress_lines_fn : NULL;
 	void *fn_ctx = show ? NULL : &lines;
 	prsm_error err = PRSM_ERROR_INIT;
@@ -68,6 +68,8 @@ static int allocate(const prsm_cli_doc_options *opt)
 	cJSON_Delete(doc);
 	if (show)
 		fputc('\n', stderr);
+	else if (fn)
+		prsm_cli_progress_lines_flush(&lines);
 	if (arc == PRSM_EINVAL && problems.count) {
 		prsm_cli_print_problems(stderr, o.path, &problems);
 		rc = PRSM_EXIT_INVALID;

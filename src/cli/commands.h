@@ -83,12 +83,18 @@ int prsm_cli_study_check(const cJSON *doc, prsm_problems *warnings, prsm_problem
 int prsm_cli_study_serve(void);
 
 /* Progress of a command under MPI when stderr is not a terminal (a launcher's pipe, a Slurm log):
- * "prsm COMMAND: DONE / PLANNED UNIT on N ranks" every 10 s and at the end. ctx: a
- * prsm_cli_progress_lines. */
+ * "prsm COMMAND: DONE / PLANNED UNIT on N ranks[, interval W (goal G)]" every 10 s and when a run
+ * reaches its cap; a phase without a count (planned 0) first prints the count the throttle held
+ * back (a run that stopped early on its target), then "prsm COMMAND: PHASE on N ranks". ctx: a
+ * prsm_cli_progress_lines with command, unit and last_s -1e9 (the rest zero). */
 typedef struct {
 	const char *command, *unit;
 	double last_s;
+	prsm_progress held; /* the last report the throttle held back, when has_held */
+	int has_held;
 } prsm_cli_progress_lines;
 void prsm_cli_progress_lines_fn(void *ctx, const prsm_progress *p);
+/* Print the report the throttle held back, if any (at the end of a command). */
+void prsm_cli_progress_lines_flush(prsm_cli_progress_lines *pl);
 
 #endif

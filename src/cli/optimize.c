@@ -60,7 +60,7 @@ static int optimize(const prsm_cli_doc_options *opt)
 	}
 	int bar = !o.quiet && isatty(STDERR_FILENO);
 	const int par = prsm_par_active();
-	prsm_cli_progress_lines lines = {"optimize", "evaluations", -1e9};
+	prsm_cli_progress_lines lines = {.command = "optimize", .unit = "evaluations", .last_s = -1e9};
 	prsm_progress_fn fn = bar ? progress : par && !o.quiet ? prsm_cli_progress_lines_fn : NULL;
 	void *fn_ctx = bar ? NULL : &lines;
 	cJSON *res = NULL;
@@ -70,6 +70,8 @@ static int optimize(const prsm_cli_doc_options *opt)
 	cJSON_Delete(doc);
 	if (bar)
 		fputc('\n', stderr);
+	else if (fn)
+		prsm_cli_progress_lines_flush(&lines);
 	if (orc == PRSM_EINVAL && problems.count) {
 		prsm_cli_print_problems(stderr, o.path, &problems);
 		cJSON_Delete(res);

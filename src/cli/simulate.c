@@ -167,13 +167,15 @@ int prsm_cli_simulate(int argc, char **argv)
 	const char *unit = "simulated_ns";
 	prsm_app_simulation_work(s, &unit);
 	const int transient = strcmp(unit, "simulated_ns") == 0;
-	prsm_cli_progress_lines lines = {"simulate", unit, -1e9};
+	prsm_cli_progress_lines lines = {.command = "simulate", .unit = unit, .last_s = -1e9};
 	prsm_progress_fn fn = bar ? (transient ? progress : progress_count)
 	                          : par && leader && !o.quiet && !transient ? prsm_cli_progress_lines_fn : NULL;
 	void *fn_ctx = bar ? (transient ? NULL : (void *)&unit) : &lines;
 	int src = prsm_app_simulation_run(s, NULL, fn, fn_ctx, 0.0, &err);
 	if (bar)
 		fputc('\n', stderr);
+	else if (fn)
+		prsm_cli_progress_lines_flush(&lines);
 	if (!leader) {
 		/* a follower: its part went to rank 0, which reports and writes */
 		prsm_app_simulation_free(s);

@@ -27,28 +27,21 @@
 static void progress(void *ctx, const prsm_progress *p)
 {
 	(void)ctx;
-	int width = 40, filled = p->planned ? (int)((double)p->done / (double)p->planned * width) : width;
+	if (p->planned == 0) {
+		/* a phase without a count (the summaries): named on a line of its own, which the next
+		 * phase's bar overwrites */
+		if (p->phase)
+			fprintf(stderr, "\n%s", p->phase);
+		fflush(stderr);
+		return;
+	}
+	int width = 40, filled = (int)((double)p->done / (double)p->planned * width);
 	fprintf(stderr, "\r[");
 	for (int i = 0; i < width; i++)
 		fputc(i < filled ? '#' : '.', stderr);
 	fprintf(stderr, "] %zu / %zu samples", p->done, p->planned);
 	if (!isnan(p->interval_width))
 		fprintf(stderr, ", interval %.4g (goal %.4g)", p->interval_width, p->interval_goal);
-	fflush(stderr);
-}
-
-/* Progress of a run under MPI when stderr is not a terminal (a launcher's pipe, a Slurm log):
- * a line every 10 s and at the end of each run. */
-static void progress_lines(void *ctx, const prsm_progress *p)
-{
-	double *last = ctx, now = prsm_clock_seconds();
-	if (p->done < p->planned && now - *last < 10.0)
-		return;
-	*last = now;
-	fprintf(stderr, "prsm study: %zu / %zu samples on %d ranks", p->done, p->planned, prsm_par_size());
-	if (!isnan(p->interval_width))
-		fprintf(stderr, ", interval %.4g (goal %.4g)", p->interval_width, p->interval_goal);
-	fputc('\n', stderr);
 	fflush(stderr);
 }
 
@@ -112,16 +105,44 @@ int prsm_cli_study_serve(void)
 	return prsm_par_study_serve(serve_load, serve_release, NULL);
 }
 
+static void progress_line(const prsm_cli_progress_lines *pl, const prsm_progress *p)
+{
+	fprintf(stderr, "prsm %s: %zu / %zu %s on %d ranks", pl->command, p->done, p->planned, p->unit ? p->unit : pl->unit,
+	        prsm_par_size());
+	if (!isnan(p->interval_width))
+		fprintf(stderr, ", interval %.4g (goal %.4g)", p->interval_width, p->interval_goal);
+	fputc('\n', stderr);
+	fflush(stderr);
+}
+
+void prsm_cli_progress_lines_flush(prsm_cli_progress_lines *pl)
+{
+	if (pl->has_held)
+		progress_line(pl, &pl->held);
+	pl->has_held = 0;
+}
+
 void prsm_cli_progress_lines_fn(void *ctx, const prsm_progress *p)
 {
 	prsm_cli_progress_lines *pl = ctx;
-	double now = prsm_clock_seconds();
-	if (p->done < p->planned && now - pl->last_s < 10.0)
+	if (p->planned == 0) {
+		/* a phase without a count (a study's summaries): the count it ended on, then its name */
+		prsm_cli_progress_lines_flush(pl);
+		if (p->phase) {
+			fprintf(stderr, "prsm %s: %s on %d ranks\n", pl->command, p->phase, prsm_par_size());
+			fflush(stderr);
+		}
 		return;
+	}
+	double now = prsm_clock_seconds();
+	if (p->done < p->planned && now - pl->last_s < 10.0) {
+		pl->held = *p;
+		pl->has_held = 1;
+		return;
+	}
 	pl->last_s = now;
-	fprintf(stderr, "prsm %s: %zu / %zu %s on %d ranks\n", pl->command, p->done, p->planned, pl->unit,
-	        prsm_par_size());
-	fflush(stderr);
+	pl->has_held = 0;
+	progress_line(pl, p);
 }
 
 int prsm_cli_study_check(const cJSON *doc, prsm_problems *warnings, prsm_problems *problems)
@@ -177,13 +198,13 @@ int prsm_cli_study(int argc, char **argv)
 	}
 	if (o.threads)
 		s->study.mc.threads = o.threads;
-	double last_line = -1e9;
+	prsm_cli_progress_lines lines = {.command = "study", .unit = "samples", .last_s = -1e9};
 	if (leader && !o.quiet && isatty(STDERR_FILENO)) {
 		s->study.mc.progress = progress;
 		s->study.mc.progress_ctx = NULL;
 	} else if (leader && par && !o.quiet) {
-		s->study.mc.progress = progress_lines;
-		s->study.mc.progress_ctx = &last_line;
+		s->study.mc.progress = prsm_cli_progress_lines_fn;
+		s->study.mc.progress_ctx = &lines;
 	}
 	prsm_error err = PRSM_ERROR_INIT;
 	int src = par ? prsm_par_study_run(r, &s->study, &err) : prsm_study_run(r, &s->study, &err);
@@ -194,6 +215,8 @@ int prsm_cli_study(int argc, char **argv)
 	}
 	if (s->study.mc.progress == progress)
 		fputc('\n', stderr);
+	else if (s->study.mc.progress)
+		prsm_cli_progress_lines_flush(&lines);
 	if (src) {
 		fprintf(stderr, "%s: %s\n", o.path, err.message);
 		rc = prsm_error_exit_code(src);
