@@ -3,6 +3,7 @@
  * docs/measured-data.md, MODEL-DYNAMICS.md §8.5).
  */
 #include "app/calibrate.h"
+#include "app/text.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -342,7 +343,7 @@ cJSON *prsm_app_calibration_result(const prsm_app_calibration *c)
 
 int prsm_app_calibration_text(FILE *f, const prsm_app_calibration *c)
 {
-	return c->ran ? prsm_io_calibration_write_text(f, &c->out) : PRSM_EINVAL;
+	return c->ran ? prsm_app_text_calibration(f, &c->out) : PRSM_EINVAL;
 }
 
 const prsm_io_calibration *prsm_app_calibration_data(const prsm_app_calibration *c)

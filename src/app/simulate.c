@@ -4,6 +4,7 @@
  * app/vibrate.h (docs/vibration.md).
  */
 #include "app/simulate.h"
+#include "app/text.h"
 
 #include <errno.h>
 #include <math.h>
@@ -399,7 +400,7 @@ int prsm_app_simulation_text(FILE *f, const prsm_app_simulation *s)
 {
 	if (s->vib != NULL)
 		return s->ran ? prsm_app_vibration_text(f, s->vib, &s->warnings) : PRSM_EINVAL;
-	return s->ran ? prsm_io_dynamics_write_text(f, s->model, &s->result, &s->warnings) : PRSM_EINVAL;
+	return s->ran ? prsm_app_text_transient(f, s->model, &s->result, &s->warnings) : PRSM_EINVAL;
 }
 
 const prsm_dyn_model *prsm_app_simulation_model(const prsm_app_simulation *s)

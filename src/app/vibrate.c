@@ -3,6 +3,7 @@
  * run of each analysis and its result (see vibrate.h; docs/vibration.md).
  */
 #include "app/vibrate.h"
+#include "app/text.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -393,7 +394,7 @@ int prsm_app_vibration_csv(FILE *f, const prsm_app_vibration *v)
 
 int prsm_app_vibration_text(FILE *f, const prsm_app_vibration *v, const prsm_problems *warnings)
 {
-	return v->ran ? prsm_io_vibration_write_text(f, &v->q, v->model, &v->r, warnings) : PRSM_EINVAL;
+	return v->ran ? prsm_app_text_vibration(f, &v->q, v->model, &v->r, warnings) : PRSM_EINVAL;
 }
 
 const prsm_io_vib_request *prsm_app_vibration_request(const prsm_app_vibration *v)

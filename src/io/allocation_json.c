@@ -20,6 +20,7 @@
 #include <string.h>
 
 #include "io/doc.h"
+#include "io/errors_json.h"
 #include "io/json_util.h"
 #include "io/study_json.h"
 #include "mc/stats.h"
@@ -52,18 +53,6 @@ void prsm_io_alloc_bounds_init(prsm_io_alloc_bounds *b)
 {
 	b->lower = 0.0;
 	b->upper = INFINITY;
-}
-
-/* The unit suffix of a parameter name ("screw.runout_um" -> "um"). */
-static const char *unit_of(const char *name)
-{
-	static const char *const units[] = {"um_per_300mm", "um", "mrad", "deg", NULL};
-	for (int i = 0; units[i]; i++) {
-		size_t ln = strlen(name), lu = strlen(units[i]);
-		if (ln > lu + 1 && strcmp(name + ln - lu, units[i]) == 0 && name[ln - lu - 1] == '_')
-			return units[i];
-	}
-	return "";
 }
 
 static int find_name(char names[][48], size_t n, const char *name)
@@ -152,7 +141,7 @@ int prsm_io_step_alloc_parameter(prsm_io_at *at, prsm_problems *pr)
 		if (strcmp(d->tol_name[k], name) == 0)
 			prsm_io_problem(pr, at->pointer, "parameter", "duplicate", "%s is allocated twice (at /allocate/%d)", name,
 			                k);
-	snprintf(d->unit[i], sizeof d->unit[i], "%s", d->is_study ? unit_of(name) : "");
+	snprintf(d->unit[i], sizeof d->unit[i], "%s", d->is_study ? prsm_io_error_unit_of(name) : "");
 	if (!d->is_study || !c->kind_ok)
 		return 0;
 	const prsm_io_study *s = d->study;

@@ -1,7 +1,7 @@
 /*
  * dynamics_json.c: the dynamics request object read by its generated table with the hooks a
  * table cannot say, and a simulation's result as JSON (the sticky-error writer, io/write.h),
- * CSV and text (see dynamics_json.h; docs/dynamics.md).
+ * and CSV (see dynamics_json.h; docs/dynamics.md; the text summaries are in app/text.c).
  *
  * Units at the API are in the names: kg mm^2 for inertias (kg m^2 inside, x 1e6 out), mm for
  * positions and radii, degrees for the gear pressure angle; everything else is SI as the model
@@ -22,7 +22,6 @@
 #include "util/error.h"
 #include "util/version.h"
 
-#define KG_MM2 1e6             /* kg m^2 -> kg mm^2 */
 #define DEG (180.0 / M_PI)     /* rad -> deg */
 
 /* The per-stage fields of `inertia` (the single-stage form; a chain's are in inertia.stages). */
@@ -842,9 +841,6 @@ int prsm_io_dynamics_from_json(prsm_dyn_options *o, const cJSON *obj, int stages
 
 /* ---- the result --------------------------------------------------------------------------------- */
 
-static const char *const shape_names[] = {"step", "ramp", "sine"};
-static const char *const friction_names[] = {"coulomb", "viscous", "stribeck"};
-static const char *const losses_names[] = {"statics", "sliding_only"};
 
 static const char *name_of(const char *const *names, int n, int v)
 {
@@ -1042,58 +1038,12 @@ int prsm_io_dynamics_write_csv(FILE *f, const prsm_dyn_model *m, const prsm_dyn_
 	return ferror(f) ? PRSM_EIO : 0;
 }
 
-int prsm_io_dynamics_write_text(FILE *f, const prsm_dyn_model *m, const prsm_dyn_result *r,
-                                const prsm_problems *warnings)
-{
-	const prsm_dyn_options *o = prsm_dyn_model_options(m);
-	const prsm_dyn_settled *s = &r->settled;
-	const int K = r->stages;
-	const int torque = o->input.kind == PRSM_DYN_INPUT_TORQUE;
-	fprintf(f, "Start-up transient (docs/dynamics.md), %d stage%s, %s input %g %s (%s), load %g N, %s friction, "
-	        "losses %s\n", K, K > 1 ? "s" : "", torque ? "torque" : "speed", o->input.signal.value,
-	        torque ? "N m" : "rad/s", NAME(shape_names, o->input.signal.shape), o->load.value,
-	        NAME(friction_names, o->friction.model), NAME(losses_names, o->losses));
-	fprintf(f, "  simulated %g s, %zu output times, %ld steps\n", o->time.end_s, r->points, r->steps);
-	if (r->points > 0)
-		fprintf(f, "  at t = 0+: input torque %.7g N m, efficiency %.7g\n", r->point[0].input_torque_Nm,
-		        r->point[0].efficiency);
-	if (s->defined) {
-		fprintf(f, "  settled: screw %.7g rad/s, input torque %.7g N m, efficiency %.7g (statics %.7g)%s\n",
-		        s->screw_speed_rad_s, s->input_torque_Nm, s->efficiency, s->efficiency_statics,
-		        s->at_rest ? ", at rest" : "");
-	} else {
-		fprintf(f, "  settled: none (no speed balances the motor torque: the screw runs away)\n");
-	}
-	if (torque)
-		fprintf(f, "  screw speed reaches 50 / 90 / 99 %% of settled at %.6g / %.6g / %.6g s\n",
-		        r->speed_time_to_share_s[0], r->speed_time_to_share_s[1], r->speed_time_to_share_s[2]);
-	for (int k = 0; k < K; k++) {
-		const prsm_dyn_stage_params *p = prsm_dyn_model_stage(m, k);
-		fprintf(f, "  stage %d: k* %.8g (statics contact-radius ratio %.8g), settled carrier ratio %.8g,\n"
-		        "           50 / 90 / 99 %% at %.6g / %.6g / %.6g s, J_psi %.6g kg mm^2\n", k + 1,
-		        p->carrier_ratio_min_slip, p->carrier_ratio_statics, s->carrier_ratio[k],
-		        r->carrier_time_to_share_s[k][0], r->carrier_time_to_share_s[k][1], r->carrier_time_to_share_s[k][2],
-		        p->carrier_side_inertia_kg_m2 * KG_MM2);
-	}
-	fprintf(f, "  checks: power balance %.3g of input (limit %g), Newton-Euler %.3g (limit %g)\n",
-	        r->max_power_balance_relative, PRSM_IO_DYN_POWER_BALANCE_LIMIT, r->max_newton_euler_residual,
-	        PRSM_IO_DYN_NEWTON_EULER_LIMIT);
-	for (int i = 0; warnings && i < warnings->count; i++)
-		fprintf(f, "  warning: %s: %s\n", warnings->items[i].pointer, warnings->items[i].message);
-	return ferror(f) ? PRSM_EIO : 0;
-}
-
 /* ---- the vibration analyses' results (schemas/dynamics-result.schema.json) ----------------------- */
 
 static const char *const class_names[] = {"periodic", "non_periodic", "quasi_periodic", "chaotic", "failed"};
-static const char *const clock_names[] = {"auto", "mesh", "te"};
 static const char *const obs_names[] = {"mesh_deflection", "mesh_rate", "mesh_force",
                                         "axial_deflection", "axial_rate", "thread_force"};
-static const char *const branch_names[] = {"both", "gear", "axial"};
-static const char *const eig_kind_names[] = {"rigid", "real", "oscillatory"};
 
-#define UM 1e6 /* m -> um */
-#define MM 1e3 /* m -> mm */
 
 void prsm_io_vib_result_free(prsm_io_vib_result *r)
 {
@@ -1475,173 +1425,5 @@ int prsm_io_vibration_write_csv(FILE *f, const prsm_io_vib_request *q, const prs
 	default:
 		break;
 	}
-	return ferror(f) ? PRSM_EIO : 0;
-}
-
-static void text_sweep_summary(FILE *f, const prsm_vib_sweep *s, const char *par_name, double from_engine)
-{
-	for (int dir = 1; dir >= -1; dir -= 2) {
-		fprintf(f, "  sweep %s:", dir > 0 ? "up" : "down");
-		int prev_class = -1, prev_period = -1, n = 0;
-		for (size_t k = 0; k < s->points; k++) {
-			const prsm_vib_sweep_point *p = &s->point[k];
-			if (p->direction != dir)
-				continue;
-			if (p->classification != prev_class || p->period != prev_period) {
-				if (n++ % 4 == 0)
-					fprintf(f, "\n   ");
-				if (p->classification == PRSM_VIB_PERIODIC)
-					fprintf(f, " from %s %.6g period %d;", par_name, p->parameter * from_engine, p->period);
-				else
-					fprintf(f, " from %s %.6g %s;", par_name, p->parameter * from_engine,
-					        NAME(class_names, p->classification));
-				prev_class = p->classification;
-				prev_period = p->period;
-			}
-		}
-		fputc('\n', f);
-	}
-}
-
-int prsm_io_vibration_write_text(FILE *f, const prsm_io_vib_request *q, const prsm_vib_model *m,
-                                 const prsm_io_vib_result *r, const prsm_problems *warnings)
-{
-	const prsm_vib_params *P = prsm_vib_model_params(m);
-	const int pair = P->kind == PRSM_VIB_GEAR_PAIR;
-	if (pair) {
-		const prsm_vib_gear_pair *g = &P->gear_pair;
-		fprintf(f, "Gear pair (docs/vibration.md), %s: zeta %g, f_m %g, epsilon %g, kappa %g, eps_alpha %g",
-		        prsm_io_dynamics_analysis_name(q->analysis), g->damping_ratio, g->mean_force, g->mesh_error,
-		        g->stiffness_variation, g->contact_ratio);
-		const int swept = q->analysis == PRSM_IO_DYN_FREQUENCY_RESPONSE || q->analysis == PRSM_IO_DYN_SWEEP;
-		if (swept)
-			fprintf(f, ", %s swept from %g to %g\n", prsm_io_sweep_parameter_name(q->sweep.parameter), q->sweep.from,
-			        q->sweep.to);
-		else
-			fprintf(f, ", Omega %g\n", g->frequency_ratio);
-	} else {
-		fprintf(f, "Reduced vibration model (docs/vibration.md), %s: %d rollers, branches %s, screw %.6g rad/s, "
-		        "omega_e %.6g, F_0 %g N\n", prsm_io_dynamics_analysis_name(q->analysis), P->rollers,
-		        NAME(branch_names, P->branches), P->screw_speed_rad_s, P->frequency_ratio, P->axial_load_N);
-		fprintf(f, "  k* %.8g, mesh %.6g Hz, roller mode %.6g Hz, axial %.6g Hz; k_a %.6g N/um, b_a %.6g um, "
-		        "b_g %.6g um, e_g %.6g um, %d TE lines\n", P->carrier_ratio, P->mesh_frequency_rad_s / (2.0 * M_PI),
-		        P->reference_frequency_rad_s / (2.0 * M_PI), P->axial_frequency_rad_s / (2.0 * M_PI),
-		        P->axial_stiffness_N_per_m / UM, P->axial_half_play_m * UM, P->gear_half_backlash_m * UM,
-		        P->mesh_error_m * UM, P->te_lines);
-	}
-	switch (q->analysis) {
-	case PRSM_IO_DYN_VIBRATION: {
-		const prsm_vib_steady *s = &r->steady;
-		if (s->classification == PRSM_VIB_PERIODIC)
-			fprintf(f, "  steady state: period %d (%s clock), return distance %.3g\n", s->period,
-			        NAME(clock_names, s->clock), s->max_return_distance);
-		else
-			fprintf(f, "  steady state: %s (%s clock), return distance %.3g\n", NAME(class_names, s->classification),
-			        NAME(clock_names, s->clock), s->max_return_distance);
-		for (int i = 0; i < s->extremes; i++) {
-			const prsm_vib_extreme *x = &s->extreme[i];
-			if (i >= 6 && !axial_observable(x->observable))
-				continue;
-			fprintf(f, "  %s", NAME(obs_names, x->observable));
-			if (!axial_observable(x->observable))
-				fprintf(f, " %d", x->index);
-			fprintf(f, ": min %.9g, max %.9g, mean %.9g, amplitude %.9g\n", x->min, x->max, x->mean,
-			        0.5 * (x->max - x->min));
-		}
-		/* the gear pair's forcing line; the reduced model's strongest named line but the mean */
-		int top = -1;
-		for (int i = 0; i < s->lines; i++)
-			if (pair ? strcmp(s->line[i].name, "forcing") == 0
-			         : s->line[i].frequency > 0.0 && (top < 0 || s->line[i].amplitude > s->line[top].amplitude))
-				top = i;
-		if (top >= 0)
-			fprintf(f, "  %s line: %s, amplitude %.6g at %.6g %s\n", pair ? "forcing" : "strongest named",
-			        s->line[top].name, s->line[top].amplitude, s->line[top].frequency, pair ? "(frequency ratio)" : "Hz");
-		if (s->contacts > 0)
-			fprintf(f, "  %s open %.4g of the time\n", pair ? "mesh" : P->branches == PRSM_VIB_BRANCHES_AXIAL ? "thread"
-			        : "mesh 0", pair || P->branches != PRSM_VIB_BRANCHES_AXIAL ? s->loss_share[0]
-			                                                              : s->loss_share[s->contacts - 1]);
-		if (r->with_lyapunov) {
-			fprintf(f, "  Lyapunov exponents per unit tau:");
-			for (int i = 0; i < r->lyapunov.exponents; i++)
-				fprintf(f, " %.6g", r->lyapunov.lambda[i]);
-			fprintf(f, " (blocks %.4g to %.4g)\n", r->lyapunov.block_min, r->lyapunov.block_max);
-		}
-		break;
-	}
-	case PRSM_IO_DYN_SWEEP: {
-		double to_engine = 1.0;
-		prsm_io_sweep_parameter_engine(q->sweep.parameter, &to_engine);
-		fprintf(f, "  %zu points per direction, %zu failed\n", r->sweep.grid, failed_points(&r->sweep));
-		text_sweep_summary(f, &r->sweep, prsm_io_sweep_parameter_name(q->sweep.parameter), 1.0 / to_engine);
-		break;
-	}
-	case PRSM_IO_DYN_FREQUENCY_RESPONSE: {
-		const prsm_vib_frequency_response *fr = &r->fr;
-		if (r->with_harmonic_balance)
-			for (int i = 0; i < fr->hb.folds; i++)
-				fprintf(f, "  harmonic balance fold at Omega %.6g (amplitude %.6g)\n", fr->hb.fold[i].omega,
-				        fr->hb.fold[i].amplitude);
-		for (int k = 0; k < fr->jumps; k++) {
-			fprintf(f, "  jump on the sweep %s between Omega %.6g and %.6g", fr->jump[k].direction > 0 ? "up" : "down",
-			        fr->jump[k].from, fr->jump[k].to);
-			if (fr->exact_fold[k].found)
-				fprintf(f, ", exact fold %.8g", fr->exact_fold[k].omega);
-			fputc('\n', f);
-		}
-		if (fr->jumps == 0)
-			fprintf(f, "  no jumps: the sweeps up and down agree\n");
-		break;
-	}
-	case PRSM_IO_DYN_BASINS: {
-		const prsm_vib_basins *b = &r->basins;
-		fprintf(f, "  %d x %d cells, %d attractors\n", b->nx, b->nv, b->attractors);
-		for (int a = 0; a < b->attractors; a++)
-			fprintf(f, "  attractor %d: period %d, %.4g of the cells\n", a, b->attractor[a].period, b->attractor[a].fraction);
-		fprintf(f, "  other %.4g, failed %.4g\n", b->other_fraction, b->failed_fraction);
-		break;
-	}
-	case PRSM_IO_DYN_LINEAR: {
-		const prsm_vib_linear *l = &r->linear;
-		int shown = 0;
-		for (int i = 0; i < l->eigenvalues && shown < 8; i++) {
-			if (l->kind[i] == PRSM_VIB_EIG_OSCILLATORY && l->eig_im[i] < 0.0)
-				continue;
-			/* a repeated eigenvalue (the roller modes) once, with its multiplicity */
-			int same = 1, k = i + 1;
-			for (; k < l->eigenvalues; k++) {
-				if (l->kind[k] == PRSM_VIB_EIG_OSCILLATORY && l->eig_im[k] < 0.0)
-					continue;
-				if (!(fabs(l->eig_re[k] - l->eig_re[i]) <= 1e-9 * hypot(l->eig_re[i], l->eig_im[i]) &&
-				      fabs(l->eig_im[k] - l->eig_im[i]) <= 1e-9 * hypot(l->eig_re[i], l->eig_im[i])))
-					break;
-				same++;
-			}
-			char times[24] = "";
-			if (same > 1)
-				snprintf(times, sizeof times, " x %d", same);
-			if (pair)
-				fprintf(f, "  eigenvalue %.9g %+.9gi per tau (%s, damping ratio %.6g)%s\n", l->eig_re[i], l->eig_im[i],
-				        NAME(eig_kind_names, l->kind[i]), l->damping_ratio[i], times);
-			else
-				fprintf(f, "  eigenvalue %.6g %+.6gi 1/s: %.6g Hz, damping ratio %.6g (%s)%s\n", l->eig_re[i],
-				        l->eig_im[i], l->frequency_Hz[i], l->damping_ratio[i], NAME(eig_kind_names, l->kind[i]), times);
-			shown++;
-			i = k - 1;
-		}
-		const prsm_vib_half_power *h = &r->half_power;
-		if (h->defined)
-			fprintf(f, "  half-power damping %.6g at %.6g %s (modal %.6g)\n", h->damping_ratio,
-			        pair ? h->peak_omega : h->peak_omega / (2.0 * M_PI), pair ? "(ratio)" : "Hz", h->modal_damping_ratio);
-		else
-			fprintf(f, "  half-power damping undefined: %s\n", h->reason);
-		break;
-	}
-	default:
-		break;
-	}
-	fprintf(f, "  effort: %ld steps, %ld kink crossings\n", r->effort.steps, r->effort.events);
-	for (int i = 0; warnings && i < warnings->count; i++)
-		fprintf(f, "  warning: %s: %s\n", warnings->items[i].pointer, warnings->items[i].message);
 	return ferror(f) ? PRSM_EIO : 0;
 }

@@ -1,8 +1,8 @@
 /*
  * dynamics_json.h: the `dynamics` object of a request (schemas/dynamics.schema.json) into the
  * options of the rigid-body transient (dyn/dyn.h) or of the vibration analyses (dyn/vib.h), and
- * the result documents (schemas/dynamics-result.schema.json), time series and sweeps (CSV) and
- * text summaries of both. docs/dynamics.md, docs/vibration.md.
+ * the result documents (schemas/dynamics-result.schema.json) and time series and sweeps (CSV)
+ * of both (their text summaries: app/text.h). docs/dynamics.md, docs/vibration.md.
  *
  * The reader is the table generated from the annotated schema (io/doc.h) filling
  * prsm_dyn_options directly; what a table cannot say is in the hooks of dynamics_json.c (the
@@ -71,10 +71,6 @@ cJSON *prsm_io_dynamics_result_to_json(const char *name, const prsm_dyn_model *m
 /* The time series as CSV: a header line, then one line per output time (numbers in %.17g,
  * empty where a value is not defined, e.g. the efficiency at rest). Returns 0 or PRSM_EIO. */
 int prsm_io_dynamics_write_csv(FILE *f, const prsm_dyn_model *m, const prsm_dyn_result *r);
-
-/* A short text summary for engineers (prsm simulate --format text). Returns 0 or PRSM_EIO. */
-int prsm_io_dynamics_write_text(FILE *f, const prsm_dyn_model *m, const prsm_dyn_result *r,
-                                const prsm_problems *warnings);
 
 /* ---- the vibration analyses (docs/vibration.md) ---------------------------------------------- */
 
@@ -240,9 +236,5 @@ cJSON *prsm_io_vibration_result_to_json(const char *name, const prsm_io_vib_requ
  * grid's labels, linear the FRF. Returns 0 or PRSM_EIO. */
 int prsm_io_vibration_write_csv(FILE *f, const prsm_io_vib_request *q, const prsm_vib_model *m,
                                 const prsm_io_vib_result *r);
-
-/* A short text summary (prsm simulate --format text). Returns 0 or PRSM_EIO. */
-int prsm_io_vibration_write_text(FILE *f, const prsm_io_vib_request *q, const prsm_vib_model *m,
-                                 const prsm_io_vib_result *r, const prsm_problems *warnings);
 
 #endif

@@ -17,6 +17,7 @@
 
 #include "io/doc.h"
 #include "io/json_util.h"
+#include "io/write.h"
 #include "prsm_io_tables.h"
 
 /* ---- field tables ------------------------------------------------------------------------ */
@@ -115,6 +116,17 @@ size_t prsm_io_error_field_names(const char *part, const char **names, size_t ca
 	if (cap)
 		names[k] = NULL;
 	return k;
+}
+
+const char *prsm_io_error_unit_of(const char *name)
+{
+	static const char *const units[] = {"um_per_300mm", "um", "mrad", "deg", NULL};
+	for (int i = 0; units[i]; i++) {
+		size_t ln = strlen(name), lu = strlen(units[i]);
+		if (ln > lu + 1 && strcmp(name + ln - lu, units[i]) == 0 && name[ln - lu - 1] == '_')
+			return units[i];
+	}
+	return "";
 }
 
 int prsm_io_error_field_find(prsm_io_error_field *out, const char *part, const char *key)
@@ -367,17 +379,14 @@ static double to_api(double v, double scale)
 	return rounded / scale == v ? rounded : x;
 }
 
-/* Add every non-zero field of part to obj; 0 or PRSM_ENOMEM. */
-static int write_fields(cJSON *obj, const void *part, const field_spec *fields, size_t count)
+/* Every non-zero field of part into obj. */
+static void write_fields(prsm_jw *w, cJSON *obj, const void *part, const field_spec *fields, size_t count)
 {
 	for (size_t i = 0; i < count; i++) {
 		const double v = field_value(part, &fields[i]);
-		if (v == 0.0)
-			continue;
-		if (cJSON_AddNumberToObject(obj, fields[i].key, to_api(v, fields[i].scale)) == NULL)
-			return PRSM_ENOMEM;
+		if (v != 0.0)
+			prsm_jw_number(w, obj, fields[i].key, to_api(v, fields[i].scale));
 	}
-	return 0;
 }
 
 static int all_zero(const double *v, int n)
@@ -389,29 +398,21 @@ static int all_zero(const double *v, int n)
 }
 
 /* The screw or nut as obj[key], left out when it has no errors (start_index_rad[] counts up to
- * `starts`); 0 or PRSM_ENOMEM. */
-static int write_body(cJSON *obj, const char *key, const prsm_body_errors *b, int starts)
+ * `starts`). */
+static void write_body(prsm_jw *w, cJSON *obj, const char *key, const prsm_body_errors *b, int starts)
 {
 	int any = !all_zero(b->start_index_rad, starts);
 	for (size_t i = 0; i < COUNT(body_fields) && !any; i++)
 		any = field_value(b, &body_fields[i]) != 0.0;
 	if (!any)
-		return 0;
-	cJSON *o = cJSON_AddObjectToObject(obj, key);
-	if (o == NULL || write_fields(o, b, body_fields, COUNT(body_fields)) != 0)
-		return PRSM_ENOMEM;
+		return;
+	cJSON *o = prsm_jw_object(w, obj, key);
+	write_fields(w, o, b, body_fields, COUNT(body_fields));
 	if (all_zero(b->start_index_rad, starts))
-		return 0;
-	cJSON *arr = cJSON_AddArrayToObject(o, "start_index_mrad");
-	if (arr == NULL)
-		return PRSM_ENOMEM;
-	for (int i = 0; i < starts; i++) {
-		cJSON *num = cJSON_CreateNumber(to_api(b->start_index_rad[i], SCALE_MRAD));
-		if (num == NULL)
-			return PRSM_ENOMEM;
-		cJSON_AddItemToArray(arr, num);
-	}
-	return 0;
+		return;
+	cJSON *arr = prsm_jw_array(w, o, "start_index_mrad");
+	for (int i = 0; i < starts; i++)
+		prsm_jw_number(w, arr, NULL, to_api(b->start_index_rad[i], SCALE_MRAD));
 }
 
 cJSON *prsm_io_errors_to_json(const prsm_errors *e, int starts)
@@ -421,36 +422,20 @@ cJSON *prsm_io_errors_to_json(const prsm_errors *e, int starts)
 		starts = 0;
 	if (starts > PRSM_ERRORS_MAX_STARTS)
 		starts = PRSM_ERRORS_MAX_STARTS;
-	cJSON *obj = cJSON_CreateObject();
-	if (obj == NULL)
-		return NULL;
-	if (write_body(obj, "screw", &e->screw, starts) != 0 ||
-	    write_body(obj, "nut", &e->nut, starts) != 0)
-		goto fail;
-	if (!all_zero((const double *)&e->carrier, (int)(sizeof e->carrier / sizeof(double)))) {
-		cJSON *c = cJSON_AddObjectToObject(obj, "carrier");
-		if (c == NULL || write_fields(c, &e->carrier, carrier_fields, COUNT(carrier_fields)) != 0)
-			goto fail;
-	}
+	prsm_jw w = PRSM_JW_INIT;
+	cJSON *obj = prsm_jw_root(&w);
+	write_body(&w, obj, "screw", &e->screw, starts);
+	write_body(&w, obj, "nut", &e->nut, starts);
+	if (!all_zero((const double *)&e->carrier, (int)(sizeof e->carrier / sizeof(double))))
+		write_fields(&w, prsm_jw_object(&w, obj, "carrier"), &e->carrier, carrier_fields, COUNT(carrier_fields));
 	int any_roller = 0;
 	for (int j = 0; j < e->rollers && !any_roller; j++)
 		any_roller = !all_zero((const double *)&e->roller[j],
 		                       (int)(sizeof e->roller[j] / sizeof(double)));
 	if (any_roller) {
-		cJSON *arr = cJSON_AddArrayToObject(obj, "rollers");
-		if (arr == NULL)
-			goto fail;
-		for (int j = 0; j < e->rollers; j++) {
-			cJSON *r = cJSON_CreateObject();
-			if (r == NULL)
-				goto fail;
-			cJSON_AddItemToArray(arr, r);
-			if (write_fields(r, &e->roller[j], roller_fields, COUNT(roller_fields)) != 0)
-				goto fail;
-		}
+		cJSON *arr = prsm_jw_array(&w, obj, "rollers");
+		for (int j = 0; j < e->rollers; j++)
+			write_fields(&w, prsm_jw_object(&w, arr, NULL), &e->roller[j], roller_fields, COUNT(roller_fields));
 	}
-	return obj;
-fail:
-	cJSON_Delete(obj);
-	return NULL;
+	return prsm_jw_done(&w, obj);
 }

@@ -96,6 +96,10 @@ typedef struct {
  * not a scalar field). Returns 0 or PRSM_ENOTFOUND. */
 int prsm_io_error_field_find(prsm_io_error_field *out, const char *part, const char *key);
 
+/* The unit suffix of an error field or parameter name ("screw.runout_um" -> "um",
+ * "lead_deviation_um_per_300mm" -> "um_per_300mm"), "" when it has none. */
+const char *prsm_io_error_unit_of(const char *name);
+
 /* The scalar fields of part that a tolerance may name (phases left out), NULL-terminated into
  * names (cap entries, the last one the NULL). Returns the count (0 for an unknown part). */
 size_t prsm_io_error_field_names(const char *part, const char **names, size_t cap);

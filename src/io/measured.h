@@ -11,8 +11,8 @@
  * four revolutions, travel against angle) are the model's (dyn/measured.h); their findings are
  * mapped back here to the CSV line and column or the JSON pointer of the offending value.
  *
- * Out: the calibration result document (schemas/measured-result.schema.json) and its text
- * summary, by app/calibrate.c.
+ * Out: the calibration result document (schemas/measured-result.schema.json), by
+ * app/calibrate.c (its text summary: app/text.h).
  */
 #ifndef PRSM_IO_MEASURED_H
 #define PRSM_IO_MEASURED_H
@@ -105,9 +105,5 @@ typedef struct {
 /* The result document (schemas/measured-result.schema.json); the caller owns it, NULL when out
  * of memory. */
 cJSON *prsm_io_calibration_to_json(const prsm_io_calibration *c);
-
-/* The readable summary (prsm calibrate --format text), the caveats printed with the result.
- * Returns 0 or PRSM_EIO. */
-int prsm_io_calibration_write_text(FILE *f, const prsm_io_calibration *c);
 
 #endif

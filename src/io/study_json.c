@@ -55,17 +55,6 @@ typedef struct {
 	int bench_index;          /* benchmark input index, else -1 */
 } param_info;
 
-static const char *unit_of(const char *key)
-{
-	static const char *const units[] = {"um_per_300mm", "um", "mrad", "deg", NULL};
-	for (int i = 0; units[i]; i++) {
-		size_t lk = strlen(key), lu = strlen(units[i]);
-		if (lk > lu + 1 && strcmp(key + lk - lu, units[i]) == 0 && key[lk - lu - 1] == '_')
-			return units[i];
-	}
-	return "";
-}
-
 /* Returns 0, or PRSM_ENOTFOUND with a message in msg. */
 static int param_find(param_info *pi, const char *path, const prsm_io_study *s, char *msg, size_t cap)
 {
@@ -156,7 +145,7 @@ static int param_find(param_info *pi, const char *path, const prsm_io_study *s, 
 	}
 	pi->part = (prsm_part)p;
 	pi->per_roller = pi->part == PRSM_PART_ROLLER;
-	pi->unit = unit_of(key);
+	pi->unit = prsm_io_error_unit_of(key);
 	if ((pi->part == PRSM_PART_SCREW || pi->part == PRSM_PART_NUT) &&
 	    strcmp(key, "start_index_mrad") == 0) {
 		pi->per_start = 1;
@@ -714,7 +703,7 @@ static void build_vars(prsm_io_study *s, size_t g)
 	}
 	const char *key = strchr(t->parameter, '.') + 1;
 	/* the key without its unit: runout_um -> runout, tilt_mrad -> tilt */
-	const size_t unit_len = strlen(unit_of(key));
+	const size_t unit_len = strlen(prsm_io_error_unit_of(key));
 	const int stem = (int)(unit_len ? strlen(key) - unit_len - 1 : strlen(key));
 	const int each = t->per_roller || t->per_start, n = (int)count_vars(t, s) / (t->radial ? 2 : 1);
 	gr->first_var = st->d;
@@ -1153,7 +1142,7 @@ static void check_ranges(prsm_io_study *out, prsm_problems *warnings, prsm_probl
 			continue;
 		}
 		const char *key = strchr(t->parameter, '.');
-		const char *unit = key ? unit_of(key + 1) : "";
+		const char *unit = key ? prsm_io_error_unit_of(key + 1) : "";
 		if (strcmp(unit, "um") != 0 && strcmp(unit, "um_per_300mm") != 0)
 			continue;
 		const double big = fmax(fabs(q[0]), fabs(q[1])), pitch_um = 1e3 * out->design.pitch_mm;
