@@ -908,6 +908,48 @@ static void test_normal_quantile_matches_gsl(void **state)
 		assert_true(fabs(gsl_cdf_ugaussian_P(prsm_normal_quantile(p)) - p) <= 1e-14 * fmin(p, 1.0 - p) + 1e-16);
 }
 
+/* The batch quantile is prsm_dist_quantile value for value, bit for bit, for every kind: with
+ * strides, in place, at the ends (0, 1, NaN) and in the normal's three regions. */
+static void test_quantile_n_matches(void **state)
+{
+	(void)state;
+	enum { N = 4099 };
+	static double u[2 * N], x[3 * N], w[2 * N];
+	gsl_rng *r = prsm_rng_alloc(20261126, 3);
+	assert_non_null(r);
+	for (size_t k = 0; k < N; k++) {
+		double v;
+		switch (k % 5) {
+		case 0: v = gsl_rng_uniform_pos(r); break;
+		case 1: v = 0.075 * gsl_rng_uniform_pos(r); break;
+		case 2: v = 1.0 - 0.075 * gsl_rng_uniform_pos(r); break;
+		case 3: v = pow(10.0, -300.0 * gsl_rng_uniform_pos(r)); break;
+		default: v = 0.5 + 0.425 * (2.0 * gsl_rng_uniform_pos(r) - 1.0); break;
+		}
+		u[2 * k] = v;
+		u[2 * k + 1] = -1.0; /* the other column of a two-column block: never read */
+	}
+	const double ends[] = {0.0, 1.0, NAN, -0.5, 1.5, 0.5, 0.075, 0.925, 0.5 - 0.425, 0.5 + 0.425, 1e-320};
+	for (size_t k = 0; k < sizeof ends / sizeof ends[0]; k++)
+		u[2 * k] = ends[k];
+	gsl_rng_free(r);
+	for (size_t c = 0; c < N_CASES; c++) {
+		const prsm_dist *d = &cases[c];
+		prsm_dist_quantile_n(d, u, 2, x, 3, N);
+		for (size_t k = 0; k < N; k++) {
+			const double a = x[3 * k], b = prsm_dist_quantile(d, u[2 * k]);
+			if (memcmp(&a, &b, sizeof a) != 0)
+				fail_msg("case %zu, u = %.17g: %.17g against %.17g", c, u[2 * k], a, b);
+		}
+		memcpy(w, u, sizeof w);
+		prsm_dist_quantile_n(d, w, 2, w, 2, N); /* in place, as the engine's Saltelli rows */
+		for (size_t k = 0; k < N; k++) {
+			assert_memory_equal(&w[2 * k], &x[3 * k], sizeof w[0]);
+			assert_true(w[2 * k + 1] == -1.0);
+		}
+	}
+}
+
 static void test_from_tolerance(void **state)
 {
 	(void)state;
@@ -954,6 +996,7 @@ int main(void)
 		cmocka_unit_test(test_center_halfwidth),
 		cmocka_unit_test(test_from_tolerance),
 		cmocka_unit_test(test_normal_quantile_matches_gsl),
+		cmocka_unit_test(test_quantile_n_matches),
 	};
 	return cmocka_run_group_tests(tests, setup_histograms, NULL);
 }

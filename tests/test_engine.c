@@ -117,6 +117,77 @@ static void test_determinism_threads(void **state)
 	}
 }
 
+/* A model of five inputs with two outputs: y0 = sum x_i, y1 = x0 x1 - x4. */
+static int sum_eval(double *y, unsigned *flags, const void *ctx, void *ws, const double *x)
+{
+	(void)ctx;
+	(void)ws;
+	*flags = 0;
+	y[0] = x[0] + x[1] + x[2] + x[3] + x[4];
+	y[1] = x[0] * x[1] - x[4];
+	return 0;
+}
+
+/* Each sample's inputs are the quantiles of its block's uniforms (prsm_mc_block_uniforms), the
+ * distributions' own prsm_dist_quantile bit for bit, whichever way the engine batches them; and a
+ * Saltelli run with correlated inputs and tolerances of several variables gives the same bits on
+ * the calling thread alone (one thread) as with worker threads. */
+static void test_inputs_are_quantiles(void **state)
+{
+	(void)state;
+	prsm_mc_variable v[5];
+	memset(v, 0, sizeof v);
+	v[0].dist = (prsm_dist){PRSM_DIST_NORMAL, {2.0, 0.3, 0, 0}, NULL};
+	v[1].dist = (prsm_dist){PRSM_DIST_UNIFORM, {-1.0, 4.0, 0, 0}, NULL};
+	v[2].dist = (prsm_dist){PRSM_DIST_TRIANGULAR, {0.0, 0.2, 1.0, 0}, NULL};
+	v[3].dist = (prsm_dist){PRSM_DIST_RAYLEIGH, {1.5, 0, 0, 0}, NULL};
+	v[4].dist = (prsm_dist){PRSM_DIST_LOGNORMAL, {0.1, 0.2, 0, 0}, NULL};
+	const int group[5] = {0, 1, 0, 2, 1};
+	for (int i = 0; i < 5; i++)
+		v[i].group = group[i];
+	prsm_mc_model mdl = {2, NULL, NULL, NULL, sum_eval};
+	prsm_mc_options o;
+	prsm_error err = PRSM_ERROR_INIT;
+	prsm_mc_options_default(&o);
+	o.seed = 20261126;
+	o.samples = 700; /* two full blocks and a partial one */
+	o.block_size = 256;
+	prsm_mc_result r;
+	assert_int_equal(prsm_mc_run(&r, &mdl, v, 5, NULL, 0, &o, &err), 0);
+	double u[256 * 5];
+	size_t scratch[256];
+	for (size_t b = 0; b < 3; b++) {
+		const size_t nb = b < 2 ? 256 : 700 - 512;
+		assert_int_equal(prsm_mc_block_uniforms(u, nb, 5, PRSM_SAMPLER_RANDOM, o.seed, o.stream_offset + b, b * 256,
+		                                        scratch), 0);
+		for (size_t i = 0; i < nb; i++)
+			for (size_t j = 0; j < 5; j++) {
+				const double q = prsm_dist_quantile(&v[j].dist, u[i * 5 + j]);
+				assert_memory_equal(&r.x[(b * 256 + i) * 5 + j], &q, sizeof q);
+			}
+	}
+	prsm_mc_result_free(&r);
+
+	const prsm_mc_correlation corr[2] = {{0, 1, 0.6}, {2, 4, -0.3}};
+	for (int s = 0; s < 2; s++) {
+		prsm_mc_result sr[2];
+		for (int t = 0; t < 2; t++) {
+			o.threads = t ? 3 : 1;
+			o.sampler = s ? PRSM_SAMPLER_SOBOL : PRSM_SAMPLER_RANDOM;
+			assert_int_equal(prsm_mc_run_saltelli(&sr[t], &mdl, v, 5, 3, corr, 2, &o, &err), 0);
+			assert_int_equal(sr[t].n, 700);
+		}
+		assert_true(same_bits(sr[0].ys, sr[1].ys, 2 * 5 * 700));
+		assert_memory_equal(sr[0].status, sr[1].status, 700);
+		/* the mixed row of group 0 (variables 0 and 2) is A with those two from B: its y0 is
+		 * y0(A) - x0(A) - x2(A) + x0(B) + x2(B), so it differs from both A and B */
+		assert_false(same_bits(sr[0].ys + 2 * 700, sr[0].ys, 700));
+		assert_false(same_bits(sr[0].ys + 2 * 700, sr[0].ys + 700, 700));
+		for (int t = 0; t < 2; t++)
+			prsm_mc_result_free(&sr[t]);
+	}
+}
+
 /* A run split into two block ranges and concatenated is the full run, bit for bit, and so are
  * the statistics computed from it. */
 static void test_split_runs(void **state)
@@ -499,6 +570,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_determinism_threads),
 		cmocka_unit_test(test_split_runs),
+		cmocka_unit_test(test_inputs_are_quantiles),
 		cmocka_unit_test(test_lhs_stratified),
 		cmocka_unit_test(test_sobol_blocks),
 		cmocka_unit_test(test_failure_policy),

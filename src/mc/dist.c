@@ -140,12 +140,9 @@ static const double as241_tail_den[8] = {1.0, 0.59983220655588793769, 0.13692988
                                           1.8463183175100546818e-5, 1.4215117583164458887e-7,
                                           2.04426310338993978564e-15};
 
-double prsm_normal_quantile(double p)
+/* p in (0, 1) */
+static inline double normal_quantile_open(double p)
 {
-	if (p == 1.0)
-		return INFINITY;
-	if (p == 0.0)
-		return -INFINITY;
 	const double q = p - 0.5;
 	if (fabs(q) <= 0.425) {
 		const double r = 0.180625 - q * q;
@@ -161,6 +158,15 @@ double prsm_normal_quantile(double p)
 		x = HORNER8(as241_tail_num, t) / HORNER8(as241_tail_den, t);
 	}
 	return p < 0.5 ? -x : x;
+}
+
+double prsm_normal_quantile(double p)
+{
+	if (p == 1.0)
+		return INFINITY;
+	if (p == 0.0)
+		return -INFINITY;
+	return normal_quantile_open(p);
 }
 
 /* Standard-unit quantile of the window for u in (0, 1). The tail probability is formed from
@@ -712,6 +718,39 @@ int prsm_dist_check(const prsm_dist *d, char *msg, size_t msg_size)
 static double clamp(double x, double lo, double hi)
 {
 	return x < lo ? lo : (x > hi ? hi : x);
+}
+
+/* The batch form of prsm_dist_quantile (dist.h): the kind's case once per column, the same
+ * expressions per value (normal and uniform inlined), so the same doubles. */
+void prsm_dist_quantile_n(const prsm_dist *d, const double *u, size_t u_stride, double *x, size_t x_stride,
+                          size_t n)
+{
+	assert(d != NULL);
+	const double *p = d->p;
+	switch (d->kind) {
+	case PRSM_DIST_NORMAL:
+		for (size_t k = 0; k < n; k++) {
+			const double v = u[k * u_stride];
+			x[k * x_stride] = isnan(v) ? NAN
+			                : v <= 0.0 ? -INFINITY
+			                : v >= 1.0 ? INFINITY
+			                           : p[0] + p[1] * normal_quantile_open(v);
+		}
+		return;
+	case PRSM_DIST_UNIFORM:
+		for (size_t k = 0; k < n; k++) {
+			const double v = u[k * u_stride];
+			x[k * x_stride] = isnan(v) ? NAN
+			                : v <= 0.0 ? p[0]
+			                : v >= 1.0 ? p[1]
+			                           : clamp(p[0] + v * (p[1] - p[0]), p[0], p[1]);
+		}
+		return;
+	default:
+		for (size_t k = 0; k < n; k++)
+			x[k * x_stride] = prsm_dist_quantile(d, u[k * u_stride]);
+		return;
+	}
 }
 
 double prsm_dist_quantile(const prsm_dist *d, double u)

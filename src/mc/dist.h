@@ -121,6 +121,11 @@ double prsm_normal_quantile(double p);
  * [lower, upper]). u <= 0 and u >= 1 give the ends of the support (possibly infinite). */
 double prsm_dist_quantile(const prsm_dist *d, double u);
 
+/* x[k x_stride] = prsm_dist_quantile(d, u[k u_stride]) for k < n, the same doubles: the
+ * engine's block of samples, one variable's column at a time (u and x may be the same array). */
+void prsm_dist_quantile_n(const prsm_dist *d, const double *u, size_t u_stride, double *x, size_t x_stride,
+                          size_t n);
+
 /* P(X <= x), in [0, 1]. */
 double prsm_dist_cdf(const prsm_dist *d, double x);
 

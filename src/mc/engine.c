@@ -2,7 +2,8 @@
  * engine.c: blocks, streams, samplers, worker threads and stop rules of the Monte Carlo
  * engine (DESIGN.md, "Monte Carlo engine"). See engine.h for the guarantees.
  *
- * Threading: the calling thread starts `threads` workers and then only merges. Workers take
+ * Threading: the calling thread starts `threads` workers and then only merges (with one worker
+ * it runs the blocks itself, in order: no thread to start or hand blocks to). Workers take
  * block indices from a shared counter and write their samples into the block's own slots; the
  * calling thread merges the per-block moments in block order as the completed prefix grows,
  * checks the stop rules on that prefix and lowers `stop_blocks` when the run should end.
@@ -12,6 +13,7 @@
 #include "mc/engine.h"
 
 #include <float.h>
+#include <stddef.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdlib.h>
@@ -26,6 +28,7 @@
 #include "mc/sobol.h"
 #include "mc/stats.h"
 #include "util/clock.h"
+#include "util/mem.h"
 #include "util/rng.h"
 
 /* Stream key of the Sobol scramble (matrices and digital shift): far from any block index. */
@@ -253,7 +256,6 @@ typedef struct {
 	const prsm_mc_variable *vars;
 	size_t d, m, dim, n_groups;
 	int saltelli;
-	copula cop;
 	const prsm_mc_options *o;
 	size_t block_size, first_block, n_blocks; /* blocks of this run */
 	size_t first_row, n_rows;                 /* global index of row 0, rows of this run */
@@ -262,11 +264,24 @@ typedef struct {
 	unsigned char *block_done;
 	prsm_moments *block_mom;                  /* n_blocks x n_targets */
 	size_t *block_in;                         /* n_blocks x n_targets: in-spec counts */
+	size_t *group_vars;                       /* Saltelli: the variables of group g are */
+	size_t *group_start;                      /* group_vars[group_start[g] .. group_start[g + 1]) */
 	pthread_mutex_t mu;
 	pthread_cond_t cv;
 	size_t next_block;                        /* next block a worker takes (run-relative) */
 	size_t stop_blocks;                       /* blocks at or beyond are not run/kept */
+	copula cop;                               /* last: its 128 KiB factor is not cleared (run_ctx_alloc) */
 } run_ctx;
+
+/* A cleared run_ctx but for its copula's factor, of which copula_init writes and copula_apply
+ * reads only the k x k corner: clearing it all (calloc) cost 128 KiB of memset per run. */
+static run_ctx *run_ctx_alloc(void)
+{
+	run_ctx *c = malloc(sizeof *c);
+	if (c)
+		memset(c, 0, offsetof(run_ctx, cop) + offsetof(copula, L));
+	return c;
+}
 
 typedef struct {
 	run_ctx *rc;
@@ -275,7 +290,6 @@ typedef struct {
 	double *u;                                /* block_size x dim */
 	size_t *perm;                             /* block_size */
 	double *xrow;                             /* d (Saltelli mixed row) */
-	double *xa, *xb;                          /* d each (Saltelli) */
 	double *y;                                /* m */
 	pthread_t thread;
 	int started;
@@ -290,23 +304,29 @@ static size_t block_rows(const run_ctx *rc, size_t b)
 	return end - start;
 }
 
-static void to_inputs(const run_ctx *rc, double *x, double *u)
+/* The inputs of nb rows of uniforms u (row stride dim, the row's variables from column c0 on)
+ * into x (row stride x_stride; x may be u + c0 with x_stride dim): each row's copula, then the
+ * quantiles a variable's column at a time (prsm_dist_quantile_n: the same doubles as one
+ * prsm_dist_quantile per value). */
+static void to_inputs_block(const run_ctx *rc, double *x, size_t x_stride, double *u, size_t c0, size_t nb)
 {
-	copula_apply(&rc->cop, u);
+	if (rc->cop.k > 0)
+		for (size_t r = 0; r < nb; r++)
+			copula_apply(&rc->cop, u + r * rc->dim + c0);
 	for (size_t i = 0; i < rc->d; i++)
-		x[i] = prsm_dist_quantile(&rc->vars[i].dist, u[i]);
+		prsm_dist_quantile_n(&rc->vars[i].dist, u + c0 + i, rc->dim, x + i, x_stride, nb);
 }
 
 /* Evaluate one sample: returns PRSM_SAMPLE_* and the model's code. */
-static int eval_one(worker *w, const double *x, double *y, int *code)
+static inline int eval_one(const prsm_mc_model *mdl, void *ws, const double *x, double *y, int *code)
 {
-	const prsm_mc_model *mdl = w->rc->model;
+	const size_t m = mdl->n_outputs;
 	unsigned flags = 0;
-	int rc = mdl->eval(y, &flags, mdl->ctx, w->ws, x);
+	int rc = mdl->eval(y, &flags, mdl->ctx, ws, x);
 	*code = rc;
 	if (rc)
 		return PRSM_SAMPLE_FAILED;
-	for (size_t o = 0; o < mdl->n_outputs; o++)
+	for (size_t o = 0; o < m; o++)
 		if (!isfinite(y[o])) {
 			*code = PRSM_ENOCONVERGE;
 			return PRSM_SAMPLE_FAILED;
@@ -314,16 +334,12 @@ static int eval_one(worker *w, const double *x, double *y, int *code)
 	return (flags & PRSM_MC_FLAG_EDGE) ? PRSM_SAMPLE_EDGE : PRSM_SAMPLE_OK;
 }
 
-int prsm_mc_sample_kept(const prsm_mc_options *o, int status)
-{
-	return status == PRSM_SAMPLE_OK || (status == PRSM_SAMPLE_EDGE && o->edge == PRSM_EDGE_INCLUDE);
-}
-
 static void run_block(worker *w, size_t b)
 {
 	run_ctx *rc = w->rc;
 	prsm_mc_result *res = rc->res;
 	const prsm_mc_options *o = rc->o;
+	const prsm_mc_model *mdl = rc->model;
 	size_t nb = block_rows(rc, b);
 	size_t row0 = b * rc->block_size;            /* run-relative */
 	size_t gb = rc->first_block + b;             /* global block index */
@@ -333,15 +349,17 @@ static void run_block(worker *w, size_t b)
 		prsm_moments_init(&rc->block_mom[b * (size_t)o->n_targets + (size_t)t]);
 		rc->block_in[b * (size_t)o->n_targets + (size_t)t] = 0;
 	}
-	for (size_t i = 0; i < nb; i++) {
-		size_t r = row0 + i;
-		double *u = w->u + i * rc->dim;
-		int code = 0, st;
-		if (!rc->saltelli) {
-			double *x = res->x + r * d;
+	if (!rc->saltelli) {
+		/* the block's inputs straight into the result: its rows are one range, faulted in at once */
+		double *xb = res->x + row0 * d;
+		prsm_mem_populate(xb, nb * d * sizeof *xb);
+		to_inputs_block(rc, xb, d, w->u, 0, nb);
+		for (size_t i = 0; i < nb; i++) {
+			size_t r = row0 + i;
+			int code = 0;
+			double *x = xb + i * d;
 			double *y = res->y + r * m;
-			to_inputs(rc, x, u);
-			st = eval_one(w, x, y, &code);
+			int st = eval_one(mdl, w->ws, x, y, &code);
 			if (st == PRSM_SAMPLE_FAILED)
 				for (size_t k = 0; k < m; k++)
 					y[k] = NAN;
@@ -354,25 +372,38 @@ static void run_block(worker *w, size_t b)
 					if ((!tg->has_lower || v >= tg->lower) && (!tg->has_upper || v <= tg->upper))
 						rc->block_in[q]++;
 				}
-		} else {
-			/* A = u[0..d), B = u[d..2d); rows A, B, then A with group g from B */
-			size_t G = rc->n_groups, n = rc->n_rows;
-			to_inputs(rc, w->xa, u);
-			to_inputs(rc, w->xb, u + d);
-			st = PRSM_SAMPLE_OK;
-			for (size_t k = 0; k < G + 2 && st != PRSM_SAMPLE_FAILED; k++) {
-				const double *x = k == 0 ? w->xa : (k == 1 ? w->xb : w->xrow);
-				if (k >= 2)
-					for (size_t v = 0; v < d; v++)
-						w->xrow[v] = (size_t)rc->vars[v].group == k - 2 ? w->xb[v] : w->xa[v];
-				int s1 = eval_one(w, x, w->y, &code);
-				if (s1 == PRSM_SAMPLE_FAILED)
-					st = s1;
-				else if (s1 == PRSM_SAMPLE_EDGE)
-					st = s1;
-				for (size_t oo = 0; oo < m; oo++)
-					res->ys[(oo * (G + 2) + k) * n + r] = s1 == PRSM_SAMPLE_FAILED ? NAN : w->y[oo];
+			res->status[r] = (unsigned char)st;
+			res->fail_code[r] = code;
+		}
+		return;
+	}
+	/* Saltelli: A = u[0..d), B = u[d..2d) of each row, their inputs in place; rows A, B, then A
+	 * with group g's columns from B (the mixed row starts as A; group g's variables are set from
+	 * B for its evaluation and back from A after it) */
+	const size_t dim = rc->dim, G = rc->n_groups, K = G + 2, n = rc->n_rows;
+	to_inputs_block(rc, w->u, dim, w->u, 0, nb);
+	to_inputs_block(rc, w->u + d, dim, w->u, d, nb);
+	for (size_t i = 0; i < nb; i++) {
+		size_t r = row0 + i;
+		const double *xa = w->u + i * dim, *xb = xa + d;
+		int code = 0, st = PRSM_SAMPLE_OK;
+		memcpy(w->xrow, xa, d * sizeof *xa);
+		for (size_t k = 0; k < K && st != PRSM_SAMPLE_FAILED; k++) {
+			const double *x = k == 0 ? xa : (k == 1 ? xb : w->xrow);
+			const size_t *gv = NULL, *ge = NULL;
+			if (k >= 2) {
+				gv = rc->group_vars + rc->group_start[k - 2];
+				ge = rc->group_vars + rc->group_start[k - 1];
+				for (const size_t *v = gv; v < ge; v++)
+					w->xrow[*v] = xb[*v];
 			}
+			int s1 = eval_one(mdl, w->ws, x, w->y, &code);
+			if (s1 == PRSM_SAMPLE_FAILED || s1 == PRSM_SAMPLE_EDGE)
+				st = s1;
+			for (size_t oo = 0; oo < m; oo++)
+				res->ys[(oo * K + k) * n + r] = s1 == PRSM_SAMPLE_FAILED ? NAN : w->y[oo];
+			for (const size_t *v = gv; v < ge; v++)
+				w->xrow[*v] = xa[*v];
 		}
 		res->status[r] = (unsigned char)st;
 		res->fail_code[r] = code;
@@ -409,8 +440,6 @@ static void worker_free(worker *w)
 	free(w->u);
 	free(w->perm);
 	free(w->xrow);
-	free(w->xa);
-	free(w->xb);
 	free(w->y);
 }
 
@@ -427,10 +456,8 @@ static int worker_init(worker *w, run_ctx *rc, prsm_sampler_kind kind)
 	w->u = malloc(rc->block_size * rc->dim * sizeof *w->u);
 	w->perm = malloc(rc->block_size * sizeof *w->perm);
 	w->xrow = malloc(rc->d * sizeof *w->xrow);
-	w->xa = malloc(rc->d * sizeof *w->xa);
-	w->xb = malloc(rc->d * sizeof *w->xb);
 	w->y = malloc((rc->m ? rc->m : 1) * sizeof *w->y);
-	if (!w->u || !w->perm || !w->xrow || !w->xa || !w->xb || !w->y)
+	if (!w->u || !w->perm || !w->xrow || !w->y)
 		return PRSM_ENOMEM;
 	return 0;
 }
@@ -704,7 +731,7 @@ int prsm_mc_run_check(const prsm_mc_model *model, const prsm_mc_variable *vars, 
                       const prsm_mc_correlation *corr, size_t n_corr, const prsm_mc_options *o,
                       prsm_error *err)
 {
-	run_ctx *c = calloc(1, sizeof *c);
+	run_ctx *c = run_ctx_alloc();
 	if (!c)
 		return prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
 	double stored;
@@ -712,6 +739,20 @@ int prsm_mc_run_check(const prsm_mc_model *model, const prsm_mc_variable *vars, 
 	int rc = plan(c, &stored, &split, model, vars, d, 0, 0, corr, n_corr, o, err);
 	free(c);
 	return rc;
+}
+
+/* Keep the merged prefix pf of the run in out. */
+static void finish_prefix(prsm_mc_result *out, const run_ctx *c, const prsm_mc_prefix *pf, const prsm_mc_options *o,
+                          int saltelli, size_t n_groups, size_t m)
+{
+	const size_t prefix_rows = pf->rows;
+	prsm_mc_prefix_finish(out, pf, o, out->stop);
+	if (saltelli && prefix_rows < c->n_rows) {
+		/* compact [o][k][j] to the kept rows */
+		size_t K = n_groups + 2;
+		for (size_t q = 1; q < m * K; q++)
+			memmove(out->ys + q * prefix_rows, out->ys + q * c->n_rows, prefix_rows * sizeof *out->ys);
+	}
 }
 
 /* Shared body of the two runs. */
@@ -722,7 +763,7 @@ static int run(prsm_mc_result *out, const prsm_mc_model *model, const prsm_mc_va
 	double t0 = prsm_clock_seconds();
 	size_t m = model->n_outputs;
 	memset(out, 0, sizeof *out);
-	run_ctx *c = calloc(1, sizeof *c);
+	run_ctx *c = run_ctx_alloc();
 	worker *ws = NULL;
 	int nthreads = 0;
 	if (!c)
@@ -759,6 +800,25 @@ static int run(prsm_mc_result *out, const prsm_mc_model *model, const prsm_mc_va
 		goto cleanup;
 	}
 	memset(out->status, PRSM_SAMPLE_UNRUN, c->n_rows);
+	if (saltelli) {
+		/* every row is written (a Saltelli run has no target to stop it early): fault its pages
+		 * in at once */
+		prsm_mem_populate(out->ys, (size_t)stored * sizeof *out->ys);
+		c->group_vars = malloc(d * sizeof *c->group_vars);
+		c->group_start = malloc((n_groups + 1) * sizeof *c->group_start);
+		if (!c->group_vars || !c->group_start) {
+			rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
+			goto cleanup;
+		}
+		size_t q = 0;
+		for (size_t g = 0; g < n_groups; g++) {
+			c->group_start[g] = q;
+			for (size_t v = 0; v < d; v++)
+				if ((size_t)vars[v].group == g)
+					c->group_vars[q++] = v;
+		}
+		c->group_start[n_groups] = q;
+	}
 	c->res = out;
 	c->stop_blocks = c->n_blocks;
 	pthread_mutex_init(&c->mu, NULL);
@@ -780,6 +840,45 @@ static int run(prsm_mc_result *out, const prsm_mc_model *model, const prsm_mc_va
 			rc = prsm_error_set(err, r, NULL, "cannot set up a worker (%s)", prsm_error_name(r));
 			goto destroy;
 		}
+	}
+	if (want == 1) {
+		/* one worker: the calling thread runs the blocks itself, in order, merging each as it
+		 * ends (the same blocks and merge as with threads, so the same result). Cancel and the
+		 * time cap are looked at as each block ends: either drops that block and stops, as the
+		 * threads' merge loop drops the block it was waiting for */
+		prsm_mc_prefix pf;
+		prsm_mc_prefix_init(&pf);
+		out->stop = PRSM_STOP_SAMPLE_CAP;
+		double last_progress = -1.0;
+		for (size_t b = 0; b < c->stop_blocks; b++) {
+			run_block(&ws[0], b);
+			const double now = prsm_clock_seconds();
+			if (prsm_cancel_requested(o->cancel)) {
+				out->stop = PRSM_STOP_CANCELLED;
+				break;
+			}
+			if (o->time_cap_s > 0.0 && now - t0 > o->time_cap_s) {
+				out->stop = PRSM_STOP_TIME_CAP;
+				break;
+			}
+			size_t nb = block_rows(c, b);
+			size_t r0 = b * c->block_size;
+			int code = 0;
+			if (prefix_merge(&pf, o, &c->block_mom[b * nt], &c->block_in[b * nt], out->status + r0,
+			                 out->fail_code + r0, nb, c->first_row + r0, nt && !split && b + 1 < c->stop_blocks,
+			                 &out->stop, &code, err)) {
+				rc = code;
+				break;
+			}
+			if (o->progress && b + 1 < c->stop_blocks && now - last_progress >= 0.2) {
+				last_progress = now;
+				report_progress(o, pf.rows, c->n_rows, pf.mom, pf.in, split ? 0 : nt);
+			}
+		}
+		if (o->progress)
+			report_progress(o, pf.rows, c->n_rows, pf.mom, pf.in, split ? 0 : nt);
+		finish_prefix(out, c, &pf, o, saltelli, n_groups, m);
+		goto destroy;
 	}
 	pthread_mutex_lock(&c->mu);
 	for (int t = 0; t < want; t++)
@@ -842,15 +941,7 @@ static int run(prsm_mc_result *out, const prsm_mc_model *model, const prsm_mc_va
 	if (o->progress)
 		report_progress(o, pf.rows, c->n_rows, pf.mom, pf.in, split ? 0 : nt);
 
-	/* keep the prefix */
-	const size_t prefix_rows = pf.rows;
-	prsm_mc_prefix_finish(out, &pf, o, out->stop);
-	if (saltelli && prefix_rows < c->n_rows) {
-		/* compact [o][k][j] to the kept rows */
-		size_t K = n_groups + 2;
-		for (size_t q = 1; q < m * K; q++)
-			memmove(out->ys + q * prefix_rows, out->ys + q * c->n_rows, prefix_rows * sizeof *out->ys);
-	}
+	finish_prefix(out, c, &pf, o, saltelli, n_groups, m);
 
 destroy:
 	for (int t = 0; t < nthreads; t++)
@@ -863,6 +954,8 @@ cleanup:
 		free(c->block_done);
 		free(c->block_mom);
 		free(c->block_in);
+		free(c->group_vars);
+		free(c->group_start);
 	}
 	free(c);
 	out->elapsed_s = prsm_clock_seconds() - t0;

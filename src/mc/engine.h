@@ -207,8 +207,12 @@ void prsm_mc_prefix_progress(const prsm_mc_prefix *p, const prsm_mc_options *o, 
 void prsm_mc_prefix_finish(prsm_mc_result *out, const prsm_mc_prefix *p, const prsm_mc_options *o,
                            prsm_stop_reason stop);
 
-/* 1 when a sample of this status enters the statistics under o's edge policy. */
-int prsm_mc_sample_kept(const prsm_mc_options *o, int status);
+/* 1 when a sample of this status enters the statistics under o's edge policy (inline: the
+ * study's loops over every Saltelli evaluation ask it). */
+static inline int prsm_mc_sample_kept(const prsm_mc_options *o, int status)
+{
+	return status == PRSM_SAMPLE_OK || (status == PRSM_SAMPLE_EDGE && o->edge == PRSM_EDGE_INCLUDE);
+}
 
 /* Check correlations as the runs will: valid pairs, |rho| < 1, a positive definite matrix.
  * Returns 0 or PRSM_EINVAL with err saying which. */

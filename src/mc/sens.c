@@ -322,17 +322,15 @@ int prsm_sens_sobol_replicated(prsm_sobol_index *out, double *variance_out, cons
 		return rc;
 	double *first = malloc(d * sizeof *first), *total = malloc(d * sizeof *total);
 	double *rep = malloc(2 * d * R * sizeof *rep); /* rep[(2 i) R + r] first, [(2 i + 1) R + r] total */
-	size_t *rows = malloc(n * sizeof *rows);
-	if (!first || !total || !rep || !rows) {
+	if (!first || !total || !rep) {
 		rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory for %zu Sobol' replicates", R);
 		goto cleanup;
 	}
-	for (size_t j = 0; j < n; j++)
-		rows[j] = j;
 	for (size_t r = 0; r < R; r++) {
+		/* replicate r's rows lo .. rep_end[r] - 1: its own columns' ranges, in row order */
 		const size_t lo = r ? rep_end[r - 1] : 0;
 		double V;
-		sobol_estimate(first, total, &V, yA, yB, yAB, rep_end[r] - lo, n, d, rows + lo);
+		sobol_estimate(first, total, &V, yA + lo, yB + lo, yAB + lo, rep_end[r] - lo, n, d, NULL);
 		for (size_t i = 0; i < d; i++) {
 			rep[(2 * i) * R + r] = first[i];
 			rep[(2 * i + 1) * R + r] = total[i];
@@ -359,6 +357,5 @@ cleanup:
 	free(first);
 	free(total);
 	free(rep);
-	free(rows);
 	return rc;
 }

@@ -48,10 +48,16 @@ static void scramble_lms(uint32_t *V, gsl_rng *rng)
 		uint32_t above = (uint32_t) ~(diag | (diag - 1u));  /* the r more significant bits */
 		row[r] = ((uint32_t)gsl_rng_get(rng) & above) | diag;
 	}
+	/* digit r of the scrambled V[i] is parity(row[r] & V[i]), the sum over GF(2) of column b of
+	 * the matrix for each set bit b of V[i]: col[b] holds column b (bit 31 - r = bit b of row[r]) */
+	uint32_t col[PRSM_SOBOL_BITS] = {0};
+	for (unsigned r = 0; r < PRSM_SOBOL_BITS; r++)
+		for (uint32_t bits = row[r]; bits; bits &= bits - 1u)
+			col[__builtin_ctz(bits)] |= UINT32_C(1) << (PRSM_SOBOL_BITS - 1 - r);
 	for (unsigned i = 0; i < PRSM_SOBOL_BITS; i++) {
 		uint32_t y = 0;
-		for (unsigned r = 0; r < PRSM_SOBOL_BITS; r++)
-			y |= (uint32_t)__builtin_parity(row[r] & V[i]) << (PRSM_SOBOL_BITS - 1 - r);
+		for (uint32_t bits = V[i]; bits; bits &= bits - 1u)
+			y ^= col[__builtin_ctz(bits)];
 		V[i] = y;
 	}
 }
@@ -139,7 +145,8 @@ static void point_double(const prsm_sobol_seq *s, double *u)
 {
 	for (size_t j = 0; j < s->dim; j++) {
 		uint64_t k = ((uint64_t)s->x[j] << SHIFT_LOW_BITS) ^ s->shift[j];
-		u[j] = ((double)k + 0.5) * 0x1p-52;     /* exact: k < 2^52 */
+		u[j] = ((double)(int64_t)k + 0.5) * 0x1p-52; /* exact: k < 2^52 (the signed conversion is
+		                                                 the cheaper, and the same double) */
 	}
 }
 

@@ -18,6 +18,7 @@
 #include <string.h>
 
 #include "util/clock.h"
+#include "util/mem.h"
 #include "util/rng.h"
 
 /* The Saltelli run's streams start here, so its blocks never reuse the plain run's. */
@@ -360,6 +361,7 @@ static int sobol(prsm_study_result *r, const prsm_study *s, const prsm_study_run
 	 * of nk once every replicate has run. Holding every replicate until the end and copying
 	 * then touched twice the memory, a page fault per 4 KiB. */
 	double *buf = malloc((m * K * N > 0 ? m * K * N : 1) * sizeof *buf);
+	prsm_mem_populate(buf, m * K * N * sizeof *buf); /* written in full: its pages at once */
 	size_t *kept_end = calloc(R, sizeof *kept_end);
 	prsm_sobol_index *idx = malloc(G * sizeof *idx);
 	gsl_rng *rng = prsm_rng_alloc(s->mc.seed, SALTELLI_STREAM_OFFSET - 1);

@@ -113,6 +113,24 @@ void prsm_rng_fill_uniform_pos(gsl_rng *r, double *u, size_t n)
 	assert(r != NULL && r->type == prsm_rng_philox);
 	prsm_rng_state *st = r->state;
 	size_t i = 0;
+	/* whole blocks while at a block boundary: the four numbers of a fresh block straight from
+	 * its words (as the loop below reads them), the state left as after reading it all; a block
+	 * with a zero number goes to the loop below, which redraws it */
+	while (st->next_word == PRSM_RNG_WORDS_PER_BLOCK && n - i >= 4) {
+		rng_refill(st);
+		uint64_t k[4];
+		for (int j = 0; j < 4; j++) {
+			const uint64_t v = st->block[j];
+			k[j] = ((v << 32) | (v >> 32)) >> 11;
+		}
+		if (k[0] == 0 || k[1] == 0 || k[2] == 0 || k[3] == 0)
+			break;
+		for (int j = 0; j < 4; j++)
+			u[i + (size_t)j] = (double)(int64_t)k[j] * 0x1p-53; /* k < 2^53: the same double, by the
+			                                                        cheaper signed conversion */
+		i += 4;
+		st->next_word = PRSM_RNG_WORDS_PER_BLOCK;
+	}
 	while (i < n) {
 		/* a spent block is refilled here, as rng_next_word would, without the library's
 		 * dispatch for every fourth number */
