@@ -1747,11 +1747,11 @@ ALL_DESIGN = [c["const"] for c in schemas["study.schema.json"]["$defs"]["design_
               if c["const"] not in ("ring_gear.mesh_error_um", "ring_gear.backlash_um", "damping_ratio")]
 # the outputs of the static model (the dynamic ones, issue 17 item 4, need a dynamics section)
 DYNAMIC_OUTPUTS = ["peak_dynamic_te_um", "peak_thread_force_N", "axial_vibration_rms_m_s2", "contact_loss",
-                   "mesh_force_peak_N", "regime", "integrated"]
+                   "mesh_force_peak_N", "regime", "integrated", "lyapunov_max"]
 DYNAMIC_PARAMETERS = ["ring_gear.mesh_error_um", "ring_gear.backlash_um", "damping_ratio"]
 ALL_OUTPUTS = [c["const"] for c in schemas["study.schema.json"]["$defs"]["output_name"]["oneOf"]
                if c["const"] not in ("peak_dynamic_te_um", "peak_thread_force_N", "axial_vibration_rms_m_s2",
-                                     "contact_loss", "mesh_force_peak_N", "regime", "integrated")] + ["y"]
+                                     "contact_loss", "mesh_force_peak_N", "regime", "integrated", "lyapunov_max")] + ["y"]
 PER_ROLLER = ["roller.pitch_radius_um", "roller.thickness_um", "roller.arc_radius_um", "roller.pin_radial_um",
               "roller.pin_tangential_um", "roller.gear_phase_mrad", "roller.tilt_radial_mrad",
               "roller.tilt_tangential_mrad"]

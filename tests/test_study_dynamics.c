@@ -250,6 +250,58 @@ static void test_threads_identical(void **state)
 	free(s);
 }
 
+/* (f) lyapunov_max as a study output (§8.6): on screened case-A samples the axial mode decides,
+ * -zeta_a omega_a with omega_a = sqrt(k_a / m_a), k_a the sample's nut unit stiffness (an output
+ * of its own) and zeta_a its damping ratio (an input): lyapunov_max / (zeta sqrt(k_a)) is
+ * -1 / sqrt(m_a), the same for every sample up to the roundings of k_a's unit conversions
+ * (some 1e-15; 1e-12 asserted). An integrated sample's (Benettin) is checked in test_vib_mc. */
+static void test_lyapunov_output(void **state)
+{
+	(void)state;
+	cJSON *doc = doc_base(32, 6.0); /* below the contact-loss threshold: (nearly) all screened */
+	cJSON *outs = cJSON_GetObjectItemCaseSensitive(doc, "outputs");
+	cJSON_AddItemToArray(outs, cJSON_CreateString("lyapunov_max"));
+	cJSON_AddItemToArray(outs, cJSON_CreateString("nut_unit_stiffness_N_per_um"));
+	prsm_problems pr;
+	prsm_io_study *s = load_doc(doc, &pr);
+	cJSON_Delete(doc);
+	assert_non_null(s);
+	prsm_study_result r;
+	run_study(&r, s, 1);
+	const size_t n = r.run.n, d = s->study.d, m = s->study.m;
+	const int ly = output_of(s, "lyapunov_max"), ok = output_of(s, "nut_unit_stiffness_N_per_um"),
+	          oi = output_of(s, "integrated");
+	assert_true(ly >= 0 && ok >= 0 && oi >= 0);
+	size_t iz = d;
+	for (size_t i = 0; i < d; i++)
+		if (strcmp(s->study.info[i].name, "damping_ratio") == 0)
+			iz = i;
+	assert_true(iz < d);
+	double c0 = NAN;
+	int screened = 0, integrated = 0;
+	for (size_t j = 0; j < n; j++) {
+		if (r.run.status[j] != PRSM_SAMPLE_OK)
+			continue;
+		const double *y = r.run.y + j * m, zeta = r.run.x[j * d + iz];
+		assert_true(isfinite(y[ly]));
+		if (y[oi] != 0.0) {
+			integrated++;
+			continue;
+		}
+		const double cj = y[ly] / (zeta * sqrt(y[ok] * 1e6));
+		if (isnan(c0))
+			c0 = cj;
+		assert_close(cj, c0, 1e-12 * fabs(c0));
+		screened++;
+	}
+	print_message("%d screened samples: lyapunov_max / (zeta sqrt(k_a)) = %.12g kg^-1/2 (m_a %.6g kg); %d "
+	              "integrated\n", screened, c0, 1.0 / (c0 * c0), integrated);
+	assert_true(screened >= 8);
+	assert_true(c0 < 0.0);
+	prsm_study_result_free(&r);
+	free(s);
+}
+
 /* (e) the refusals at their pointers */
 static void test_refusals(void **state)
 {
@@ -320,6 +372,7 @@ int main(void)
 		cmocka_unit_test(test_wilson),
 		cmocka_unit_test(test_refusals),
 		cmocka_unit_test(test_threads_identical),
+		cmocka_unit_test(test_lyapunov_output),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -19,8 +19,8 @@
 #include "io/design_json.h"
 #include "io/global.h"
 
-/* case A, V5's operating point, the V5 lines (orders at k_c) */
-static prsm_vib_model *model(double load_N)
+/* case A, V5's operating point, the V5 lines (orders at k_c); k_d / k_s = ratio (0: the default) */
+static prsm_vib_model *model_ratio(double load_N, double ratio)
 {
 	prsm_dyn_options dopt;
 	prsm_dyn_options_init(&dopt);
@@ -29,6 +29,8 @@ static prsm_vib_model *model(double load_N)
 	prsm_vib_options vo;
 	prsm_vib_options_init(&vo);
 	vo.screw_speed_rad_s = 330.0;
+	if (ratio > 0.0)
+		vo.double_to_single_stiffness = ratio;
 	const double ord[5] = {1.0, 1.875, 0.625, 3.75, 0.375}, amp[5] = {1.84, 0.443, 0.260, 0.181, 0.141};
 	vo.te_source = PRSM_VIB_TE_LINES;
 	vo.te_lines = 5;
@@ -45,6 +47,11 @@ static prsm_vib_model *model(double load_N)
 		fail();
 	}
 	return m;
+}
+
+static prsm_vib_model *model(double load_N)
+{
+	return model_ratio(load_N, 0.0);
 }
 
 static void apply(prsm_vib_model *m, double mesh_error_um, double zeta)
@@ -182,6 +189,193 @@ static void test_axial_single_line(void **state)
 	prsm_vib_model_free(m);
 }
 
+/* xorshift64*: a fixed stream of uniform numbers in [0, 1) */
+static double uni(unsigned long long *x)
+{
+	*x ^= *x >> 12;
+	*x ^= *x << 25;
+	*x ^= *x >> 27;
+	return (double)((*x * 2685821657736338717ULL) >> 11) * 0x1.0p-53;
+}
+
+#define SAME(a, b, what, i)                                                                         \
+	do {                                                                                      \
+		if (memcmp(&(a), &(b), sizeof(a)) != 0) {                                         \
+			print_error("sample %d: %s %.17g (fast) against %.17g (reference)\n", i, what,  \
+			            (double)(a), (double)(b));                                    \
+			fail();                                                                   \
+		}                                                                                 \
+	} while (0)
+
+/* The screen's fast loops against its reference loops (o.reference) over random high-entropy
+ * samples: every input the sample sets drawn (stiffness, play, five TE lines of random order,
+ * amplitude and phase, gear backlash, mesh error up to past the contact-loss threshold, damping
+ * ratios), and every output and the state at t = 0 compared bit for bit. The fast loops do the
+ * same floating-point operations in the same order (real arithmetic for the complex products,
+ * comparisons for fmin / fmax, a heap for the sort; their bound only evaluates more points), so
+ * the tolerance is zero (docs/vibration.md, "Speed of the screen"). */
+static void test_fast_equals_reference(void **state)
+{
+	(void)state;
+	prsm_vib_model *m = model(7000.0);
+	const prsm_vib_params *P = prsm_vib_model_params(m);
+	const double k0 = P->axial_stiffness_N_per_m, b0 = P->axial_half_play_m;
+	unsigned long long x = 0x9e3779b97f4a7c15ULL;
+	int screened = 0, lost = 0;
+	const int n = 48;
+	for (int i = 0; i < n; i++) {
+		prsm_vib_mc_sample s;
+		prsm_vib_mc_sample_init(&s);
+		s.axial_stiffness_N_per_m = k0 * (0.5 + 1.5 * uni(&x));
+		s.axial_half_play_m = b0 * (0.3 + 2.0 * uni(&x));
+		s.gear_half_backlash_m = (1.0 + 9.0 * uni(&x)) * 1e-6;
+		s.mesh_error_m = 14e-6 * uni(&x);
+		s.axial_damping_ratio = 0.02 + 0.06 * uni(&x);
+		s.mesh_damping_ratio = 0.02 + 0.06 * uni(&x);
+		s.te_source = 1;
+		s.te_lines = 5;
+		for (int k = 0; k < 5; k++) {
+			s.te_line[k].order_per_rev = 0.25 + 6.5 * uni(&x);
+			s.te_line[k].amplitude_m = 2.5e-6 * uni(&x);
+			s.te_line[k].phase_rad = 2.0 * M_PI * uni(&x);
+		}
+		s.window_rev = 8.0;
+		prsm_error err = PRSM_ERROR_INIT;
+		assert_int_equal(prsm_vib_mc_apply(m, &s, &err), 0);
+		prsm_vib_mc_options o;
+		prsm_vib_mc_options_init(&o);
+		o.lyapunov_windows = 1;
+		prsm_vib_mc_out fast, ref;
+		double y_fast[PRSM_VIB_STATE_MAX], y_ref[PRSM_VIB_STATE_MAX];
+		memset(y_fast, 0, sizeof y_fast);
+		memset(y_ref, 0, sizeof y_ref);
+		assert_int_equal(prsm_vib_mc_screen(&fast, y_fast, m, &o, &err), 0);
+		o.reference = 1;
+		assert_int_equal(prsm_vib_mc_screen(&ref, y_ref, m, &o, &err), 0);
+		SAME(fast.peak_dynamic_te_m, ref.peak_dynamic_te_m, "peak TE", i);
+		SAME(fast.peak_thread_force_N, ref.peak_thread_force_N, "peak thread force", i);
+		SAME(fast.axial_vibration_rms_m_s2, ref.axial_vibration_rms_m_s2, "RMS acceleration", i);
+		SAME(fast.mesh_force_peak_N, ref.mesh_force_peak_N, "peak mesh force", i);
+		SAME(fast.axial_margin, ref.axial_margin, "axial margin", i);
+		SAME(fast.mesh_margin, ref.mesh_margin, "mesh margin", i);
+		SAME(fast.thread_force_min_N, ref.thread_force_min_N, "min thread force", i);
+		SAME(fast.lyapunov_max_per_s, ref.lyapunov_max_per_s, "largest Lyapunov exponent", i);
+		SAME(fast.lyapunov_gear_per_s, ref.lyapunov_gear_per_s, "gear branch's exponent", i);
+		assert_int_equal(fast.screened, ref.screened);
+		assert_int_equal(fast.regime, ref.regime);
+		assert_memory_equal(y_fast, y_ref, sizeof y_fast);
+		screened += fast.screened;
+		lost += !fast.screened;
+	}
+	print_message("%d samples: %d screened, %d lose contact, fast = reference bit for bit\n", n, screened, lost);
+	/* both kinds of sample were drawn */
+	assert_true(screened > 0 && lost > 0);
+	prsm_vib_model_free(m);
+}
+
+/* §8.6 lyapunov_max of a screened sample against an independent computation: with k_d = k_s the
+ * mesh stiffness is constant, the linear system time-invariant and its Floquet exponents the real
+ * parts of its eigenvalues, which prsm_vib_linearise gets otherwise (second-order form in the
+ * generalised coordinates, every roller on its own, GSL's nonsymmetric eigensolver); the largest
+ * real part of the eigenvalues that are not the rigid carrier angle must match the screen's
+ * exponent (squaring the grouped monodromy, and the 2 x 2 monodromy of each group's antisymmetric
+ * motion). Both take the friction Jacobian by central differences with relative steps near 1e-7,
+ * whose rounding (eps / 1e-7, some 2e-9 of each entry) bounds the agreement: 1e-6 of the
+ * exponent. Then with k_d = 2 k_s, where no eigenvalue problem gives it: the exponent is
+ * negative (the linear sample is stable) and the same for 1 and 2 groups' worth of work,
+ * i.e. reproducible, and an unscreened sample has none. */
+static void test_lyapunov(void **state)
+{
+	(void)state;
+	/* zeta_a = zeta_g, where the axial mode has the largest exponent, and a heavily damped axial
+	 * branch (zeta_a 0.9), where the gear branch's Floquet exponents decide */
+	const double zetas[6] = {0.02, 0.05, 0.08, 0.02, 0.05, 0.08};
+	for (int q = 0; q < 6; q++) {
+		prsm_vib_model *m = model_ratio(7000.0, 1.0);
+		apply(m, 0.0, zetas[q]);
+		if (q >= 3) {
+			prsm_vib_mc_sample s;
+			prsm_vib_mc_sample_init(&s);
+			s.axial_damping_ratio = 0.9;
+			prsm_error e2 = PRSM_ERROR_INIT;
+			assert_int_equal(prsm_vib_mc_apply(m, &s, &e2), 0);
+		}
+		prsm_vib_mc_options o;
+		prsm_vib_mc_options_init(&o);
+		o.lyapunov_windows = 1;
+		prsm_vib_mc_out r;
+		prsm_error err = PRSM_ERROR_INIT;
+		assert_int_equal(prsm_vib_mc_screen(&r, NULL, m, &o, &err), 0);
+		assert_int_equal(r.screened, 1);
+		prsm_vib_linear l;
+		assert_int_equal(prsm_vib_linearise(&l, m, &err), 0);
+		/* the axial pair: the two eigenvalues nearest -zeta_a omega_a -+ i omega_a sqrt(1 - zeta_a^2) */
+		const prsm_vib_params *P = prsm_vib_model_params(m);
+		const double za = P->axial_damping_ratio, wa = P->axial_frequency_rad_s;
+		const double complex la = -za * wa + I * wa * sqrt(1.0 - za * za);
+		int a1 = -1, a2 = -1;
+		for (int k = 0; k < l.eigenvalues; k++) {
+			const double complex ev = l.eig_re[k] + I * fabs(l.eig_im[k]);
+			if (a1 < 0 || cabs(ev - la) < cabs(l.eig_re[a1] + I * fabs(l.eig_im[a1]) - la)) {
+				a2 = a1;
+				a1 = k;
+			} else if (a2 < 0 || cabs(ev - la) < cabs(l.eig_re[a2] + I * fabs(l.eig_im[a2]) - la)) {
+				a2 = k;
+			}
+		}
+		assert_close(l.eig_re[a1], -za * wa, 1e-6 * za * wa);
+		assert_close(l.eig_re[a2], -za * wa, 1e-6 * za * wa);
+		double best = -INFINITY, gear = -INFINITY;
+		for (int k = 0; k < l.eigenvalues; k++)
+			if (l.kind[k] != PRSM_VIB_EIG_RIGID) {
+				best = fmax(best, l.eig_re[k]);
+				if (k != a1 && k != a2)
+					gear = fmax(gear, l.eig_re[k]);
+			}
+		print_message("zeta_a %.2f zeta_g %.2f: lyapunov_max %.10g 1/s, eigenvalues' largest real part %.10g 1/s; "
+		              "gear branch %.10g against %.10g 1/s\n", za, zetas[q], r.lyapunov_max_per_s, best,
+		              r.lyapunov_gear_per_s, gear);
+		assert_true(isfinite(r.lyapunov_max_per_s));
+		assert_close(r.lyapunov_max_per_s, best, 1e-6 * fabs(best));
+		assert_close(r.lyapunov_gear_per_s, gear, 1e-6 * fabs(gear));
+		prsm_vib_linear_free(&l);
+		prsm_vib_model_free(m);
+	}
+	prsm_vib_model *m = model(7000.0);
+	apply(m, 0.02, 0.05);
+	prsm_vib_mc_options o;
+	prsm_vib_mc_options_init(&o);
+	prsm_vib_mc_out r;
+	prsm_error err = PRSM_ERROR_INIT;
+	assert_int_equal(prsm_vib_mc_screen(&r, NULL, m, &o, &err), 0);
+	assert_true(isnan(r.lyapunov_max_per_s)); /* not asked */
+	o.lyapunov_windows = 1;
+	assert_int_equal(prsm_vib_mc_screen(&r, NULL, m, &o, &err), 0);
+	print_message("k_d = 2 k_s: lyapunov_max %.10g 1/s\n", r.lyapunov_max_per_s);
+	assert_int_equal(r.screened, 1);
+	assert_true(r.lyapunov_max_per_s < 0.0);
+	/* the same sample integrated (from the closed form's state) with Benettin's estimate over N
+	 * windows: its error is the log of the generic start vector's share of the dominant mode and of
+	 * that mode's conditioning over N windows, a few units / (N T_w): 3 / (N T_w) */
+	{
+		prsm_vib_mc_options oi = o;
+		oi.force_integration = 1;
+		oi.lyapunov_windows = 6;
+		prsm_vib_mc_out ri;
+		assert_int_equal(prsm_vib_mc_eval(&ri, m, &oi, NULL, &err), 0);
+		const double tol = 3.0 / (oi.lyapunov_windows * ri.window_s);
+		print_message("integrated, Benettin over %d windows of %.4g s: %.8g 1/s (closed form %.8g, tolerance %.3g)\n",
+		              oi.lyapunov_windows, ri.window_s, ri.lyapunov_max_per_s, r.lyapunov_max_per_s, tol);
+		assert_int_equal(ri.integrated, 1);
+		assert_close(ri.lyapunov_max_per_s, r.lyapunov_max_per_s, tol);
+	}
+	apply(m, 30.0, 0.05);
+	assert_int_equal(prsm_vib_mc_screen(&r, NULL, m, &o, &err), 0);
+	assert_int_equal(r.screened, 0);
+	assert_true(isnan(r.lyapunov_max_per_s));
+	prsm_vib_model_free(m);
+}
+
 /* prsm_vib_mc_apply refuses values out of range */
 static void test_apply_refusals(void **state)
 {
@@ -220,6 +414,8 @@ int main(void)
 		cmocka_unit_test(test_contact_loss_integrated),
 		cmocka_unit_test(test_axial_single_line),
 		cmocka_unit_test(test_apply_refusals),
+		cmocka_unit_test(test_fast_equals_reference),
+		cmocka_unit_test(test_lyapunov),
 	};
 	return cmocka_run_group_tests(tests, setup, teardown);
 }

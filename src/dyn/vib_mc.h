@@ -20,6 +20,11 @@
  *    windows until the Poincaré test of §8.4 passes (period m <= max_period), then m windows
  *    recorded for the outputs; non-periodic after max_windows.
  *
+ * With o->lyapunov_windows > 0 the sample also gets §8.6's lyapunov_max: a screened sample's
+ * largest Floquet exponent (the axial -zeta_a omega_a, the log of the spectral radius of the gear
+ * branch's monodromy over a mesh period and of each group's antisymmetric roller motion, per
+ * second), an integrated sample's Benettin estimate over that many windows.
+ *
  * The window (Poincaré period) is W screw revolutions: every TE line order and the mesh order
  * z_2 k* are rounded to multiples of 1/W (a shift below 1/(2W) per revolution) so that the whole
  * response is W-periodic; a line rounded to order 0 is dropped, lines of equal order merged.
@@ -61,6 +66,11 @@ typedef struct {
 	int force_integration;       /* 1: integrate also a screened sample (tests) */
 	int screen_only;             /* 1: never integrate (bench); a contact-loss sample then has
 	                                integrated = 0 and regime -1 */
+	int lyapunov_windows;        /* > 0: lyapunov_max, a screened sample's exactly, an integrated
+	                                one's by Benettin's method over this many windows after the
+	                                recording; 0 (default): NaN, not computed */
+	int reference;               /* 1: the screen's reference loops (tests: the fast loops give the
+	                                same bits, docs/vibration.md "Speed of the screen") */
 } prsm_vib_mc_options;
 
 void prsm_vib_mc_options_init(prsm_vib_mc_options *o);
@@ -77,6 +87,13 @@ typedef struct {
 	double axial_margin;         /* linear response: min (s y - b_a) / b_a */
 	double mesh_margin;          /* linear response: min (s (d_j - e_j) - b_g) / b_g */
 	double thread_force_min_N;   /* linear response: min s F_th, N */
+	double lyapunov_max_per_s;   /* §8.6 lyapunov_max, 1/s: a screened sample's largest Lyapunov
+	                                exponent, the largest real part of its Floquet exponents
+	                                (the axial -zeta_a omega_a, the gear branch's log|mu| / T,
+	                                the rigid carrier angle left out); an integrated sample's is
+	                                Benettin's estimate (§8.4); NaN when not screened and not
+	                                integrated, or without o->lyapunov_windows */
+	double lyapunov_gear_per_s;  /* the gear branch's share of it, 1/s (NaN likewise) */
 	int windows;                 /* windows integrated (0 when screened) */
 	double window_s;             /* the window, s */
 	double max_return_distance;  /* Poincaré test: the largest return distance of the period found */

@@ -1312,7 +1312,7 @@ int prsm_io_step_dynamics(prsm_io_at *at, prsm_problems *pr)
 		if (dyn)
 			prsm_problems_add(pr, "/dynamics", "not_used", "the dynamics section is for dynamic outputs (%s): name one "
 			                  "in outputs, or leave the section out", "peak_dynamic_te_um, peak_thread_force_N, "
-			                  "axial_vibration_rms_m_s2, contact_loss, mesh_force_peak_N, regime, integrated");
+			                  "axial_vibration_rms_m_s2, contact_loss, mesh_force_peak_N, regime, integrated, lyapunov_max");
 		if (dmc)
 			prsm_problems_add(pr, "/dynamic_monte_carlo", "not_used", "dynamic_monte_carlo is for dynamic outputs");
 		if (first_tol >= 0) {

@@ -19,7 +19,8 @@ static const char *const output_names[PRSM_OUT_COUNT] = {
 	"backlash_um", "backlash_min_um", "backlash_max_um", "load_sharing_factor",
 	"stiffness_N_per_um", "stiffness_ratio", "te_pp_um", "te_rms_um", "efficiency_sliding",
 	"efficiency_back", "nut_unit_stiffness_N_per_um", "efficiency_with_losses", "peak_dynamic_te_um",
-	"peak_thread_force_N", "axial_vibration_rms_m_s2", "contact_loss", "mesh_force_peak_N", "regime", "integrated"};
+	"peak_thread_force_N", "axial_vibration_rms_m_s2", "contact_loss", "mesh_force_peak_N", "regime", "integrated",
+	"lyapunov_max"};
 
 int prsm_output_is_dynamic(prsm_output_kind k)
 {
@@ -213,7 +214,10 @@ static int dyn_eval(prsm_vib_mc_out *out, const prsm_mc_prsm *p, workspace *w, d
 	int rc = prsm_vib_mc_apply(w->vib, &s, &err);
 	if (rc)
 		return rc; /* a drawn value out of range (a negative mesh error, a damping ratio >= 1) */
-	rc = prsm_vib_mc_eval(out, w->vib, &d->options, NULL, &err);
+	prsm_vib_mc_options o = d->options;
+	if (wants(p, PRSM_OUT_DYN_LYAPUNOV, PRSM_OUT_DYN_LYAPUNOV))
+		o.lyapunov_windows = PRSM_MC_DYN_LYAPUNOV_WINDOWS; /* an integrated sample's lyapunov_max */
+	rc = prsm_vib_mc_eval(out, w->vib, &o, NULL, &err);
 	return rc;
 }
 
@@ -428,6 +432,7 @@ static int prsm_eval(double *y, unsigned *flags, const void *ctx, void *wsp, con
 		case PRSM_OUT_DYN_MESH_FORCE: v = dout.mesh_force_peak_N; break;
 		case PRSM_OUT_DYN_REGIME: v = dout.regime; break;
 		case PRSM_OUT_DYN_INTEGRATED: v = dout.integrated ? 1.0 : 0.0; break;
+		case PRSM_OUT_DYN_LYAPUNOV: v = dout.lyapunov_max_per_s; break;
 		case PRSM_OUT_COUNT: break;
 		}
 		y[i] = v;

@@ -67,6 +67,10 @@ typedef enum {
 	PRSM_OUT_DYN_MESH_FORCE,        /* mesh_force_peak_N: both meshes of a roller, max over rollers */
 	PRSM_OUT_DYN_REGIME,            /* regime: 1 P1, m period m windows, 0 non-periodic */
 	PRSM_OUT_DYN_INTEGRATED,        /* integrated: 1 when the screen failed and the sample was integrated */
+	PRSM_OUT_DYN_LYAPUNOV,          /* lyapunov_max (§8.6), 1/s: the largest Lyapunov exponent, the
+	                                   largest Floquet exponent of a screened sample, Benettin's
+	                                   estimate over PRSM_MC_DYN_LYAPUNOV_WINDOWS windows of an
+	                                   integrated one */
 	PRSM_OUT_COUNT
 } prsm_output_kind;
 
@@ -79,7 +83,7 @@ int prsm_output_is_dynamic(prsm_output_kind k);
 	"backlash_um, backlash_min_um, backlash_max_um, load_sharing_factor, stiffness_N_per_um, "    \
 	"stiffness_ratio, te_pp_um, te_rms_um, efficiency_sliding, efficiency_back, nut_unit_stiffness_N_per_um, " \
 	"efficiency_with_losses, peak_dynamic_te_um, peak_thread_force_N, axial_vibration_rms_m_s2, "        \
-	"contact_loss, mesh_force_peak_N, regime, integrated"
+	"contact_loss, mesh_force_peak_N, regime, integrated, lyapunov_max"
 
 const char *prsm_output_name(prsm_output_kind k);
 int prsm_output_parse(const char *name, prsm_output_kind *out); /* 0 or PRSM_ENOTFOUND */
@@ -90,6 +94,7 @@ int prsm_output_parse(const char *name, prsm_output_kind *out); /* 0 or PRSM_ENO
  * thread builds its own reduced model from design, analysis, dyn and vib. */
 #define PRSM_MC_DYN_ORDERS 5
 #define PRSM_MC_DYN_RECORD_MAX 4096
+#define PRSM_MC_DYN_LYAPUNOV_WINDOWS 16 /* Benettin windows of an integrated sample (lyapunov_max) */
 typedef struct {
 	const prsm_design *design;      /* the study's design and its nominal analysis */
 	const prsm_analysis *analysis;

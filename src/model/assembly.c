@@ -139,6 +139,12 @@ static void rotate(double *x, double *y, double r, double angle)
 	*y = r * sin(angle);
 }
 
+/* tan x, without the call for x = 0 (tan(+-0) = +-0: the same bits): most error sets have no tilt */
+static double tan0(double x)
+{
+	return x == 0.0 ? x : tan(x);
+}
+
 static void compute_terms(roller_terms *t, const prsm_assembly *as, const prsm_errors *e, int j,
                           double theta)
 {
@@ -151,7 +157,7 @@ static void compute_terms(roller_terms *t, const prsm_assembly *as, const prsm_e
 		const double rot = side == PRSM_SIDE_SCREW ? theta : 0.0; /* the part's own angle */
 		/* run-out and tilt turn with the part; the pair frame is the ground turned by -psi */
 		rotate(&t->body_dx[side], &t->body_dy[side], b->runout_mm, rot + b->runout_phase_rad - psi);
-		rotate(&t->body_dx_z[side], &t->body_dy_z[side], tan(b->tilt_rad),
+		rotate(&t->body_dx_z[side], &t->body_dy_z[side], tan0(b->tilt_rad),
 		       rot + b->tilt_phase_rad - psi);
 		/* material angle of the contact on the part: psi - rot */
 		double D = b->lead_periodic_mm == 0.0 ? 0.0 :
@@ -167,8 +173,8 @@ static void compute_terms(roller_terms *t, const prsm_assembly *as, const prsm_e
 	rotate(&rx, &ry, r->runout_mm, sigma + r->runout_phase_rad);
 	t->roller_dx = r->pin_radial_mm + cx + rx;
 	t->roller_dy = r->pin_tangential_mm + cy + ry;
-	t->roller_dx_z = tan(r->tilt_radial_rad);
-	t->roller_dy_z = tan(r->tilt_tangential_rad);
+	t->roller_dx_z = tan0(r->tilt_radial_rad);
+	t->roller_dy_z = tan0(r->tilt_tangential_rad);
 	/* roller material angle at the contact: screw side pi - sigma, nut side -sigma */
 	const double wob = r->lead_periodic_mm == 0.0 ? 0.0 :
 	                   r->lead_periodic_mm * sin(r->lead_periodic_phase_rad - sigma);
@@ -254,10 +260,21 @@ void prsm_assembly_perturbation(double *out, const prsm_assembly *as, const prsm
  * rest is the envelope theorem (docs/model/errors-and-assembly.md): sens . e. */
 static double linear_change(const prsm_assembly_pair *ap, const double *e)
 {
+	/* the components in index order but the two radii: the loop written out (no branch per
+	 * component; the same sums in the same order) */
+	_Static_assert(PRSM_PERTURB_COUNT == 10 && PRSM_PERTURB_ROLLER_SHIFT == 9 && PRSM_PERTURB_ROLLER_RADIUS == 7 &&
+	                   PRSM_PERTURB_ROLLER_ARC == 8,
+	               "linear_change names every perturbation component");
+	const double *g = ap->sens;
 	double s = 0.0;
-	for (int i = 0; i < PRSM_PERTURB_COUNT; i++)
-		if (i != PRSM_PERTURB_ROLLER_RADIUS && i != PRSM_PERTURB_ROLLER_ARC)
-			s += ap->sens[i] * e[i];
+	s += g[PRSM_PERTURB_BODY_DX] * e[PRSM_PERTURB_BODY_DX];
+	s += g[PRSM_PERTURB_BODY_DY] * e[PRSM_PERTURB_BODY_DY];
+	s += g[PRSM_PERTURB_BODY_RADIUS] * e[PRSM_PERTURB_BODY_RADIUS];
+	s += g[PRSM_PERTURB_BODY_BETA] * e[PRSM_PERTURB_BODY_BETA];
+	s += g[PRSM_PERTURB_BODY_SHIFT] * e[PRSM_PERTURB_BODY_SHIFT];
+	s += g[PRSM_PERTURB_ROLLER_DX] * e[PRSM_PERTURB_ROLLER_DX];
+	s += g[PRSM_PERTURB_ROLLER_DY] * e[PRSM_PERTURB_ROLLER_DY];
+	s += g[PRSM_PERTURB_ROLLER_SHIFT] * e[PRSM_PERTURB_ROLLER_SHIFT];
 	const double dr = e[PRSM_PERTURB_ROLLER_RADIUS], dR = e[PRSM_PERTURB_ROLLER_ARC];
 	if (dr != 0.0 || dR != 0.0) {
 		const double r = ap->pair.roller_radius_mm, R = ap->pair.arc_radius_mm;
@@ -284,15 +301,25 @@ static double dot(const double *a, const double *b)
 int prsm_assembly_gaps_at(prsm_assembly_gaps *out, const prsm_assembly *as, const prsm_errors *e,
                           int dir, double theta, int mode)
 {
-	const int Z = as->rollers, nt = as->threads;
+	const int Z = as->rollers, nt = as->threads, ns = as->starts;
 	int rc = 0;
 	out->edge_contacts = out->failed_contacts = 0;
+	/* what start_shift and thread_z give, once per call (the same products: the same bits; the
+	 * thread positions of an engagement of up to 256 threads, a longer one computes them) */
+	double shift[2][PRSM_ERRORS_MAX_STARTS], zk[256];
+	const int ztab = nt <= 256;
+	for (int side = 0; side < 2; side++) {
+		const prsm_body_errors *b = side == PRSM_SIDE_SCREW ? &e->screw : &e->nut;
+		for (int i = 0; i < ns; i++)
+			shift[side][i] = as->screw_p * b->start_index_rad[i];
+	}
+	for (int k = 0; k < nt && ztab; k++)
+		zk[k] = thread_z(as, k);
 	for (int j = 0; j < Z; j++) {
 		roller_terms t;
 		compute_terms(&t, as, e, j, theta);
 		for (int side = 0; side < 2; side++) {
 			const prsm_assembly_pair *ap = &as->pairs[side][dir];
-			const prsm_body_errors *b = side == PRSM_SIDE_SCREW ? &e->screw : &e->nut;
 			const double ax = ap->mirrored ? -1.0 : 1.0;
 			double e0[PRSM_PERTURB_COUNT], e1[PRSM_PERTURB_COUNT];
 			pair_terms(e0, e1, as, e, &t, j, side, dir);
@@ -301,8 +328,23 @@ int prsm_assembly_gaps_at(prsm_assembly_gaps *out, const prsm_assembly *as, cons
 			double *g = &out->gap_mm[side][j * nt];
 			/* linear mode (docs/model/errors-and-assembly.md): nominal gap + sensitivities . perturbation; the shift
 			 * sensitivity is exactly 1 */
-			for (int k = 0; k < nt; k++)
-				g[k] = g0 + g1 * thread_z(as, k) - ax * start_shift(as, b, k, t.start_offset);
+			/* thread k meets start (k - hand m_j) mod n (start_shift), counted up from k = 0 */
+			int si = (-as->hand * t.start_offset) % ns;
+			if (si < 0)
+				si += ns;
+			if (ztab) {
+				for (int k = 0; k < nt; k++) {
+					g[k] = g0 + g1 * zk[k] - ax * shift[side][si];
+					if (++si == ns)
+						si = 0;
+				}
+			} else {
+				for (int k = 0; k < nt; k++) {
+					g[k] = g0 + g1 * thread_z(as, k) - ax * shift[side][si];
+					if (++si == ns)
+						si = 0;
+				}
+			}
 			if (mode != PRSM_MODE_EXACT)
 				continue;
 			for (int k = 0; k < nt; k++) {
@@ -375,13 +417,13 @@ static double safeguarded_step(double x, double r, double dr, double *lo, double
 static double side_force(const double *g, int n, double K, double x, double *deriv)
 {
 	double f = 0.0, df = 0.0;
+	/* without a branch (an open contact adds +0 to both sums: the same bits), which a contact
+	 * near its gap would mispredict */
 	for (int k = 0; k < n; k++) {
-		const double d = x - g[k];
-		if (d > 0.0) {
-			const double s = sqrt(d);
-			f += d * s;
-			df += s;
-		}
+		const double d0 = x - g[k], d = d0 > 0.0 ? d0 : 0.0;
+		const double s = sqrt(d);
+		f += d * s;
+		df += s;
 	}
 	*deriv = 1.5 * K * df;
 	return K * f;
@@ -432,9 +474,11 @@ int prsm_assembly_solve(prsm_assembly_state *st, const prsm_assembly *as,
 	const double Ks = as->k_axial[0], Kn = as->k_axial[1];
 	double gs_min[PRSM_ERRORS_MAX_ROLLERS], gn_min[PRSM_ERRORS_MAX_ROLLERS];
 	double chain_lo = INFINITY, chain_hi = -INFINITY, chain_mean = 0.0;
-	int finite = isfinite(F) && F > 0.0;
-	for (int i = 0; i < Z * nt && finite; i++)
-		finite = isfinite(g->gap_mm[0][i]) && isfinite(g->gap_mm[1][i]);
+	/* every gap finite: their sum is (gaps are lengths of a mm or so, far from overflowing) */
+	double all = 0.0;
+	for (int i = 0; i < Z * nt; i++)
+		all += g->gap_mm[0][i] + g->gap_mm[1][i];
+	const int finite = isfinite(F) && F > 0.0 && isfinite(all);
 	if (!finite) {
 		/* docs/model/errors-and-assembly.md: nothing to balance; reported, and the state says so */
 		memset(st, 0, sizeof *st);
