@@ -669,15 +669,47 @@ def emit(g, out_dir):
     for base, names, values in g.enum_arrays:
         c.append(f'static const char *const {base}_names[] = {{' + ', '.join(c_string(n) for n in names) + '};')
         c.append(f'static const int {base}_values[] = {{' + ', '.join(values) + '};')
+    # The fields hold no address: name, text, names, values, child and hook become indices into
+    # the arrays emitted last (entry 0: none), so the tables need no relocation at start-up.
+    pools = {k: ['NULL'] for k in ('strings', 'names', 'values', 'tables', 'hooks')}
+    index = {k: {} for k in pools}
+    pool_of = {'name': 'strings', 'text': 'strings', 'names': 'names', 'values': 'values', 'child': 'tables',
+               'hook': 'hooks'}
+
+    def indexed(key, value):
+        pool = pool_of[key]
+        if value == 'NULL':
+            return '0 /* NULL */'
+        shown = value
+        if value.startswith('&'):
+            value = value[1:]
+        if value not in index[pool]:
+            index[pool][value] = len(pools[pool])
+            pools[pool].append(value)
+        # the index, and what it names (for the reader of the generated file and the tests)
+        comment = shown.replace('*/', '*\\/').replace('/*', '/\\*')
+        return f'{index[pool][value]} /* {comment} */'
+
+    for cname, fields, export in g.tables:
+        if not export:
+            c.append(f'static const prsm_io_wtable {cname};')
     for cname, fields, export in g.tables:
         c.append(f'static const prsm_io_wfield {cname}_fields[] = {{')
         for f in fields:
-            c.append('\t{' + ', '.join(f'.{k} = {v}' for k, v in f.items()) + '},')
+            c.append('\t{' + ', '.join(f'.{k}_i = {indexed(k, v)}' if k in pool_of else f'.{k} = {v}'
+                                       for k, v in f.items()) + '},')
         c.append('};')
         c.append(f'{"" if export else "static "}const prsm_io_wtable {cname} = {{{cname}_fields, '
                  f'sizeof {cname}_fields / sizeof {cname}_fields[0]}};')
         if export:
             h.append(f'extern const prsm_io_wtable {cname};')
+    for pool, ctype in (('strings', 'const char *const'), ('names', 'const char *const *const'),
+                        ('values', 'const int *const'), ('tables', 'const prsm_io_wtable *const'),
+                        ('hooks', 'const prsm_io_whook')):
+        if len(pools[pool]) > 65535:
+            raise GenError(f'more than 65535 {pool} for the tables\' unsigned short indices')
+        refs = [v if v == 'NULL' or pool != 'tables' else '&' + v for v in pools[pool]]
+        c.append(f'{ctype} prsm_io_wgen_{pool}[] = {{' + ', '.join(refs) + '};')
     h += ['', '#endif', '']
     os.makedirs(out_dir, exist_ok=True)
     for name, lines in (('prsm_io_writers.h', h), ('prsm_io_writers.c', c)):

@@ -10,6 +10,9 @@ import os
 import subprocess
 import sys
 import tempfile
+import re
+
+INDEXED = re.compile(r'(\.\w+) = \d+ /\* (.*?) \*/(?=[,}])')
 
 src = os.path.abspath(sys.argv[1])
 gen = os.path.join(src, 'scripts', 'gen-io-tables.py')
@@ -41,6 +44,9 @@ def run(schema, header_edit=None, name='design.schema.json'):
         if os.path.exists(out):
             with open(out, encoding='utf-8') as f:
                 text = f.read()
+        # the fields name strings, tables and functions by index, with what the index names in a
+        # comment (".name = 7 /* "pitch_mm" */"): the checks below read the named form
+        text = INDEXED.sub(r'\1 = \2', text)
         return r.returncode, r.stderr + text
 
 

@@ -12,6 +12,9 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import re
+
+INDEXED = re.compile(r'(\.\w+?)(?:_i)? = \d+ /\* (.*?) \*/(?=[,}])')
 
 src = os.path.abspath(sys.argv[1])
 gen = os.path.join(src, 'scripts', 'gen-io-writers.py')
@@ -44,6 +47,9 @@ def run(edits):
             if os.path.exists(p):
                 with open(p, encoding='utf-8') as f:
                     text += f.read()
+        # the fields name strings, tables and hooks by index, with what the index names in a
+        # comment (".name_i = 7 /* "approach_um" */"): the checks below read the named form
+        text = INDEXED.sub(r'\1 = \2', text)
         return r.returncode, r.stderr + text
 
 

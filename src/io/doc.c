@@ -13,6 +13,10 @@
 
 #define PUT(base, offset, v) memcpy((char *)(base) + (offset), &(v), sizeof(v))
 
+/* A field's strings, tables and functions by their indices (doc.h). */
+#define STR(i) prsm_io_gen_strings[(i)]
+#define NAME(f) STR((f)->name)
+
 void prsm_io_problem(prsm_problems *problems, const char *pointer, const char *key, const char *code,
                      const char *fmt, ...)
 {
@@ -60,7 +64,7 @@ static void read_items(const prsm_io_at *r, void *base, const prsm_io_field *f, 
 		else
 			prsm_json_pointer_append_index(ip, sizeof ip, xp, i);
 		prsm_io_at at = {r->root, r->ctx, base, NULL, it, ip, map ? -1 : i, start, 0};
-		char *slot = map ? f->key(&at, it->string, problems)
+		char *slot = map ? prsm_io_gen_keys[f->key](&at, it->string, problems)
 		             : f->stored ? (char *)base + f->offset + (f->compact ? kept : (size_t)i) * f->item_size
 		                         : (char *)scratch.bytes;
 		if (f->child) {
@@ -68,7 +72,7 @@ static void read_items(const prsm_io_at *r, void *base, const prsm_io_field *f, 
 				continue;
 			if (!map)
 				memset(slot, 0, f->item_size);
-			if (read_object(r, slot, f->child, it, ip, at.index, start, &at, problems))
+			if (read_object(r, slot, prsm_io_gen_tables[f->child], it, ip, at.index, start, &at, problems))
 				continue;
 		} else if (f->items == PRSM_IO_NUMBER) {
 			const prsm_json_range range = {f->min, f->max, f->min_exclusive, f->max_exclusive};
@@ -79,7 +83,7 @@ static void read_items(const prsm_io_at *r, void *base, const prsm_io_field *f, 
 		} else if (prsm_json_string_value(&s, it, ip, f->max_chars ? f->max_chars : (size_t)-1, problems)) {
 			continue;
 		}
-		if ((f->step && f->step(&at, problems)) || !f->stored)
+		if ((f->step && prsm_io_gen_steps[f->step](&at, problems)) || !f->stored)
 			continue;
 		if (f->compact) /* the count as it grows */
 			put_count(base, f, ++kept);
@@ -97,12 +101,12 @@ static int read_field(const prsm_io_at *r, void *base, const prsm_io_field *f, c
 	const cJSON *sub;
 	int present = 0, v;
 	double d;
-	if (f->missing && f->required && !cJSON_GetObjectItemCaseSensitive(obj, f->name))
-		prsm_io_problem(problems, ptr, f->name, "required", "%s", f->missing);
+	if (f->missing && f->required && !cJSON_GetObjectItemCaseSensitive(obj, NAME(f)))
+		prsm_io_problem(problems, ptr, NAME(f), "required", "%s", STR(f->missing));
 	switch (f->kind) {
 	case PRSM_IO_NUMBER: {
 		const prsm_json_range range = {f->min, f->max, f->min_exclusive, f->max_exclusive};
-		present = prsm_json_get_number(&d, obj, ptr, f->name, req, range, problems) == PRSM_JSON_PRESENT;
+		present = prsm_json_get_number(&d, obj, ptr, NAME(f), req, range, problems) == PRSM_JSON_PRESENT;
 		if (present) {
 			d = f->divide != 0.0 ? d / f->divide : f->scale != 0.0 ? d * f->scale : d;
 			PUT(base, f->offset, d);
@@ -111,7 +115,7 @@ static int read_field(const prsm_io_at *r, void *base, const prsm_io_field *f, c
 	}
 	case PRSM_IO_INT:
 	case PRSM_IO_SIZE:
-		present = prsm_json_get_int(&v, obj, ptr, f->name, req, (int)f->min, (int)f->max, problems) ==
+		present = prsm_json_get_int(&v, obj, ptr, NAME(f), req, (int)f->min, (int)f->max, problems) ==
 		          PRSM_JSON_PRESENT;
 		if (present && f->kind == PRSM_IO_INT)
 			PUT(base, f->offset, v);
@@ -119,18 +123,19 @@ static int read_field(const prsm_io_at *r, void *base, const prsm_io_field *f, c
 			PUT(base, f->offset, (size_t){(size_t)v});
 		break;
 	case PRSM_IO_BOOL:
-		present = prsm_json_get_bool(&v, obj, ptr, f->name, req, problems) == PRSM_JSON_PRESENT;
+		present = prsm_json_get_bool(&v, obj, ptr, NAME(f), req, problems) == PRSM_JSON_PRESENT;
 		if (present)
 			PUT(base, f->offset, v);
 		break;
 	case PRSM_IO_ENUM:
-		present = prsm_json_get_enum(&v, obj, ptr, f->name, req, f->names, problems) == PRSM_JSON_PRESENT;
+		present = prsm_json_get_enum(&v, obj, ptr, NAME(f), req, prsm_io_gen_names[f->names], problems) ==
+		          PRSM_JSON_PRESENT;
 		if (present)
-			PUT(base, f->offset, f->values[v]);
+			PUT(base, f->offset, prsm_io_gen_values[f->values][v]);
 		break;
 	case PRSM_IO_STRING: {
 		const char *s;
-		present = prsm_json_get_string(&s, obj, ptr, f->name, req, f->max_chars ? f->max_chars : (size_t)-1,
+		present = prsm_json_get_string(&s, obj, ptr, NAME(f), req, f->max_chars ? f->max_chars : (size_t)-1,
 		                               problems) == PRSM_JSON_PRESENT;
 		if (present && f->capacity)
 			prsm_utf8_copy((char *)base + f->offset, f->capacity, s);
@@ -140,38 +145,39 @@ static int read_field(const prsm_io_at *r, void *base, const prsm_io_field *f, c
 		void *child = (char *)base + f->offset;
 		prsm_io_at at;
 		if (f->init)
-			f->init(child);
-		if (prsm_json_get_object(&sub, obj, ptr, f->name, req, problems) != PRSM_JSON_PRESENT)
+			prsm_io_gen_inits[f->init](child);
+		if (prsm_json_get_object(&sub, obj, ptr, NAME(f), req, problems) != PRSM_JSON_PRESENT)
 			return 0;
-		prsm_json_pointer_append(p, sizeof p, ptr, f->name);
+		prsm_json_pointer_append(p, sizeof p, ptr, NAME(f));
 		if (f->has_set)
 			PUT(base, f->set_offset, f->set_value);
-		if (read_object(r, child, f->child, sub, p, -1, prsm_problems_total(problems), &at, problems) == 0 && f->hook)
-			f->hook(child, sub, p, problems);
+		if (read_object(r, child, prsm_io_gen_tables[f->child], sub, p, -1, prsm_problems_total(problems), &at, problems) == 0 &&
+		    f->hook)
+			prsm_io_gen_hooks[f->hook](child, sub, p, problems);
 		return 0;
 	}
 	case PRSM_IO_ARRAY: {
-		sub = cJSON_GetObjectItemCaseSensitive(obj, f->name);
+		sub = cJSON_GetObjectItemCaseSensitive(obj, NAME(f));
 		const int start = prsm_problems_total(problems), n = cJSON_GetArraySize(sub);
-		prsm_json_pointer_append(p, sizeof p, ptr, f->name);
+		prsm_json_pointer_append(p, sizeof p, ptr, NAME(f));
 		if (sub && cJSON_IsArray(sub) && n >= f->min_items && n <= f->max_items)
 			read_items(r, base, f, sub, p, problems);
 		else if (sub || (f->required && !f->missing))
-			prsm_problems_add(problems, p, sub ? f->code : "required", "%s", f->message);
+			prsm_problems_add(problems, p, sub ? STR(f->code) : "required", "%s", STR(f->message));
 		prsm_io_at at = {r->root, r->ctx, base, NULL, sub, p, -1, start, 0};
 		if (f->after)
-			f->after(&at, problems);
+			prsm_io_gen_steps[f->after](&at, problems);
 		return 0;
 	}
 	case PRSM_IO_MAP:
-		if (prsm_json_get_object(&sub, obj, ptr, f->name, req, problems) != PRSM_JSON_PRESENT)
+		if (prsm_json_get_object(&sub, obj, ptr, NAME(f), req, problems) != PRSM_JSON_PRESENT)
 			return 0;
-		prsm_json_pointer_append(p, sizeof p, ptr, f->name);
+		prsm_json_pointer_append(p, sizeof p, ptr, NAME(f));
 		prsm_json_check_duplicates(sub, p, problems);
 		read_items(r, base, f, sub, p, problems);
 		return 0;
 	case PRSM_IO_HOOK:
-		f->hook(base, obj, ptr, problems);
+		prsm_io_gen_hooks[f->hook](base, obj, ptr, problems);
 		return 0;
 	case PRSM_IO_COVERED:
 	case PRSM_IO_STEP:
@@ -179,9 +185,9 @@ static int read_field(const prsm_io_at *r, void *base, const prsm_io_field *f, c
 	}
 	if (present && f->has_set)
 		PUT(base, f->set_offset, f->set_value);
-	if (f->conflict_with && cJSON_GetObjectItemCaseSensitive(obj, f->name) &&
-	    cJSON_GetObjectItemCaseSensitive(obj, f->conflict_with))
-		prsm_io_problem(problems, ptr, f->name, "conflict", "%s", f->conflict_message);
+	if (f->conflict_with && cJSON_GetObjectItemCaseSensitive(obj, NAME(f)) &&
+	    cJSON_GetObjectItemCaseSensitive(obj, STR(f->conflict_with)))
+		prsm_io_problem(problems, ptr, NAME(f), "conflict", "%s", STR(f->conflict_message));
 	return present;
 }
 
@@ -200,7 +206,7 @@ static int read_object(const prsm_io_at *r, void *base, const prsm_io_table *t, 
 	prsm_json_check_keys(obj, ptr, holds ? t->keys : t->keys_else, problems);
 	for (size_t i = 0; i < t->n_fields; i++) {
 		const prsm_io_field *f = &t->fields[i];
-		if (f->kind == PRSM_IO_STEP && f->step(at, problems))
+		if (f->kind == PRSM_IO_STEP && prsm_io_gen_steps[f->step](at, problems))
 			return 1;
 		if (f->kind != PRSM_IO_STEP && !f->deferred && (holds || !f->when) &&
 		    read_field(r, base, f, obj, ptr, problems) && i < 64)
@@ -240,7 +246,7 @@ int prsm_io_get(const prsm_io_at *at, const char *key, prsm_problems *problems)
 	const int before = prsm_problems_total(problems);
 	int present = 0;
 	for (size_t i = 0; i < at->table->n_fields; i++)
-		if (at->table->fields[i].name && strcmp(at->table->fields[i].name, key) == 0)
+		if (at->table->fields[i].name && strcmp(NAME(&at->table->fields[i]), key) == 0)
 			present |= read_field(at, at->base, &at->table->fields[i], at->obj, at->pointer, problems);
 	return prsm_problems_total(problems) > before ? PRSM_EINVAL : present;
 }
@@ -255,7 +261,7 @@ int prsm_io_read_member(void *base, const prsm_io_table *t, const char *key, con
 int prsm_io_was_read(const prsm_io_at *at, const char *key)
 {
 	for (size_t i = 0; i < at->table->n_fields && i < 64; i++)
-		if (at->table->fields[i].name && strcmp(at->table->fields[i].name, key) == 0 && (at->read >> i & 1))
+		if (at->table->fields[i].name && strcmp(NAME(&at->table->fields[i]), key) == 0 && (at->read >> i & 1))
 			return 1;
 	return 0;
 }

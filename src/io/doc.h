@@ -68,7 +68,7 @@ typedef void *(*prsm_io_key)(const prsm_io_at *at, const char *key, prsm_problem
 #define PRSM_IO_SCRATCH_MAX 256
 
 typedef struct {
-	const char *name;              /* the JSON member (steps: NULL) */
+	unsigned short name;           /* the JSON member (steps: none) */
 	prsm_io_kind kind;
 	size_t offset;                 /* of the C member in the table's struct */
 	int required;
@@ -78,20 +78,20 @@ typedef struct {
 	int min_exclusive, max_exclusive;
 	size_t max_chars;              /* strings (and string items): Unicode characters, 0: no limit */
 	size_t capacity;               /* strings: the char array's size, 0: not stored */
-	const char *const *names;      /* enums: NULL-terminated */
-	const int *values;
-	const struct prsm_io_table *child; /* objects; arrays and maps: the items' */
-	prsm_io_hook hook;             /* hooks; objects: run after the section's fields */
-	void (*init)(void *);          /* objects: sets the section's defaults at its turn, present or not */
+	unsigned short names;          /* enums: NULL-terminated */
+	unsigned short values;
+	unsigned short child;          /* objects; arrays and maps: the items' table */
+	unsigned short hook;           /* hooks; objects: run after the section's fields */
+	unsigned short init;           /* objects: sets the section's defaults at its turn, present or not */
 	int has_set;                   /* 1: the int member at set_offset is set to set_value when the */
 	size_t set_offset;             /*   field is present and valid; objects: before the section */
 	int set_value;                 /*   is read */
-	const char *conflict_with;     /* a member that must not be present with this one */
-	const char *conflict_message;
-	const char *missing;           /* required: the problem when it is absent (not the generic one) */
+	unsigned short conflict_with;  /* a member that must not be present with this one */
+	unsigned short conflict_message;
+	unsigned short missing;        /* required: the problem when it is absent (not the generic one) */
 	int deferred;                  /* read only when a step asks (prsm_io_get) */
 	int when;                      /* a member (a key, and read) only when the table's condition holds */
-	prsm_io_step step;             /* steps; arrays and maps: run on each item once read */
+	unsigned short step;           /* steps; arrays and maps: run on each item once read */
 	/* arrays: missing (required) or not an array of min_items to max_items: one problem, code
 	 * ("required" when missing) and message; stored: item i at offset + i x item_size (compact:
 	 * the kept ones without gaps); else object items are read into a scratch struct of
@@ -99,12 +99,25 @@ typedef struct {
 	 * PRSM_IO_STRING (max_chars) or PRSM_IO_NUMBER (min, max) when they are not objects */
 	int min_items, max_items;
 	prsm_io_kind items;
-	const char *code, *message;
+	unsigned short code, message;
 	int stored, compact;
 	size_t item_size, count_offset, count_size;
-	prsm_io_step after;            /* arrays: run once the array is read, present or not */
-	prsm_io_key key;               /* maps */
+	unsigned short after;          /* arrays: a step run once the array is read, present or not */
+	unsigned short key;            /* maps */
 } prsm_io_field;
+
+/* A field names its strings, enum arrays, child table, hooks, steps and keys by index into
+ * these arrays of the generated tables (entry 0: none, NULL), so that the field tables hold no
+ * address and need no relocation when the program starts (a position-independent executable
+ * would otherwise write, and so copy, every page of them: docs/speed.md). */
+extern const char *const prsm_io_gen_strings[];
+extern const char *const *const prsm_io_gen_names[];
+extern const int *const prsm_io_gen_values[];
+extern const struct prsm_io_table *const prsm_io_gen_tables[];
+extern const prsm_io_hook prsm_io_gen_hooks[];
+extern void (*const prsm_io_gen_inits[])(void *);
+extern const prsm_io_step prsm_io_gen_steps[];
+extern const prsm_io_key prsm_io_gen_keys[];
 
 typedef struct prsm_io_table {
 	const char *struct_name;

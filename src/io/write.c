@@ -166,6 +166,37 @@ static int wanted(const void *base, const prsm_io_wfield *f, size_t i)
 	}
 }
 
+/* A field's pointers, from the generated tables' indices when the pointer is not set. */
+static const char *f_name(const prsm_io_wfield *f)
+{
+	return f->name ? f->name : prsm_io_wgen_strings[f->name_i];
+}
+
+static const char *f_text(const prsm_io_wfield *f)
+{
+	return f->text ? f->text : prsm_io_wgen_strings[f->text_i];
+}
+
+static const char *const *f_names(const prsm_io_wfield *f)
+{
+	return f->names ? f->names : prsm_io_wgen_names[f->names_i];
+}
+
+static const int *f_values(const prsm_io_wfield *f)
+{
+	return f->values ? f->values : prsm_io_wgen_values[f->values_i];
+}
+
+static const prsm_io_wtable *f_child(const prsm_io_wfield *f)
+{
+	return f->child ? f->child : prsm_io_wgen_tables[f->child_i];
+}
+
+static prsm_io_whook f_hook(const prsm_io_wfield *f)
+{
+	return f->hook ? f->hook : prsm_io_wgen_hooks[f->hook_i];
+}
+
 static const char *string(const char *p, int type)
 {
 	return type == PRSM_IO_W_CSTR ? *(const char *const *)p : p;
@@ -174,10 +205,12 @@ static const char *string(const char *p, int type)
 /* An enum's name for the int at p (else its text, or null). */
 static void enum_name(prsm_jw *w, cJSON *o, const prsm_io_wfield *f, const char *key, const char *p)
 {
-	const char *name = f->text;
+	const char *name = f_text(f);
+	const char *const *names = f_names(f);
+	const int *values = f_values(f);
 	for (int i = 0; i < f->n_values; i++)
-		if (f->values[i] == *(const int *)p)
-			name = f->names[i];
+		if (values[i] == *(const int *)p)
+			name = names[i];
 	if (name)
 		prsm_jw_string(w, o, key, name);
 	else
@@ -192,16 +225,16 @@ static void array(prsm_jw *w, cJSON *arr, const void *base, const prsm_io_wfield
 		n = c ? (size_t)number(c, f->count_type) : 0;
 	}
 	if (f->shape == PRSM_IO_W_TUPLE) {
-		prsm_io_write_fields(w, arr, base, f->child, row);
+		prsm_io_write_fields(w, arr, base, f_child(f), row);
 		return;
 	}
 	for (size_t i = 0; arr && i < n; i++) {
 		const char *p = f->shape == PRSM_IO_W_ROWS ? base : member(base, &f->at, i);
 		if (p == NULL)
 			break;
-		if (f->child)
-			prsm_io_write_fields(w, prsm_jw_object(w, arr, NULL), p, f->child, f->shape == PRSM_IO_W_ROWS ? i : 0);
-		else if (f->names)
+		if (f_child(f))
+			prsm_io_write_fields(w, prsm_jw_object(w, arr, NULL), p, f_child(f), f->shape == PRSM_IO_W_ROWS ? i : 0);
+		else if (f_names(f))
 			enum_name(w, arr, f, NULL, p);
 		else if (f->mask)
 			prsm_jw_bool(w, arr, NULL, (*(const int *)p & f->mask) != 0);
@@ -219,37 +252,39 @@ static void field(prsm_jw *w, cJSON *o, const void *base, const prsm_io_wfield *
 		return;
 	switch (f->kind) {
 	case PRSM_IO_W_NUMBER:
-		prsm_jw_number(w, o, f->name, scaled(base, f, number(p, f->type), row));
+		prsm_jw_number(w, o, f_name(f), scaled(base, f, number(p, f->type), row));
 		break;
 	case PRSM_IO_W_BOOL:
-		prsm_jw_bool(w, o, f->name, f->type ? (f->mask ? (*(const int *)p & f->mask) != 0 : *(const int *)p != 0)
+		prsm_jw_bool(w, o, f_name(f), f->type ? (f->mask ? (*(const int *)p & f->mask) != 0 : *(const int *)p != 0)
 		                                    : f->mask);
 		break;
 	case PRSM_IO_W_ENUM:
-		enum_name(w, o, f, f->name, p);
+		enum_name(w, o, f, f_name(f), p);
 		break;
 	case PRSM_IO_W_FLAGS: {
-		cJSON *arr = prsm_jw_array(w, o, f->name);
+		cJSON *arr = prsm_jw_array(w, o, f_name(f));
+		const char *const *names = f_names(f);
+		const int *values = f_values(f);
 		for (int i = 0; i < f->n_values; i++)
-			if (*(const int *)p & f->values[i])
-				prsm_jw_string(w, arr, NULL, f->names[i]);
+			if (*(const int *)p & values[i])
+				prsm_jw_string(w, arr, NULL, names[i]);
 		break;
 	}
 	case PRSM_IO_W_STRING:
 		if (string(p, f->type))
-			prsm_jw_string(w, o, f->name, string(p, f->type));
+			prsm_jw_string(w, o, f_name(f), string(p, f->type));
 		break;
 	case PRSM_IO_W_TEXT:
-		prsm_jw_string(w, o, f->name, f->text);
+		prsm_jw_string(w, o, f_name(f), f_text(f));
 		break;
 	case PRSM_IO_W_OBJECT: /* a section of the same struct keeps the row */
-		prsm_io_write_fields(w, prsm_jw_object(w, o, f->name), p, f->child, f->at.stride ? 0 : row);
+		prsm_io_write_fields(w, prsm_jw_object(w, o, f_name(f)), p, f_child(f), f->at.stride ? 0 : row);
 		break;
 	case PRSM_IO_W_ARRAY:
-		array(w, prsm_jw_array(w, o, f->name), p, f, row);
+		array(w, prsm_jw_array(w, o, f_name(f)), p, f, row);
 		break;
 	case PRSM_IO_W_HOOK:
-		f->hook(w, o, f->name, p);
+		f_hook(f)(w, o, f_name(f), p);
 		break;
 	}
 }
@@ -261,7 +296,7 @@ void prsm_io_write_fields(prsm_jw *w, cJSON *obj, const void *base, const prsm_i
 		if (wanted(base, f, row))
 			field(w, obj, base, f, row);
 		else if (f->else_null)
-			prsm_jw_null(w, obj, f->name);
+			prsm_jw_null(w, obj, f_name(f));
 	}
 }
 

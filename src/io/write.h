@@ -131,12 +131,25 @@ typedef struct {
 	unsigned char when, when_type, else_null; /* prsm_io_wwhen; else_null: null, not left out */
 	int when_value;
 	prsm_io_wref when_at;
+	/* The generated tables give name, text, names, values, child and hook as indices into the
+	 * prsm_io_wgen_* arrays below (0: none) and leave the pointers NULL: a table without
+	 * addresses needs no relocation when the program starts (a position-independent executable
+	 * would otherwise write, and so copy, every page of them: docs/speed.md). Hand-made tables
+	 * (tests) set the pointers. */
+	unsigned short name_i, text_i, names_i, values_i, child_i, hook_i;
 } prsm_io_wfield;
 
 typedef struct prsm_io_wtable {
 	const prsm_io_wfield *fields;
 	size_t n_fields;
 } prsm_io_wtable;
+
+/* What the generated tables' indices name (prsm_io_writers.c; entry 0 is NULL). */
+extern const char *const prsm_io_wgen_strings[];
+extern const char *const *const prsm_io_wgen_names[];
+extern const int *const prsm_io_wgen_values[];
+extern const prsm_io_wtable *const prsm_io_wgen_tables[];
+extern const prsm_io_whook prsm_io_wgen_hooks[];
 
 /* Write the struct at base as parent[key] (key NULL: appended to the array parent) by table t;
  * returns the object, or NULL when it could not be made. */
