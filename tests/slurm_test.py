@@ -288,7 +288,12 @@ def main():
                 deadline = time.time() + 30
                 while n_calls("sbatch") == before and time.time() < deadline:
                     time.sleep(0.05)
-                if n_calls("sbatch") != before + 1:
+                # the service writes the Slurm job's id into its spool once sbatch has answered:
+                # killed before that, it could only submit the job again
+                jobid = os.path.join(tmp, "spool", job["id"], "jobid")
+                while not os.path.exists(jobid) and time.time() < deadline:
+                    time.sleep(0.05)
+                if n_calls("sbatch") != before + 1 or not os.path.exists(jobid):
                     fail("the held study (seed %d) was not submitted" % seed)
                 return doc, job, open(os.path.join(fake, "next")).read().strip()
 

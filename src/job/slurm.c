@@ -386,8 +386,12 @@ static int slurm_run(void *ctx, prsm_job_output *out, const prsm_job_kind *k, co
 		}
 		snprintf(jobid, sizeof jobid, "%.*s", (int)digits, sout);
 		free(sout);
-		if (path_in(path, sizeof path, dir, "jobid") == 0)
-			write_text(path, jobid, strlen(jobid), err);
+		/* written whole, then renamed: a service killed meanwhile leaves no half-written id */
+		char final_path[PRSM_SLURM_PATH_MAX + 96];
+		if (path_in(path, sizeof path, dir, "jobid.tmp") == 0 &&
+		    path_in(final_path, sizeof final_path, dir, "jobid") == 0 &&
+		    write_text(path, jobid, strlen(jobid), err) == 0)
+			rename(path, final_path);
 	}
 
 	/* poll until it leaves the queue, then its exit code */
