@@ -962,6 +962,8 @@ int main(void)
 	prsm_global_init();
 	if (getenv("PRSM_TEST_FILTER")) /* e.g. "test_optimization*": one part of the proof */
 		cmocka_set_test_filter(getenv("PRSM_TEST_FILTER"));
+	if (getenv("PRSM_TEST_SKIP")) /* the rest (tests/CMakeLists.txt runs the two side by side) */
+		cmocka_set_skip_filter(getenv("PRSM_TEST_SKIP"));
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_examples_and_variants),
 		cmocka_unit_test(test_fuzz_corpora),
