@@ -411,6 +411,51 @@ static void test_elastic_equilibrium(void **state)
 	free(f);
 }
 
+/* A path of screw angles solved warm, as the TE record and the revolution are (Newton on the whole
+ * system from the previous angle, moved with the gaps), gives every angle's cold nested solve to
+ * the solves' tolerances: u, each roller's load, the stiffness and the sharing factor. Random
+ * errors of 5 to 40 um, light and operating loads, coarse and fine angle steps; and a warm start
+ * from a state far off (u 50 um away, the rollers misplaced) still lands on the same state. */
+static void test_warm_path_matches_cold(void **state)
+{
+	(void)state;
+	fixture *f = make_case_a();
+	prsm_errors e;
+	const double loads[] = {5.0, 50.0, 7000.0};
+	const int steps[] = {16, 64};
+	for (int trial = 0; trial < 6; trial++) {
+		random_errors(&e, f->as.rollers, f->as.starts, 5.0 + 7.0 * trial, 977u + 13u * (unsigned)trial);
+		for (int l = 0; l < 3; l++)
+			for (int s = 0; s < 2; s++) {
+				const double F = loads[l];
+				prsm_assembly_state warm, cold;
+				for (int i = 0; i < 2 * steps[s]; i++) {
+					prsm_assembly_gaps_at(&f->plus, &f->as, &e, PRSM_DIR_PLUS, 2.0 * M_PI * i / steps[s],
+					                      PRSM_MODE_LINEAR);
+					assert_int_equal(prsm_assembly_solve(&cold, &f->as, &f->plus, F, 0), 0);
+					assert_int_equal(prsm_assembly_solve(&warm, &f->as, &f->plus, F, i > 0), 0);
+					assert_int_equal(warm.converged, 1);
+					/* both stop at |sum of loads - F| <= 1e-11 F: u within that over the stiffness */
+					const double du = 4e-11 * F / cold.stiffness_N_per_mm + 1e-15;
+					assert_close(warm.u_mm, cold.u_mm, du);
+					for (int j = 0; j < f->as.rollers; j++)
+						assert_close(warm.roller_load_N[j], cold.roller_load_N[j], 1e-9 * F);
+					assert_close(warm.stiffness_N_per_mm, cold.stiffness_N_per_mm,
+					             1e-7 * cold.stiffness_N_per_mm);
+					assert_close(warm.sharing_factor, cold.sharing_factor, 1e-8);
+					assert_int_equal(warm.loaded_rollers, cold.loaded_rollers);
+				}
+				prsm_assembly_state far = warm;
+				far.u_mm += 0.05;
+				for (int j = 0; j < f->as.rollers; j++)
+					far.w_mm[j] -= 0.01 * (j % 3);
+				assert_int_equal(prsm_assembly_solve(&far, &f->as, &f->plus, F, 1), 0);
+				assert_close(far.u_mm, warm.u_mm, 4e-11 * F / warm.stiffness_N_per_mm + 1e-15);
+			}
+	}
+	free(f);
+}
+
 /* One roller's gap opened: it carries less than F/Z, the others more, and the stiffness drops. */
 static void test_open_roller_carries_less(void **state)
 {
@@ -717,6 +762,7 @@ int main(void)
 		cmocka_unit_test(test_screw_runout_chain),
 		cmocka_unit_test(test_equal_sharing_closed_form),
 		cmocka_unit_test(test_elastic_equilibrium),
+		cmocka_unit_test(test_warm_path_matches_cold),
 		cmocka_unit_test(test_open_roller_carries_less),
 		cmocka_unit_test(test_nonconvergence_reported),
 		cmocka_unit_test(test_cost_and_stop),

@@ -467,6 +467,108 @@ static double roller_balance(const double *gs, const double *gn, int n, double K
 	return 0.5 * (S + N);
 }
 
+/* The state's summary once u, w, the roller loads and the stiffness are set. */
+static int finish(prsm_assembly_state *st, const prsm_assembly *as, double F, int ok, const double *gs_min,
+                  const double *gn_min)
+{
+	const int Z = as->rollers;
+	for (int j = 0; j < Z; j++) {
+		st->gs_min_mm[j] = gs_min[j];
+		st->gn_min_mm[j] = gn_min[j];
+	}
+	st->gaps_known = 1;
+	st->load_N = F;
+	st->converged = ok && isfinite(F) && F > 0.0;
+	double peak = 0.0;
+	st->loaded_rollers = 0;
+	for (int j = 0; j < Z; j++) {
+		if (st->roller_load_N[j] > 0.0)
+			st->loaded_rollers++;
+		peak = fmax(peak, st->roller_load_N[j]);
+	}
+	st->sharing_factor = peak / (F / Z);
+	return st->converged ? 0 : PRSM_ENOCONVERGE;
+}
+
+/* A warm solve along a path (the TE record and the revolution's angles, docs/model/errors-and-assembly.md
+ * "Elastic model"): the previous angle's state is close, so Newton on the whole system at once,
+ * unknowns u and every w_j, converges in two or three evaluations of the contacts where the nested
+ * solve below re-balances every roller at each of its own iterates of u (about three times the
+ * contact evaluations). With h_j = S_j(w_j) - N_j(u - w_j) and R = sum_j N_j - F the Jacobian is an
+ * arrow: eliminating dw_j = (N_j' du - h_j) / (S_j' + N_j') leaves one equation for du,
+ *     du sum_j S_j' N_j' / (S_j' + N_j') = -R - sum_j N_j' h_j / (S_j' + N_j').
+ * It stops at the nested solve's own tests (|R| <= 1e-11 F, every closed roller |h_j| <= 1e-12 of
+ * its load), so both give the same state to those tolerances; it gives up (returns 0, the caller
+ * runs the bracketed nested solve from the same start) when a step leaves u's bracket or a roller's,
+ * or after a few iterations: Newton's convergence here is not guaranteed, the nested solve's is. */
+#define JOINT_MAX_ITERATIONS 8
+
+static int solve_joint(prsm_assembly_state *st, const prsm_assembly *as, const prsm_assembly_gaps *g, double F,
+                       const double *gs_min, const double *gn_min, double lo, double hi)
+{
+	const int Z = as->rollers, nt = as->threads;
+	const double Ks = as->k_axial[0], Kn = as->k_axial[1];
+	double u = st->u_mm, w[PRSM_ERRORS_MAX_ROLLERS];
+	double h[PRSM_ERRORS_MAX_ROLLERS], dS[PRSM_ERRORS_MAX_ROLLERS], dN[PRSM_ERRORS_MAX_ROLLERS];
+	double load[PRSM_ERRORS_MAX_ROLLERS];
+	if (!(u > lo && u < hi))
+		return 0;
+	for (int j = 0; j < Z; j++)
+		w[j] = st->w_mm[j];
+	for (int it = 1; it <= JOINT_MAX_ITERATIONS; it++) {
+		double R = -F, den = 0.0, num = 0.0, dtotal = 0.0;
+		int balanced = 1;
+		for (int j = 0; j < Z; j++) {
+			const double wlo = gs_min[j], whi = u - gn_min[j];
+			if (!(whi > wlo)) {
+				/* the chain is open: the roller carries nothing (as roller_balance) */
+				w[j] = wlo;
+				h[j] = dS[j] = dN[j] = load[j] = 0.0;
+				continue;
+			}
+			if (!(w[j] > wlo && w[j] < whi))
+				w[j] = 0.5 * (wlo + whi);
+			const double S = side_force(&g->gap_mm[0][j * nt], nt, Ks, w[j], &dS[j]);
+			const double N = side_force(&g->gap_mm[1][j * nt], nt, Kn, u - w[j], &dN[j]);
+			h[j] = S - N;
+			load[j] = 0.5 * (S + N);
+			R += N;
+			if (!(fabs(h[j]) <= 1e-12 * (S + N)))
+				balanced = 0;
+			const double d = dS[j] + dN[j];
+			if (d > 0.0) {
+				den += dS[j] * dN[j] / d;
+				num += dN[j] * h[j] / d;
+				dtotal += dS[j] * dN[j] / d;
+			}
+		}
+		if (!isfinite(R) || !isfinite(num))
+			return 0;
+		if (balanced && fabs(R) <= 1e-11 * F) {
+			st->u_mm = u;
+			st->stiffness_N_per_mm = dtotal;
+			for (int j = 0; j < Z; j++) {
+				st->w_mm[j] = w[j];
+				st->roller_load_N[j] = load[j];
+			}
+			st->iterations = it;
+			return 1;
+		}
+		if (!(den > 0.0))
+			return 0;
+		const double du = (-R - num) / den, nu = u + du;
+		if (!(nu > lo && nu < hi))
+			return 0;
+		for (int j = 0; j < Z; j++) {
+			const double d = dS[j] + dN[j];
+			if (d > 0.0)
+				w[j] += (dN[j] * du - h[j]) / d;
+		}
+		u = nu;
+	}
+	return 0;
+}
+
 int prsm_assembly_solve(prsm_assembly_state *st, const prsm_assembly *as,
                         const prsm_assembly_gaps *g, double F, int warm)
 {
@@ -501,6 +603,26 @@ int prsm_assembly_solve(prsm_assembly_state *st, const prsm_assembly *as,
 	 * carries at least F */
 	const double ds = pow(F / Ks, 2.0 / 3.0), dn = pow(F / Kn, 2.0 / 3.0);
 	double lo = chain_lo, hi = chain_hi + ds + dn;
+	if (warm && st->gaps_known) {
+		/* predictor: the chains moved by dc_j; the nut follows their mean weighted by each roller's
+		 * stiffness (Hertz: dF/du ~ F^{1/3}), each roller keeps its share of its approach */
+		double num = 0.0, den = 0.0;
+		for (int j = 0; j < Z; j++) {
+			const double k = st->roller_load_N[j];
+			num += k * (gs_min[j] + gn_min[j] - st->gs_min_mm[j] - st->gn_min_mm[j]);
+			den += k;
+		}
+		const double u_old = st->u_mm;
+		st->u_mm = den > 0.0 ? u_old + num / den : u_old;
+		for (int j = 0; j < Z; j++) {
+			const double a_old = u_old - st->gs_min_mm[j] - st->gn_min_mm[j];
+			const double a_new = st->u_mm - gs_min[j] - gn_min[j];
+			const double share = a_old > 0.0 ? (st->w_mm[j] - st->gs_min_mm[j]) / a_old : 0.5;
+			st->w_mm[j] = gs_min[j] + (a_new > 0.0 ? a_new : 0.0) * share;
+		}
+	}
+	if (warm && solve_joint(st, as, g, F, gs_min, gn_min, lo, hi))
+		return finish(st, as, F, 1, gs_min, gn_min);
 	double u;
 	if (warm && st->u_mm > lo && st->u_mm < hi) {
 		u = st->u_mm;
@@ -544,20 +666,10 @@ int prsm_assembly_solve(prsm_assembly_state *st, const prsm_assembly *as,
 			st->w_mm[j] += dw[j] * (nu - u);
 		u = nu;
 	}
-	st->load_N = F;
 	st->u_mm = u;
 	st->iterations = done ? it : PRSM_ASSEMBLY_MAX_ITERATIONS;
+	st->stiffness_N_per_mm = dtotal;
 	/* docs/model/errors-and-assembly.md: a solve that ran out of iterations, or whose last iterate is not finite, is
 	 * reported, not passed on as a result */
-	st->converged = done && rollers_ok && isfinite(u) && isfinite(total) && isfinite(F) && F > 0.0;
-	st->stiffness_N_per_mm = dtotal;
-	double peak = 0.0;
-	st->loaded_rollers = 0;
-	for (int j = 0; j < Z; j++) {
-		if (st->roller_load_N[j] > 0.0)
-			st->loaded_rollers++;
-		peak = fmax(peak, st->roller_load_N[j]);
-	}
-	st->sharing_factor = peak / (F / Z);
-	return st->converged ? 0 : PRSM_ENOCONVERGE;
+	return finish(st, as, F, done && rollers_ok && isfinite(u) && isfinite(total), gs_min, gn_min);
 }

@@ -72,6 +72,11 @@ typedef struct {
 	int loaded_rollers;              /* rollers carrying load */
 	int iterations;                  /* outer Newton iterations */
 	int converged;                   /* 1 when the nut and every roller balanced (docs/model/errors-and-assembly.md) */
+	/* the gaps the state was solved on: each roller's smallest screw- and nut-side gap, mm (a warm
+	 * solve's predictor moves the state with them); gaps_known 0 before the first solve */
+	int gaps_known;
+	double gs_min_mm[PRSM_ERRORS_MAX_ROLLERS];
+	double gn_min_mm[PRSM_ERRORS_MAX_ROLLERS];
 } prsm_assembly_state;
 
 /* Prepare a design that passed prsm_analysis_nominal (a): pairs, contacts, sensitivities, K.
