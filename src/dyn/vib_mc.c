@@ -413,13 +413,20 @@ static double window_extreme(const double *v0, const cplx *v, int P, int L, cons
 /* The reference loop (o->reference): complex arithmetic, as first written. Over Na points of the
  * screw angle (step dth, rad) of the window: *ymin = min s y (m), *fworst = min s F (N, dynamic
  * part), *fbest = max s F with a parabola through each local maximum, *xbest = max |X| likewise (m). */
+/* The peak of the parabola through three equally spaced points whose middle one a1 is the largest:
+ * a1 itself when they are not strictly concave (the peak is there, or the points are flat). */
+static inline double parabola_peak(double a0, double a1, double a2)
+{
+	const double den = a0 - 2.0 * a1 + a2;
+	return den < 0.0 ? a1 - 0.125 * (a2 - a0) * (a2 - a0) / den : a1;
+}
+
 static void axial_grid_reference(double *ymin_, double *fbest_, double *fworst_, double *xbest_, const cplx *Yk,
                                  const cplx *Xk, const cplx *Fk, const cplx *rot, const prsm_vib_te_line *line, int L,
                                  long Na, double dth, double sa)
 {
 	cplx ph[PRSM_VIB_TE_LINES_MAX];
 	double ymin = INFINITY;
-	double fv[3] = {0};
 	double xbest = -1.0, fbest = -INFINITY, fworst = INFINITY;
 	double xprev2 = 0, xprev = 0, fprev2 = 0, fprev = 0;
 	/* one extra pass of two points closes the periodic neighbourhoods */
@@ -443,19 +450,11 @@ static void axial_grid_reference(double *ymin_, double *fbest_, double *fworst_,
 			const double ax = fabs(xprev);
 			if (ax >= fabs(xprev2) && ax >= fabs(xs)) {
 				const double s = xprev >= 0 ? 1.0 : -1.0;
-				const double a0 = s * xprev2, a1 = s * xprev, a2 = s * xs;
-				const double den = a0 - 2.0 * a1 + a2;
-				const double pk = den < 0.0 ? a1 - 0.125 * (a2 - a0) * (a2 - a0) / den : a1;
-				xbest = fmax(xbest, pk);
+				xbest = fmax(xbest, parabola_peak(s * xprev2, s * xprev, s * xs));
 			}
 			const double sf = sa * fprev;
 			if (sf >= sa * fprev2 && sf >= sa * fs) {
-				fv[0] = sa * fprev2;
-				fv[1] = sf;
-				fv[2] = sa * fs;
-				const double den = fv[0] - 2.0 * fv[1] + fv[2];
-				const double pk = den < 0.0 ? fv[1] - 0.125 * (fv[2] - fv[0]) * (fv[2] - fv[0]) / den : fv[1];
-				fbest = fmax(fbest, pk);
+				fbest = fmax(fbest, parabola_peak(sa * fprev2, sf, sa * fs));
 			}
 		}
 		xprev2 = xprev;
@@ -518,16 +517,12 @@ static void axial_grid(double *ymin_, double *fbest_, double *fworst_, double *x
 			const double ax = fabs(xprev);
 			if (ax >= fabs(xprev2) && ax >= fabs(xs)) {
 				const double s = xprev >= 0 ? 1.0 : -1.0;
-				const double a0 = s * xprev2, a1 = s * xprev, a2 = s * xs;
-				const double den = a0 - 2.0 * a1 + a2;
-				const double pk = den < 0.0 ? a1 - 0.125 * (a2 - a0) * (a2 - a0) / den : a1;
+				const double pk = parabola_peak(s * xprev2, s * xprev, s * xs);
 				xbest = pk > xbest ? pk : xbest;
 			}
 			const double sf = sa * fprev;
 			if (sf >= sa * fprev2 && sf >= sa * fs) {
-				const double f0 = sa * fprev2, f2 = sa * fs;
-				const double den = f0 - 2.0 * sf + f2;
-				const double pk = den < 0.0 ? sf - 0.125 * (f2 - f0) * (f2 - f0) / den : sf;
+				const double pk = parabola_peak(sa * fprev2, sf, sa * fs);
 				fbest = pk > fbest ? pk : fbest;
 			}
 		}
