@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "app/allocate.h"
+#include "app/study.h"
 #include "io/allocation_json.h"
 #include "io/global.h"
 #include "util/file.h"
@@ -215,7 +216,9 @@ static void test_case_a_meets_truly(void **state)
 	prsm_io_allocation *d = NULL;
 	prsm_problems pr;
 	prsm_problems_init(&pr);
-	assert_int_equal(prsm_io_allocation_read(&d, doc, 0, NULL, &pr), 0);
+	prsm_io_study_options study;
+	prsm_app_study_options(&study);
+	assert_int_equal(prsm_io_allocation_read(&d, doc, 0, &study, NULL, &pr), 0);
 	prsm_study *s = &d->study->study;
 	size_t i = 0;
 	const cJSON *t;

@@ -16,6 +16,7 @@
 #include <stdatomic.h>
 
 #include "app/simulate.h"
+#include "app/analyze.h"
 #include "io/analyze_request.h"
 #include "job/kind.h"
 #include "io/dynamics_json.h"
@@ -322,7 +323,7 @@ static void test_analyze_checks_but_does_not_simulate(void **state)
 	cJSON *doc = request(v1_dynamics), *res = NULL;
 	prsm_problems p;
 	prsm_problems_init(&p);
-	assert_int_equal(prsm_io_analyze(&res, doc, &p), 0);
+	assert_int_equal(prsm_app_analyze(&res, doc, &p), 0);
 	assert_null(cJSON_GetObjectItemCaseSensitive(res, "dynamics"));
 	const cJSON *w = cJSON_GetObjectItemCaseSensitive(res, "warnings");
 	int noted = 0;
@@ -335,7 +336,7 @@ static void test_analyze_checks_but_does_not_simulate(void **state)
 	doc = request("{\"time\": {\"end_s\": -1}}");
 	res = NULL;
 	prsm_problems_init(&p);
-	assert_int_equal(prsm_io_analyze(&res, doc, &p), PRSM_EINVAL);
+	assert_int_equal(prsm_app_analyze(&res, doc, &p), PRSM_EINVAL);
 	assert_true(find(&p, "/dynamics/time/end_s", "range") >= 0);
 	cJSON_Delete(doc);
 }

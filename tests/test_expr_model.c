@@ -14,6 +14,7 @@
 
 #include "io/global.h"
 #include "io/json_util.h"
+#include "app/study.h"
 #include "io/study_json.h"
 #include "mc/expr_model.h"
 #include "util/rng.h"
@@ -365,7 +366,7 @@ static prsm_io_study *load(const char *text, prsm_problems *w, prsm_problems *pr
 	prsm_problems_init(pr);
 	if (w)
 		prsm_problems_init(w);
-	const int rc = prsm_io_study_load(s, doc, w, pr);
+	const int rc = prsm_app_study_load(s, doc, w, pr);
 	cJSON_Delete(doc);
 	if (rc) {
 		free(s);
@@ -485,7 +486,7 @@ static void test_housing_stack(void **state)
 	prsm_problems pr, w;
 	prsm_problems_init(&pr);
 	prsm_problems_init(&w);
-	const int rc = prsm_io_study_load(s, doc, &w, &pr);
+	const int rc = prsm_app_study_load(s, doc, &w, &pr);
 	for (int i = 0; i < pr.count; i++)
 		print_error("%s %s\n", pr.items[i].pointer, pr.items[i].message);
 	assert_int_equal(rc, 0);

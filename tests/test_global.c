@@ -29,8 +29,10 @@
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_fft_real.h>
 
+#include "app/analyze.h"
 #include "io/analyze_request.h"
 #include "io/global.h"
+#include "app/study.h"
 #include "io/study_json.h"
 #include "mc/study.h"
 
@@ -107,7 +109,7 @@ static void test_study_result_whole_or_nothing(void **state)
 	assert_non_null(s);
 	prsm_problems pr;
 	prsm_problems_init(&pr);
-	int rc = prsm_io_study_load(s, study, NULL, &pr);
+	int rc = prsm_app_study_load(s, study, NULL, &pr);
 	for (int i = 0; i < pr.count; i++)
 		print_message("%s: %s\n", pr.items[i].pointer, pr.items[i].message);
 	assert_int_equal(rc, 0);
@@ -155,10 +157,10 @@ static prsm_analyze_request *load_measured(prsm_problems *warnings)
 	prsm_problems pr;
 	prsm_problems_init(&pr);
 	prsm_problems_init(warnings);
-	assert_int_equal(prsm_io_analyze_load(rq, doc, warnings, &pr), 0);
+	assert_int_equal(prsm_app_analyze_load(rq, doc, warnings, &pr), 0);
 	cJSON_Delete(doc);
 	assert_int_equal(rq->with_errors, 1);
-	assert_int_equal(prsm_io_analyze_run(rq), 0);
+	assert_int_equal(prsm_app_analyze_run(rq), 0);
 	return rq;
 }
 

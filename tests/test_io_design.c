@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "app/analyze.h"
 #include "io/design_json.h"
 #include "io/stages_json.h"
 #include "io/json_util.h"
@@ -661,7 +662,7 @@ static void studies_load_without_problems(void **state)
 		if (prsm_io_is_multistage(doc)) {
 			prsm_io_multistage *ms = calloc(1, sizeof *ms);
 			assert_non_null(ms);
-			int mrc = prsm_io_multistage_load(ms, doc, &w, &p);
+			int mrc = prsm_app_multistage_load(ms, doc, &w, &p);
 			cJSON_Delete(doc);
 			if (mrc != 0 || p.count != 0) {
 				dump(&p);

@@ -16,6 +16,7 @@
 
 #include <dirent.h>
 
+#include "app/study.h"
 #include "io/design_json.h"
 #include "io/errors_json.h"
 #include "io/global.h"
@@ -175,7 +176,9 @@ static void compare_study(const cJSON *doc, tally *t)
 	for (int k = 0; k < 4; k++)
 		prsm_problems_init(&study_lists[k]);
 	const int ra = prsm_legacy_study_load(a, doc, &study_lists[2], &study_lists[0]);
-	const int rb = prsm_io_study_read(b, doc, &study_lists[3], &study_lists[1]);
+	prsm_io_study_options hooks; /* the reader as the application runs it (app/study.h) */
+	prsm_app_study_options(&hooks);
+	const int rb = prsm_io_study_read(b, doc, &hooks, &study_lists[3], &study_lists[1]);
 	normalise(a);
 	normalise(b);
 	check_same("study", doc, ra, rb, &study_lists[0], &study_lists[1], a, b, sizeof *a, t);
@@ -728,7 +731,9 @@ static void compare_allocation(const cJSON *doc, tally *t)
 		for (int l = 0; l < 4; l++)
 			prsm_problems_init(&study_lists[l]);
 		const int ra = prsm_legacy_allocation_read(&a, doc, alloc_caps[k], &study_lists[2], &study_lists[0]);
-		const int rb = prsm_io_allocation_read(&b, doc, alloc_caps[k], &study_lists[3], &study_lists[1]);
+		prsm_io_study_options hooks;
+		prsm_app_study_options(&hooks);
+		const int rb = prsm_io_allocation_read(&b, doc, alloc_caps[k], &hooks, &study_lists[3], &study_lists[1]);
 		if (ra == 0 && rb == 0) {
 			assert_true((a->study == NULL) == (b->study == NULL));
 			if (a->study) {
@@ -865,7 +870,9 @@ static void compare_optimization(const cJSON *doc, tally *t)
 		for (int l = 0; l < 4; l++)
 			prsm_problems_init(&study_lists[l]);
 		const int ra = prsm_legacy_optimization_read(a, doc, opt_caps[k], &study_lists[2], &study_lists[0]);
-		const int rb = prsm_io_optimization_read(b, doc, opt_caps[k], &study_lists[3], &study_lists[1]);
+		prsm_io_study_options hooks;
+		prsm_app_study_options(&hooks);
+		const int rb = prsm_io_optimization_read(b, doc, opt_caps[k], &hooks, &study_lists[3], &study_lists[1]);
 		size_t size = 0;
 		if (ra == 0 && rb == 0) {
 			size = sizeof *a;

@@ -9,9 +9,11 @@
 #include "test_support.h"
 
 #include "io/analysis_json.h"
+#include "app/analyze.h"
 #include "io/analyze_request.h"
 #include "io/assembly_json.h"
 #include "io/global.h"
+#include "app/study.h"
 #include "io/study_json.h"
 #include "io/write.h"
 #include "mc/study.h"
@@ -194,9 +196,9 @@ static prsm_analyze_request *analyse(const char *study, int curve)
 	prsm_problems pr, warnings;
 	prsm_problems_init(&pr);
 	prsm_problems_init(&warnings);
-	assert_int_equal(prsm_io_analyze_load(rq, doc, &warnings, &pr), 0);
+	assert_int_equal(prsm_app_analyze_load(rq, doc, &warnings, &pr), 0);
 	cJSON_Delete(doc);
-	assert_int_equal(prsm_io_analyze_run(rq), 0);
+	assert_int_equal(prsm_app_analyze_run(rq), 0);
 	return rq;
 }
 
@@ -242,7 +244,7 @@ static void test_study_oom(void **state)
 	assert_non_null(s);
 	prsm_problems pr;
 	prsm_problems_init(&pr);
-	assert_int_equal(prsm_io_study_load(s, doc, NULL, &pr), 0);
+	assert_int_equal(prsm_app_study_load(s, doc, NULL, &pr), 0);
 	cJSON_Delete(doc);
 	prsm_study_result r;
 	prsm_error err = PRSM_ERROR_INIT;

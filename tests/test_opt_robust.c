@@ -3,7 +3,7 @@
  * Monte Carlo yield of a study output of each candidate against a spec, with common random
  * numbers. Determinism (the same document twice, threads 1 and 2: identical results); the
  * yield the result reports is the one an equivalent study document gives for the returned
- * design (prsm_io_study_load + prsm_study_run, independently of the optimiser), and meets the
+ * design (prsm_app_study_load + prsm_study_run, independently of the optimiser), and meets the
  * target; the constraint binds (the unconstrained optimum misses the target, the robust run
  * returns another design that meets it, at a lower objective); the smooth stand-ins tend to the
  * Monte Carlo yield; a run cancelled after some hundreds of evaluations reports its best design
@@ -18,6 +18,7 @@
 #include "app/optimize.h"
 #include "io/optimization_json.h"
 #include "io/global.h"
+#include "app/study.h"
 #include "io/study_json.h"
 #include "opt/robust.h"
 
@@ -117,7 +118,7 @@ static double study_yield(const cJSON *design, size_t *kept)
 	assert_non_null(r);
 	prsm_problems p;
 	prsm_problems_init(&p);
-	int rc = prsm_io_study_load(s, st, NULL, &p);
+	int rc = prsm_app_study_load(s, st, NULL, &p);
 	if (rc)
 		print_error("study: %s %s\n", p.count ? p.items[0].pointer : "", p.count ? p.items[0].message : "");
 	assert_int_equal(rc, 0);
@@ -361,7 +362,7 @@ static void test_surrogates(void **state)
 	prsm_study_result *r = calloc(1, sizeof *r);
 	prsm_problems p;
 	prsm_problems_init(&p);
-	assert_int_equal(prsm_io_study_load(s, st, NULL, &p), 0);
+	assert_int_equal(prsm_app_study_load(s, st, NULL, &p), 0);
 	/* y = x1 + x2 ~ N(0, 2): the spec [-2.385, 2.385] holds 92.2 % */
 	prsm_robust_constraint c = {"y", {1, 1, -2.385, 2.385}, 0.9};
 	s->study.outputs[0].has_spec = 1;

@@ -8,6 +8,7 @@
 #include "test_support.h"
 
 #include "io/analysis_json.h"
+#include "app/analyze.h"
 #include "io/analyze_request.h"
 #include "io/json_util.h"
 
@@ -50,7 +51,7 @@ static void test_catalogue_size(void **state)
 	cJSON *out = NULL;
 	prsm_problems problems;
 	prsm_problems_init(&problems);
-	assert_int_equal(prsm_io_analyze(&out, doc, &problems), 0);
+	assert_int_equal(prsm_app_analyze(&out, doc, &problems), 0);
 	assert_int_equal(problems.count, 0);
 	assert_close(num(out, "nominal", "pitch_mm", NULL), 2.0, 0.0);
 	assert_close(num(out, "nominal", "roller_radius_mm", NULL), 5.0, 0.0);
@@ -84,7 +85,7 @@ static void test_catalogue_size(void **state)
 	         "{\"geometry\": {\"starts\": 5, \"pitch_mm\": 2, \"roller_radius_mm\": 5, \"rollers\": %d, "
 	         "\"engaged_threads\": %d}}", Z, nt);
 	cJSON *doc2 = parse(text), *out2 = NULL;
-	assert_int_equal(prsm_io_analyze(&out2, doc2, &problems), 0);
+	assert_int_equal(prsm_app_analyze(&out2, doc2, &problems), 0);
 	const char *keys[] = {"C0a_N", "C_a_N", "C0a_over_C_a"};
 	for (int k = 0; k < 3; k++) {
 		assert_true(num(at(out, "capacity", "ratings", "makers_convention"), keys[k], NULL, NULL) ==
@@ -118,7 +119,7 @@ static void test_catalogue_problems(void **state)
 		cJSON *doc = parse(cases[i].doc), *out = NULL;
 		prsm_problems problems;
 		prsm_problems_init(&problems);
-		assert_int_not_equal(prsm_io_analyze(&out, doc, &problems), 0);
+		assert_int_not_equal(prsm_app_analyze(&out, doc, &problems), 0);
 		assert_null(out);
 		assert_true(problems.count >= 1);
 		int found = 0;
@@ -147,7 +148,7 @@ static void test_wrong_kind(void **state)
 		cJSON *doc = parse(docs[i][0]), *out = NULL;
 		prsm_problems problems;
 		prsm_problems_init(&problems);
-		assert_int_equal(prsm_io_analyze(&out, doc, &problems), PRSM_EINVAL);
+		assert_int_equal(prsm_app_analyze(&out, doc, &problems), PRSM_EINVAL);
 		assert_int_equal(problems.count, 1);
 		assert_string_equal(problems.items[0].code, "wrong_kind");
 		assert_non_null(strstr(problems.items[0].message, docs[i][1]));
@@ -179,7 +180,7 @@ static void test_result_48x5(void **state)
 	cJSON *out = NULL;
 	prsm_problems problems;
 	prsm_problems_init(&problems);
-	assert_int_equal(prsm_io_analyze(&out, doc, &problems), 0);
+	assert_int_equal(prsm_app_analyze(&out, doc, &problems), 0);
 	const cJSON *m = at(out, "capacity", "ratings", "makers_convention");
 	assert_true(num(m, "C0a_over_C_a", NULL, NULL) > 1.0);
 	assert_true(cJSON_IsTrue(at(m, "truncated_at_C0a", NULL, NULL)));

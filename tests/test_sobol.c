@@ -14,6 +14,7 @@
 
 #include <gsl/gsl_errno.h>
 
+#include "app/study.h"
 #include "io/study_json.h"
 #include "io/global.h"
 #include "mc/engine.h"
@@ -351,7 +352,7 @@ static void test_case_a_sobol_threads(void **state)
 	assert_non_null(s);
 	prsm_problems pr;
 	prsm_problems_init(&pr);
-	assert_int_equal(prsm_io_study_load(s, doc, NULL, &pr), 0);
+	assert_int_equal(prsm_app_study_load(s, doc, NULL, &pr), 0);
 	cJSON_Delete(doc);
 	assert_int_equal(s->study.d, 52);
 	s->study.mc.sampler = PRSM_SAMPLER_SOBOL;

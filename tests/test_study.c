@@ -11,6 +11,7 @@
 #include <gsl/gsl_cdf.h>
 #include <gsl/gsl_errno.h>
 
+#include "app/study.h"
 #include "io/study_json.h"
 #include "io/global.h"
 #include "model/performance.h"
@@ -28,7 +29,7 @@ static prsm_io_study *load(const char *text, prsm_problems *pr)
 	prsm_io_study *s = calloc(1, sizeof *s);
 	assert_non_null(s);
 	prsm_problems_init(pr);
-	int rc = prsm_io_study_load(s, doc, NULL, pr);
+	int rc = prsm_app_study_load(s, doc, NULL, pr);
 	cJSON_Delete(doc);
 	if (rc) {
 		for (int i = 0; i < pr->count; i++)
@@ -334,7 +335,7 @@ static void test_nut_unit_stiffness(void **state)
 	                         " \"outputs\": [\"backlash_um\", \"nut_unit_stiffness_N_per_um\"]}");
 	s = calloc(1, sizeof *s);
 	prsm_problems_init(&pr);
-	assert_int_equal(prsm_io_study_load(s, doc, NULL, &pr), PRSM_EINVAL);
+	assert_int_equal(prsm_app_study_load(s, doc, NULL, &pr), PRSM_EINVAL);
 	assert_string_equal(pr.items[0].pointer, "/outputs/1");
 	assert_string_equal(pr.items[0].code, "no_load");
 	cJSON_Delete(doc);
@@ -385,7 +386,7 @@ static void test_ranges(void **state)
 	prsm_problems pr, w;
 	prsm_problems_init(&pr);
 	prsm_problems_init(&w);
-	assert_int_equal(prsm_io_study_load(s, doc, &w, &pr), 0);
+	assert_int_equal(prsm_app_study_load(s, doc, &w, &pr), 0);
 	int warned = 0;
 	for (int i = 0; i < w.count; i++)
 		warned |= strcmp(w.items[i].code, "linear_range") == 0 && strcmp(w.items[i].pointer, "/tolerances/0") == 0;
@@ -417,7 +418,7 @@ static void test_efficiency_names(void **state)
 		prsm_problems pr, warn;
 		prsm_problems_init(&pr);
 		prsm_problems_init(&warn);
-		assert_int_equal(prsm_io_study_load(s, doc, &warn, &pr), 0);
+		assert_int_equal(prsm_app_study_load(s, doc, &warn, &pr), 0);
 		cJSON_Delete(doc);
 		int older = 0;
 		for (int i = 0; i < warn.count; i++)
@@ -486,6 +487,47 @@ static void test_catalogue_size(void **state)
 	assert_true(lead && starts);
 }
 
+/* Issue 24, item 4: the study reader alone analyses nothing; the nominal analysis is the
+ * application's hook (app/study.h), at the design step. A design whose contacts leave their
+ * flanks reads without a problem, and its tolerance on an unknown parameter is reported; with
+ * the hooks the edge contact comes first and, the design unusable, the parameter is not judged. */
+static void test_reader_hooks(void **state)
+{
+	(void)state;
+	cJSON *doc = cJSON_Parse("{\"design\": {\"geometry\": {\"starts\": 5, \"pitch_mm\": 2, \"flank_angle_deg\": 10,"
+	                         " \"roller_radius_mm\": 3.25, \"rollers\": 10, \"engaged_threads\": 10},"
+	                         " \"target_axial_clearance_um\": 20,"
+	                         " \"operating_point\": {\"axial_load_N\": 7000, \"screw_speed_rpm\": 955}},"
+	                         " \"tolerances\": [{\"parameter\": \"nut.pitch_radius_um\", \"tol_um\": 3}]}");
+	assert_non_null(doc);
+	prsm_io_study *s = calloc(1, sizeof *s);
+	assert_non_null(s);
+	prsm_problems pr;
+	prsm_problems_init(&pr);
+	assert_int_equal(prsm_io_study_load(s, doc, NULL, NULL, &pr), 0);
+	assert_int_equal(pr.count, 0);
+	assert_null(s->study.model.eval); /* no hooks, no model: the study cannot run */
+	prsm_problems_init(&pr);
+	assert_int_equal(prsm_app_study_load(s, doc, NULL, &pr), PRSM_EEDGE);
+	assert_int_equal(pr.count, 1);
+	assert_string_equal(pr.items[0].pointer, "/design/geometry");
+	assert_string_equal(pr.items[0].code, "edge_contact");
+
+	/* an unknown parameter: judged when the design reads (no hooks), not beside an edge contact */
+	cJSON *tol = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(doc, "tolerances"), 0);
+	cJSON_ReplaceItemInObjectCaseSensitive(tol, "parameter", cJSON_CreateString("nut.no_such_um"));
+	prsm_problems_init(&pr);
+	assert_int_equal(prsm_io_study_load(s, doc, NULL, NULL, &pr), PRSM_EINVAL);
+	assert_int_equal(pr.count, 1);
+	assert_string_equal(pr.items[0].pointer, "/tolerances/0/parameter");
+	prsm_problems_init(&pr);
+	assert_int_equal(prsm_app_study_load(s, doc, NULL, &pr), PRSM_EEDGE);
+	assert_int_equal(pr.count, 1);
+	assert_string_equal(pr.items[0].code, "edge_contact");
+	cJSON_Delete(doc);
+	free(s);
+}
+
 int main(void)
 {
 	prsm_global_init();
@@ -499,6 +541,7 @@ int main(void)
 		cmocka_unit_test(test_nut_unit_stiffness),
 		cmocka_unit_test(test_efficiency_names),
 		cmocka_unit_test(test_catalogue_size),
+		cmocka_unit_test(test_reader_hooks),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

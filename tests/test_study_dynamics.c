@@ -14,6 +14,7 @@
 #include "test_support.h"
 
 #include "io/global.h"
+#include "app/study.h"
 #include "io/study_json.h"
 #include "mc/study.h"
 
@@ -45,7 +46,7 @@ static prsm_io_study *load_doc(cJSON *doc, prsm_problems *pr)
 	prsm_io_study *s = calloc(1, sizeof *s);
 	assert_non_null(s);
 	prsm_problems_init(pr);
-	const int rc = prsm_io_study_load(s, doc, NULL, pr);
+	const int rc = prsm_app_study_load(s, doc, NULL, pr);
 	if (rc) {
 		free(s);
 		return NULL;

@@ -14,6 +14,7 @@
 
 #include <gsl/gsl_cdf.h>
 
+#include "app/study.h"
 #include "io/study_json.h"
 
 static prsm_io_study *load(const char *text, prsm_problems *pr)
@@ -23,7 +24,7 @@ static prsm_io_study *load(const char *text, prsm_problems *pr)
 	prsm_io_study *s = calloc(1, sizeof *s);
 	assert_non_null(s);
 	prsm_problems_init(pr);
-	int rc = prsm_io_study_load(s, doc, NULL, pr);
+	int rc = prsm_app_study_load(s, doc, NULL, pr);
 	cJSON_Delete(doc);
 	if (rc) {
 		for (int i = 0; i < pr->count; i++)

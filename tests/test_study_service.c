@@ -13,6 +13,7 @@
 #include "app/optimize.h"
 #include "io/global.h"
 #include "io/json_util.h"
+#include "app/study.h"
 #include "io/study_json.h"
 
 typedef struct {
@@ -34,7 +35,7 @@ static int reload_and_run(prsm_study_result *r, const prsm_study *s, const char 
 	cJSON *doc = prsm_json_parse(source, source_len, pr);
 	assert_non_null(doc);
 	c->sources_seen += cJSON_GetObjectItemCaseSensitive(doc, "tolerances") != NULL;
-	assert_int_equal(prsm_io_study_load(fresh, doc, NULL, pr), 0);
+	assert_int_equal(prsm_app_study_load(fresh, doc, NULL, pr), 0);
 	cJSON_Delete(doc);
 	assert_int_equal(prsm_study_adopt(&fresh->study, s, err), 0);
 	int rc = prsm_study_run(r, &fresh->study, err);
@@ -132,8 +133,8 @@ static void test_adopt_refuses_other_sizes(void **state)
 	prsm_io_study *a = calloc(1, sizeof *a), *b = calloc(1, sizeof *b);
 	assert_non_null(a);
 	assert_non_null(b);
-	assert_int_equal(prsm_io_study_load(a, doc, NULL, &pr), 0);
-	assert_int_equal(prsm_io_study_load(b, doc, NULL, &pr), 0);
+	assert_int_equal(prsm_app_study_load(a, doc, NULL, &pr), 0);
+	assert_int_equal(prsm_app_study_load(b, doc, NULL, &pr), 0);
 	prsm_error err = PRSM_ERROR_INIT;
 	/* the same document: taken, the model and pointers kept */
 	const prsm_mc_model model = b->study.model;

@@ -2,6 +2,7 @@
  * allocate.c: checking and running an allocation document (see allocate.h).
  */
 #include "app/allocate.h"
+#include "app/study.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -44,7 +45,9 @@ static int prepare(prsm_io_allocation *d, prsm_problems *pr)
 static int load(prsm_io_allocation **out, const cJSON *doc, size_t max_samples,
                 prsm_problems *warnings, prsm_problems *pr)
 {
-	int rc = prsm_io_allocation_read(out, doc, max_samples, warnings, pr);
+	prsm_io_study_options study;
+	prsm_app_study_options(&study);
+	int rc = prsm_io_allocation_read(out, doc, max_samples, &study, warnings, pr);
 	if (rc == 0 && (rc = prepare(*out, pr)) != 0) {
 		prsm_io_allocation_free(*out);
 		*out = NULL;

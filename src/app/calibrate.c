@@ -11,6 +11,7 @@
 
 #include "dyn/calib.h"
 #include "dyn/dyn.h"
+#include "app/analyze.h"
 #include "io/analyze_request.h"
 #include "io/errors_json.h"
 #include "io/json_util.h"
@@ -144,7 +145,7 @@ int prsm_app_calibration_load(prsm_app_calibration **out, const cJSON *doc, cons
 		if (ddyn->child == NULL)
 			cJSON_DeleteItemFromObjectCaseSensitive(dup, "dynamics");
 	}
-	int rc = prsm_io_analyze_load(&c->rq, dup, &c->out.warnings, problems);
+	int rc = prsm_app_analyze_load(&c->rq, dup, &c->out.warnings, problems);
 	cJSON_Delete(dup);
 	c->rq_loaded = 1;
 	const int design_ok = rc == 0;

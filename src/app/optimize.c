@@ -3,6 +3,7 @@
  * reported points afresh, write.
  */
 #include "app/optimize.h"
+#include "app/study.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -89,7 +90,9 @@ static int prepare(prsm_io_optimization *od, prsm_problems *pr)
 static int load(prsm_io_optimization *od, const cJSON *doc, size_t max_evaluations,
                 prsm_problems *warnings, prsm_problems *pr)
 {
-	int rc = prsm_io_optimization_read(od, doc, max_evaluations, warnings, pr);
+	prsm_io_study_options study;
+	prsm_app_study_options(&study);
+	int rc = prsm_io_optimization_read(od, doc, max_evaluations, &study, warnings, pr);
 	return rc ? rc : prepare(od, pr);
 }
 
@@ -175,7 +178,7 @@ static int build_study(void *ctx, prsm_study **study, void **handle, const char 
 		goto fail;
 	}
 	prsm_problems_init(pr);
-	rc = prsm_io_study_load(s, od->study, NULL, pr);
+	rc = prsm_app_study_load(s, od->study, NULL, pr);
 	if (rc) {
 		if (pr->count && pr->items[0].pointer[0])
 			prsm_error_set(err, rc, NULL, "%s: %s", pr->items[0].pointer, pr->items[0].message);

@@ -16,6 +16,7 @@
 #include <time.h>
 
 #include "app/vibrate.h"
+#include "app/analyze.h"
 #include "io/analyze_request.h"
 #include "io/dynamics_json.h"
 #include "io/json_util.h"
@@ -186,7 +187,7 @@ int prsm_app_simulation_load(prsm_app_simulation **out, const cJSON *doc, prsm_p
 		if (rc == 0 && prsm_problems_total(problems) > before)
 			rc = PRSM_EINVAL;
 	} else {
-		rc = prsm_io_analyze_load(&s->rq, doc, &s->warnings, problems);
+		rc = prsm_app_analyze_load(&s->rq, doc, &s->warnings, problems);
 		if (rc == 0 && prsm_problems_total(problems) > before)
 			rc = PRSM_EINVAL;
 		const int K = s->rq.multistage ? s->rq.ms->stages : 1;

@@ -10,8 +10,10 @@
 #include "app/calibrate.h"
 #include "app/optimize.h"
 #include "app/simulate.h"
+#include "app/analyze.h"
 #include "io/analyze_request.h"
 #include "io/write.h"
+#include "app/study.h"
 #include "io/study_json.h"
 #include "util/error.h"
 
@@ -56,7 +58,7 @@ static int validate_study(const cJSON *doc, prsm_problems *warnings, prsm_proble
 	prsm_io_study *s = calloc(1, sizeof *s); /* large: on the heap */
 	if (!s)
 		return PRSM_ENOMEM;
-	int rc = prsm_io_study_load(s, doc, warnings, problems);
+	int rc = prsm_app_study_load(s, doc, warnings, problems);
 	free(s);
 	return rc;
 }
@@ -80,7 +82,7 @@ static int validate_design(const cJSON *doc, prsm_problems *warnings, prsm_probl
 	prsm_analyze_request *rq = calloc(1, sizeof *rq); /* large: on the heap */
 	if (!rq)
 		return PRSM_ENOMEM;
-	int rc = prsm_io_analyze_load(rq, doc, warnings, problems);
+	int rc = prsm_app_analyze_load(rq, doc, warnings, problems);
 	prsm_io_analyze_free(rq);
 	free(rq);
 	return rc;

@@ -16,6 +16,7 @@
 #include "app/simulate.h"
 #include "io/allocation_json.h"
 #include "io/analysis_json.h"
+#include "app/analyze.h"
 #include "io/analyze_request.h"
 #include "io/json_util.h"
 #include "app/optimize.h"
@@ -190,12 +191,12 @@ int prsm_cli_analyze(int argc, char **argv)
 	cJSON *doc;
 	int rc = prsm_cli_read_document(&doc, o.path, &problems);
 	if (rc == 0)
-		rc = prsm_error_exit_code(prsm_io_analyze_load(rq, doc, &warnings, &problems));
+		rc = prsm_error_exit_code(prsm_app_analyze_load(rq, doc, &warnings, &problems));
 	cJSON_Delete(doc);
 	if (rc) {
 		prsm_cli_print_problems(stderr, o.path, &problems);
 	} else {
-		rc = prsm_error_exit_code(prsm_io_analyze_run(rq));
+		rc = prsm_error_exit_code(prsm_app_analyze_run(rq));
 		if (rc == 0)
 			rc = write_analysis(&o, rq, &warnings);
 	}

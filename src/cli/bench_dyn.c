@@ -38,6 +38,7 @@
 #include <string.h>
 
 #include "app/simulate.h"
+#include "app/study.h"
 #include "io/study_json.h"
 #include "mc/study.h"
 #include "dyn/vib.h"
@@ -122,7 +123,7 @@ static double bench_dynamic_study(int samples, double e_um, double *screened_sha
 	prsm_problems pr;
 	prsm_problems_init(&pr);
 	double rate = NAN;
-	if (doc == NULL || st == NULL || prsm_io_study_load(st, doc, NULL, &pr)) {
+	if (doc == NULL || st == NULL || prsm_app_study_load(st, doc, NULL, &pr)) {
 		fprintf(stderr, "prsm bench: built-in dynamic study invalid: %s %s\n", pr.count ? pr.items[0].pointer : "",
 		        pr.count ? pr.items[0].message : "?");
 	} else {

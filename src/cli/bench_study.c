@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "cli/commands.h"
+#include "app/study.h"
 #include "io/study_json.h"
 #include "util/clock.h"
 
@@ -49,7 +50,7 @@ static prsm_io_study *load(const char *text)
 	prsm_problems_init(&pr);
 	cJSON *doc = cJSON_Parse(text);
 	prsm_io_study *s = calloc(1, sizeof *s);
-	if (!doc || !s || prsm_io_study_load(s, doc, NULL, &pr)) {
+	if (!doc || !s || prsm_app_study_load(s, doc, NULL, &pr)) {
 		fprintf(stderr, "prsm bench: built-in study invalid: %s\n", pr.count ? pr.items[0].message : "?");
 		free(s);
 		s = NULL;

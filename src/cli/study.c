@@ -18,6 +18,7 @@
 #include "cli/commands.h"
 #include "io/analysis_json.h"
 #include "io/json_util.h"
+#include "app/study.h"
 #include "io/study_json.h"
 #include "par/par.h"
 #include "par/study.h"
@@ -79,7 +80,7 @@ static int serve_load(void *ctx, prsm_study **study, void **handle, const char *
 	}
 	prsm_problems_init(pr);
 	cJSON *doc = prsm_json_parse(text, len, pr);
-	int rc = doc ? prsm_io_study_load(s, doc, NULL, pr) : PRSM_EINVAL;
+	int rc = doc ? prsm_app_study_load(s, doc, NULL, pr) : PRSM_EINVAL;
 	cJSON_Delete(doc);
 	if (rc) {
 		prsm_error_set(err, rc, NULL, "%s%s%s", pr->count ? pr->items[0].pointer : "",
@@ -151,7 +152,7 @@ int prsm_cli_study_check(const cJSON *doc, prsm_problems *warnings, prsm_problem
 	prsm_io_study *s = calloc(1, sizeof *s);
 	if (!s)
 		return PRSM_EXIT_FAILED;
-	int rc = prsm_io_study_load(s, doc, warnings, problems);
+	int rc = prsm_app_study_load(s, doc, warnings, problems);
 	free(s);
 	return rc ? prsm_error_exit_code(rc) : 0;
 }
@@ -181,7 +182,7 @@ int prsm_cli_study(int argc, char **argv)
 		cJSON_Delete(doc);
 		return PRSM_EXIT_FAILED;
 	}
-	int lrc = prsm_io_study_load(s, doc, &warnings, &problems);
+	int lrc = prsm_app_study_load(s, doc, &warnings, &problems);
 	cJSON_Delete(doc);
 	if (par) {
 		/* every rank loaded the same bytes: the same outcome, or something is badly wrong */

@@ -38,6 +38,7 @@
 #include "http/request.h"
 #include "app/validate.h"
 #include "io/analysis_json.h"
+#include "app/analyze.h"
 #include "io/analyze_request.h"
 #include "io/global.h"
 #include "util/clock.h"
@@ -506,7 +507,7 @@ static enum MHD_Result submit_and_answer(prsm_http *h, struct MHD_Connection *c,
 }
 
 /* POST /v1/designs/analyze. Answered here while the work fits the synchronous budget: at most
- * sync_evaluations contact-gap evaluations (prsm_io_analyze_cost), at most sync_time_s of
+ * sync_evaluations contact-gap evaluations (prsm_app_analyze_cost), at most sync_time_s of
  * computation (a deadline the error analysis checks), and at most threads - 1 such requests at
  * once, so one HTTP thread is always free for health checks and cached reads. Anything heavier,
  * or a request that runs out of time, becomes an "analysis" job (202, Location
@@ -525,18 +526,18 @@ static enum MHD_Result on_analyze(prsm_http *h, struct MHD_Connection *c, reques
 		cJSON_Delete(doc);
 		return send_out_of_memory(c);
 	}
-	int rc = prsm_io_analyze_load(rq, doc, &warnings, &p);
+	int rc = prsm_app_analyze_load(rq, doc, &warnings, &p);
 	int queued = 0;
 	if (rc == 0) {
 		const int slots = h->o.threads > 1 ? h->o.threads - 1 : 1;
-		if (prsm_io_analyze_cost(rq) > h->o.sync_evaluations) {
+		if (prsm_app_analyze_cost(rq) > h->o.sync_evaluations) {
 			queued = 1;
 		} else if (atomic_fetch_add(&h->sync_running, 1) >= slots) {
 			atomic_fetch_sub(&h->sync_running, 1);
 			queued = 1;
 		} else {
 			rq->options.deadline_s = prsm_clock_seconds() + h->o.sync_time_s;
-			rc = prsm_io_analyze_run(rq);
+			rc = prsm_app_analyze_run(rq);
 			atomic_fetch_sub(&h->sync_running, 1);
 			if (rc == PRSM_ECANCELLED)
 				queued = 1; /* out of time: the queue has no such budget */
@@ -909,7 +910,7 @@ static int build_version(prsm_http *h)
 	prsm_problems p;
 	prsm_problems_init(&p);
 	const cJSON *eng = NULL;
-	if (doc && prsm_io_analyze(&res, doc, &p) == 0)
+	if (doc && prsm_app_analyze(&res, doc, &p) == 0)
 		eng = cJSON_GetObjectItemCaseSensitive(res, "engine");
 	const cJSON *ev = cJSON_GetObjectItemCaseSensitive(eng, "version");
 	const cJSON *em = cJSON_GetObjectItemCaseSensitive(eng, "model");

@@ -34,7 +34,7 @@ typedef struct {
 	/* POST /v1/designs/analyze runs on the HTTP thread only within this budget; heavier work
 	 * becomes an "analysis" job (202) */
 	double sync_time_s;          /* computation time of one synchronous analysis, s */
-	double sync_evaluations;     /* its contact-gap evaluations (prsm_io_analyze_cost) */
+	double sync_evaluations;     /* its contact-gap evaluations (prsm_app_analyze_cost) */
 } prsm_http_options;
 
 #define PRSM_HTTP_OPTIONS_INIT                                                                     \

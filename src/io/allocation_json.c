@@ -38,6 +38,7 @@ typedef struct {
 	size_t max_samples;      /* the caller's cap, 0: PRSM_IO_ALLOC_MAX_SAMPLES */
 	int kind_ok;             /* the study loaded, or the analytic outputs were read without a problem */
 	int study_rc;            /* the study reader's return code */
+	const prsm_io_study_options *study; /* the study reader's hooks (may be NULL) */
 	int out_of_memory;
 } alloc_reading;
 
@@ -89,7 +90,7 @@ int prsm_io_step_alloc_kind(prsm_io_at *at, prsm_problems *pr)
 			return 1;
 		}
 		prsm_problems_init(sp);
-		c->study_rc = prsm_io_study_load(d->study, study, c->warnings, sp);
+		c->study_rc = prsm_io_study_load(d->study, study, c->study, c->warnings, sp);
 		prsm_json_problems_append_prefixed(pr, sp, "/study");
 		free(sp);
 		c->kind_ok = c->study_rc == 0;
@@ -403,14 +404,14 @@ int prsm_io_step_alloc_model(prsm_io_at *at, prsm_problems *pr)
 }
 
 int prsm_io_allocation_read(prsm_io_allocation **out, const cJSON *doc, size_t max_samples,
-                            prsm_problems *warnings, prsm_problems *pr)
+                            const prsm_io_study_options *study, prsm_problems *warnings, prsm_problems *pr)
 {
 	*out = NULL;
 	prsm_io_allocation *d = calloc(1, sizeof *d);
 	if (!d)
 		return PRSM_ENOMEM;
 	const int start = prsm_problems_total(pr);
-	alloc_reading c = {warnings, max_samples, 0, 0, 0};
+	alloc_reading c = {warnings, max_samples, 0, 0, study, 0};
 	int rc = 0;
 	if (prsm_json_object_value(doc, "", pr))
 		rc = PRSM_EINVAL;

@@ -74,13 +74,15 @@ typedef struct {
 } prsm_io_alloc_constraint;                      /* constraints/N (its output: the step's) */
 
 /* Read and check doc into *out (owned by the caller: prsm_io_allocation_free): a study is
- * loaded, an analytic stack's linear model filled in; a study's linear model and the
- * feasibility of the allocation are the run's (src/app/allocate.h). max_samples caps the Monte
+ * loaded with the study reader's hooks `study` (io/study_json.h; the application's,
+ * prsm_app_study_options, to run it), an analytic stack's linear model filled in; a study's
+ * linear model and the feasibility of the allocation are the run's (src/app/allocate.h). max_samples caps the Monte
  * Carlo samples of the whole allocation (0: PRSM_IO_ALLOC_MAX_SAMPLES). Every problem goes to
  * problems with its pointer, remarks to warnings (may be NULL). Returns 0, PRSM_EINVAL or
  * PRSM_ENOMEM (*out NULL). */
 int prsm_io_allocation_read(prsm_io_allocation **out, const cJSON *doc, size_t max_samples,
-                            prsm_problems *warnings, prsm_problems *problems);
+                            const prsm_io_study_options *study, prsm_problems *warnings,
+                            prsm_problems *problems);
 void prsm_io_allocation_free(prsm_io_allocation *d);
 
 /* The result document of a run (r->best a valid step); NULL when out of memory. */

@@ -4,7 +4,8 @@
  *
  * A request is a design document alone (the nominal and operating-point analysis), a
  * multi-stage design ({"stages": [...]}, docs/model/kinematics-efficiency-stiffness-life.md) or {"design", "errors", "assembly"} (the
- * analysis and the error analysis of docs/model/errors-and-assembly.md for one concrete error set). The
+ * analysis and the error analysis of docs/model/errors-and-assembly.md for one concrete error set);
+ * app/analyze.h runs what is read here. The
  * last two forms may carry the `dynamics` object of a start-up transient (schemas/dynamics.schema.json):
  * it is read and checked here with every other problem, and run by app/simulate.h (`prsm
  * simulate`); the analysis itself stays the statics and says so in a warning. Every problem of the document is reported at once, with its JSON pointer; the
@@ -61,7 +62,7 @@ typedef struct {
 	prsm_errors errors;            /* the error set (with_errors) */
 	prsm_assembly_options options; /* error-analysis options (with_errors) */
 	prsm_assembly as;              /* the assembly built from the design (with_errors) */
-	prsm_assembly_report report;   /* the error analysis, after prsm_io_analyze_run */
+	prsm_assembly_report report;   /* the error analysis, after prsm_app_analyze_run */
 	prsm_assembly_workspace *ws;   /* its buffers, owned here (prsm_io_analyze_free) */
 	int with_nominal;              /* the design gave `nominal` (a catalogue size) */
 	prsm_io_nominal_result nominal; /* its resolution and alternatives (with_nominal) */
@@ -70,39 +71,43 @@ typedef struct {
 	                                  couplings copied from the multi-stage document) */
 } prsm_analyze_request;
 
-/* Read the request doc (not taken over) into rq and run the nominal analysis. Problems of the
- * document and of the nominal contacts go to problems, rule and analysis warnings to
- * warnings. Returns 0, PRSM_EINVAL (the document), PRSM_EEDGE or PRSM_EGEOMETRY (the design
- * cannot work) or PRSM_ENOMEM. rq is zeroed first; free it with prsm_io_analyze_free. */
-int prsm_io_analyze_load(prsm_analyze_request *rq, const cJSON *doc, prsm_problems *warnings,
+/* A document of another kind, told by its keys (as `prsm validate` tells them apart): a
+ * problem naming the command that runs it, instead of a list of unknown fields. Returns 1
+ * when it is one. */
+int prsm_io_analyze_wrong_kind(const cJSON *doc, prsm_problems *problems);
+
+/* Read a request of the single-design forms (a design document, or {"design", "errors",
+ * "assembly", "dynamics"}) into rq, zeroed by the caller; nothing is analysed. Problems of the
+ * document go to problems, rule warnings to warnings. Returns 0 or PRSM_EINVAL / PRSM_EGEOMETRY
+ * (prsm_io_design_load's codes). The analysis is prsm_app_analyze_load's (app/analyze.h). */
+int prsm_io_analyze_read(prsm_analyze_request *rq, const cJSON *doc, prsm_problems *warnings,
                          prsm_problems *problems);
 
-/* The error analysis of a loaded request with errors (nothing to do without them); allocates
- * rq->ws. Returns 0, PRSM_ENOMEM, or PRSM_ECANCELLED when rq->options.cancel or
- * rq->options.deadline_s stopped it (the report is then incomplete). */
-int prsm_io_analyze_run(prsm_analyze_request *rq);
+/* The `dynamics` object of a multi-stage request whose chain rq->ms was read (and analysed
+ * when that succeeded) with code rc: read for the stages the document has, with the chain's
+ * couplings copied into rq->dyn. Returns rc, or PRSM_EINVAL when rc was 0 and the object has
+ * problems. */
+int prsm_io_analyze_read_chain_dynamics(prsm_analyze_request *rq, const cJSON *doc, int rc,
+                                        prsm_problems *problems);
 
-/* What prsm_io_analyze_run will cost a loaded request, in contact-gap evaluations
- * (prsm_assembly_cost; 0 without an error analysis): the service's synchronous budget. */
-double prsm_io_analyze_cost(const prsm_analyze_request *rq);
-
-/* The result document of a loaded and run request; the caller owns it. NULL when out of
- * memory. A request with `dynamics` gets a warning at /dynamics that the transient was not run. */
+/* The result document of a loaded and run request (app/analyze.h); the caller owns it. NULL
+ * when out of memory. A request with `dynamics` gets a warning at /dynamics that the transient
+ * was not run. */
 cJSON *prsm_io_analyze_to_json(const prsm_analyze_request *rq, const prsm_problems *warnings);
 
 /* Free what rq owns (not rq itself). */
 void prsm_io_analyze_free(prsm_analyze_request *rq);
 
-/* Everything in one call, for a service: load, run and build the result (*out, owned by the
- * caller) or fill problems. Returns 0 or the code of prsm_io_analyze_load/run. */
-int prsm_io_analyze(cJSON **out, const cJSON *doc, prsm_problems *problems);
+/* A copy of design with `nominal` replaced by the geometry g resolves it to; NULL when out of
+ * memory. The caller owns it. */
+cJSON *prsm_io_nominal_expanded(const cJSON *design, const prsm_nominal_geometry *g);
 
 /* prsm_io_design_load for a design document that may give its geometry as a catalogue size
  * (`nominal`: diameter x lead, resolved by the standard rules, model/nominal.h): the design at
  * base is read with the geometry the rules give, every problem of a geometry member the size
  * set is reported at the nominal member the user wrote. nominal (may be NULL) gets the size as
- * given, its resolution and the alternatives with 3 to 6 starts (each analysed: what the plain
- * analysis lists). Without `nominal` it is prsm_io_design_load. Returns its codes, or
+ * given and its resolution (the alternatives with 3 to 6 starts are analysed by
+ * prsm_app_analyze_load). Without `nominal` it is prsm_io_design_load. Returns its codes, or
  * PRSM_ENOMEM. */
 int prsm_io_design_load_sized(prsm_design *out, prsm_geometry *geom, prsm_problems *warnings, const cJSON *design,
                               const char *base, prsm_problems *problems, prsm_io_nominal_result *nominal);

@@ -36,6 +36,7 @@ typedef struct {
 	const cJSON *design;     /* the base design */
 	int design_ok;
 	int robust_start;        /* the problems' count once the robust section's keys were checked */
+	const prsm_io_study_options *study; /* the study reader's hooks (may be NULL) */
 } opt_reading;
 
 void prsm_io_optimization_release(prsm_io_optimization *od)
@@ -461,7 +462,7 @@ int prsm_io_step_opt_robust_study(prsm_io_at *at, prsm_problems *pr)
 	prsm_problems *sp = malloc(sizeof *sp);
 	if (s && sp) {
 		prsm_problems_init(sp);
-		if (prsm_io_study_load(s, st, NULL, sp)) {
+		if (prsm_io_study_load(s, st, c->study, NULL, sp)) {
 			for (int i = 0; i < sp->count; i++)
 				add_study_problem(pr, od, &sp->items[i]);
 			if (sp->count == 0)
@@ -497,7 +498,7 @@ static void base_warnings(const cJSON *doc, prsm_problems *warnings)
 }
 
 int prsm_io_optimization_read(prsm_io_optimization *od, const cJSON *doc, size_t max_evaluations,
-                              prsm_problems *warnings, prsm_problems *pr)
+                              const prsm_io_study_options *study, prsm_problems *warnings, prsm_problems *pr)
 {
 	memset(od, 0, sizeof *od);
 	const int before = prsm_problems_total(pr);
@@ -508,7 +509,7 @@ int prsm_io_optimization_read(prsm_io_optimization *od, const cJSON *doc, size_t
 	prsm_opt_options_init(&od->options);
 	od->options.xtol_rel = 1e-4;
 	od->options.ftol_rel = 1e-6;
-	opt_reading c = {max_evaluations, NULL, 0, 0};
+	opt_reading c = {max_evaluations, NULL, 0, 0, study};
 	prsm_io_read_ctx(od, &prsm_io_t_optimization, doc, "", &c, pr);
 	if (prsm_problems_total(pr) > before)
 		return PRSM_EINVAL;

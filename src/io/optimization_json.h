@@ -24,6 +24,7 @@
 
 #include <cJSON.h>
 
+#include "io/study_json.h"
 #include "mc/study.h"
 #include "model/analysis.h"
 #include "model/performance.h"
@@ -77,13 +78,16 @@ typedef struct {
 	double weight;
 } prsm_io_opt_objective;
 
-/* Read and check doc into od: every problem to problems with its pointer, remarks (e.g.
+/* Read and check doc into od, the robust section's study of the base design with the study
+ * reader's hooks `study` (io/study_json.h; prsm_app_study_options, as the run will load it):
+ * every problem to problems with its pointer, remarks (e.g.
  * base-design radii the optimiser replaces) to warnings (may be NULL); max_evaluations caps
  * solver.max_evaluations (0: PRSM_IO_OPT_MAX_EVALUATIONS). The design problem (od->problem)
  * and the robust builder are the run's (src/app/optimize.h). Release od with
  * prsm_io_optimization_release whatever is returned. Returns 0, PRSM_EINVAL or PRSM_ENOMEM. */
 int prsm_io_optimization_read(prsm_io_optimization *od, const cJSON *doc, size_t max_evaluations,
-                              prsm_problems *warnings, prsm_problems *problems);
+                              const prsm_io_study_options *study, prsm_problems *warnings,
+                              prsm_problems *problems);
 
 /* Free what od owns (not od). */
 void prsm_io_optimization_release(prsm_io_optimization *od);

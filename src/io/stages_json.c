@@ -1,5 +1,6 @@
 /*
- * stages_json.c: the multi-stage document and its analysis (docs/model/kinematics-efficiency-stiffness-life.md).
+ * stages_json.c: the multi-stage document and its result (docs/model/kinematics-efficiency-stiffness-life.md);
+ * the analysis of the chain is app/analyze.c's.
  */
 #include "io/stages_json.h"
 
@@ -12,7 +13,6 @@
 #include "io/json_util.h"
 #include "prsm_io_writers.h"
 #include "model/geometry.h"
-#include "model/performance.h"
 
 /* "dynamics": a start-up transient's settings, read by the caller (io/analyze_request.c) */
 static const char *const multistage_keys[] = {"name", "description", "stages", "couplings",
@@ -47,16 +47,7 @@ static void read_radii(double *r, int *is_default, const cJSON *c, const char *c
 	}
 }
 
-/* Input torque of stage k at axial load F: its analysis at that load (docs/model/kinematics-efficiency-stiffness-life.md). */
-static double stage_torque(void *ctx, int k, double load_N)
-{
-	prsm_io_multistage *m = ctx;
-	prsm_design d = m->design[k];
-	d.axial_load_N = load_N;
-	return prsm_performance_input_torque(&d, &m->analysis[k]);
-}
-
-int prsm_io_multistage_load(prsm_io_multistage *out, const cJSON *doc, prsm_problems *warnings,
+int prsm_io_multistage_read(prsm_io_multistage *out, const cJSON *doc, prsm_problems *warnings,
                             prsm_problems *problems)
 {
 	memset(out, 0, sizeof *out);
@@ -122,30 +113,6 @@ int prsm_io_multistage_load(prsm_io_multistage *out, const cJSON *doc, prsm_prob
 	}
 	if (rc || problems->count || problems->dropped)
 		return rc ? rc : PRSM_EINVAL;
-
-	/* each stage must work alone (contacts on the flanks) before the chain asks its torques */
-	prsm_error err = PRSM_ERROR_INIT;
-	for (int k = 0; k < K; k++) {
-		rc = prsm_analysis_nominal(&out->analysis[k], &out->design[k], warnings, &err);
-		if (rc) {
-			prsm_json_pointer_append_index(sp, sizeof sp, "/stages", k);
-			snprintf(ptr, sizeof ptr, "%s%s", sp, err.pointer);
-			prsm_problems_add(problems, ptr, rc == PRSM_EEDGE ? "edge_contact" : "no_contact", "%s",
-			                  err.message);
-			return rc;
-		}
-	}
-	rc = prsm_stages_chain(&out->chain, in, stage_torque, out, &err);
-	if (rc) {
-		prsm_problems_add(problems, err.pointer, "chain", "%s", err.message);
-		return rc;
-	}
-	/* report every stage at the load it carries */
-	for (int k = 0; k < K; k++) {
-		out->design[k].axial_load_N = out->chain.stage[k].load_N;
-		if ((rc = prsm_analysis_nominal(&out->analysis[k], &out->design[k], warnings, &err)))
-			return rc;
-	}
 	return 0;
 }
 

@@ -35,9 +35,11 @@ typedef struct {
 /* doc has the multi-stage form (a "stages" member). */
 int prsm_io_is_multistage(const cJSON *doc);
 
-/* Read, check and analyse the multi-stage document: every problem with its pointer; rule
- * warnings of the stages to warnings. Returns 0, PRSM_EINVAL, PRSM_EGEOMETRY or PRSM_EEDGE. */
-int prsm_io_multistage_load(prsm_io_multistage *out, const cJSON *doc, prsm_problems *warnings,
+/* Read and check the multi-stage document: every problem with its pointer; rule warnings of
+ * the stages to warnings. Returns 0, PRSM_EINVAL or PRSM_EGEOMETRY. The stages' analyses and
+ * the chain (analysis[], chain, each design at its stage load) are prsm_app_multistage_load's
+ * (app/analyze.h). */
+int prsm_io_multistage_read(prsm_io_multistage *out, const cJSON *doc, prsm_problems *warnings,
                             prsm_problems *problems);
 
 /* The result document, with each stage's operating-point analysis perf[k]; the caller owns

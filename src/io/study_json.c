@@ -4,7 +4,8 @@
  * The fields, their limits and C members are stated once, in schemas/study.schema.json
  * ("x-prsm"); io/doc.c reads the document by the table generated from it. What a table cannot
  * say is here, as the steps the schema names: the design (or the benchmark, or the expression
- * model with its expressions parsed) with its nominal analysis, what each tolerance's parameter
+ * model with its expressions parsed; the design's nominal analysis and the engine's model of it
+ * are computed by the caller's hooks, study_json.h), what each tolerance's parameter
  * is and its distribution (a named one, a histogram's bins or the tol/cpk shorthand), the
  * outputs, specs, targets and correlations that name each other, and the variables the engine
  * samples. Reading never stops at the first problem; the variables are
@@ -30,16 +31,15 @@
 #include "io/dynamics_json.h"
 #include "io/errors_json.h"
 #include "io/json_util.h"
-#include "model/analysis.h"
-#include "model/performance.h"
 #include "prsm_io_tables.h"
 
 static const prsm_json_range ANY = {-HUGE_VAL, HUGE_VAL, 0, 0};
 
 /* What the steps share while a study is read. */
 typedef struct {
-	prsm_problems *warnings; /* the design's rule warnings (may be NULL) */
-	int design_rc;           /* 0: the design (or benchmark) loaded: the parameters can be known */
+	prsm_problems *warnings;        /* the design's rule warnings (may be NULL) */
+	int design_rc;                  /* 0: the design (or benchmark) loaded: the parameters can be known */
+	const prsm_io_study_options *o; /* the caller's hooks (never NULL) */
 } study_reading;
 
 /* ---- parameters -------------------------------------------------------------------------- */
@@ -213,8 +213,9 @@ static void read_benchmark(prsm_io_study *s, const cJSON *m, prsm_problems *pr)
 }
 
 /* The design and what the engine needs of it. Returns 0 when it is usable. */
-static int read_design(prsm_io_study *s, const cJSON *doc, prsm_problems *warnings, prsm_problems *pr)
+static int read_design(prsm_io_study *s, const cJSON *doc, const study_reading *c, prsm_problems *pr)
 {
+	prsm_problems *warnings = c->warnings;
 	prsm_geometry g;
 	const cJSON *design = cJSON_GetObjectItemCaseSensitive(doc, "design");
 	int rc = prsm_io_design_load_sized(&s->design, &g, warnings, design, "/design", pr, NULL);
@@ -229,18 +230,9 @@ static int read_design(prsm_io_study *s, const cJSON *doc, prsm_problems *warnin
 	prsm_io_assembly_options_from_json(&s->assembly_options, opts, "/assembly", shape, pr);
 	if (rc)
 		return rc;
-	prsm_error err = PRSM_ERROR_INIT;
-	int arc = prsm_analysis_nominal(&s->analysis, &s->design, warnings, &err);
-	if (arc == 0)
-		arc = prsm_assembly_init(&s->assembly, &s->design, &s->analysis, &err);
-	if (arc) {
-		char ptr[PRSM_JSON_POINTER_MAX + 8];
-		snprintf(ptr, sizeof ptr, "/design%s", err.pointer);
-		prsm_problems_add(pr, ptr, arc == PRSM_EEDGE ? "edge_contact" : arc == PRSM_EINVAL ? "too_large" : "no_contact",
-		                  "%s", err.message);
-		return arc;
-	}
-	return 0;
+	/* the nominal analysis and the assembly are the caller's (app/study.c), here, where the
+	 * steps after this one need to know whether the design works */
+	return c->o->analyse_design ? c->o->analyse_design(s, warnings, pr, c->o->ctx) : 0;
 }
 
 /* A model of expressions rather than a benchmark: no "benchmark", and what an expression model
@@ -265,8 +257,8 @@ static void read_expressions(prsm_io_study *s, const cJSON *m, study_reading *c,
 	s->bench.inputs = s->expr.n_inputs;
 }
 
-/* The design (with its nominal analysis and assembly) or the model (a benchmark or
- * expressions), exactly one. */
+/* The design (with its nominal analysis and assembly, by the caller's hook) or the model (a
+ * benchmark or expressions), exactly one. */
 int prsm_io_step_design(prsm_io_at *at, prsm_problems *pr)
 {
 	prsm_io_study *s = at->root;
@@ -291,7 +283,7 @@ int prsm_io_step_design(prsm_io_at *at, prsm_problems *pr)
 				                design_only[k], expressions ? "model of expressions" : "benchmark");
 		c->design_rc = prsm_problems_total(pr) == at->start ? 0 : PRSM_EINVAL;
 	} else if (design) {
-		c->design_rc = read_design(s, at->obj, c->warnings, pr);
+		c->design_rc = read_design(s, at->obj, c, pr);
 	} else {
 		prsm_problems_add(pr, "/design", "required", "a study needs a design (or a benchmark model)");
 	}
@@ -852,63 +844,6 @@ static int output_index(const prsm_io_study *s, const char *name)
 	return -1;
 }
 
-/* What the outputs at the nominal operating point need from the nut unit's performance
- * (prsm_performance, docs/model/kinematics-efficiency-stiffness-life.md), computed once: for nut_unit_stiffness_N_per_um the
- * compliance beyond the contacts, 1/k_unit - 1/k_contacts of the nominal design (mm/N, k_unit the
- * load distribution's stiffness, k_contacts the assembly's with nominal gaps); for
- * efficiency_with_losses the distribution's normal loads of one roller's contacts. Returns 0, or
- * 1 with a problem at the first output that needed them. */
-static int nominal_unit_terms(prsm_io_study *s, prsm_problems *pr)
-{
-	int first = -1, unit = 0, losses = 0;
-	for (size_t o = 0; o < s->study.m; o++) {
-		int u = s->prsm.outputs[o] == PRSM_OUT_UNIT_STIFFNESS || prsm_output_is_dynamic(s->prsm.outputs[o]),
-		    l = s->prsm.outputs[o] == PRSM_OUT_EFFICIENCY_LOSSES;
-		if ((u || l) && first < 0)
-			first = (int)o;
-		unit |= u;
-		losses |= l;
-	}
-	if (first < 0)
-		return 0;
-	char ip[PRSM_JSON_POINTER_MAX];
-	prsm_json_pointer_append_index(ip, sizeof ip, "/outputs", first);
-	prsm_performance perf;
-	prsm_error err = PRSM_ERROR_INIT;
-	if (prsm_performance_compute(&perf, &s->design, &s->analysis, &err)) {
-		prsm_problems_add(pr, ip, "computation", "the nominal nut unit at the operating load: %s", err.message);
-		return 1;
-	}
-	int bad = 0;
-	if (unit) {
-		double k_unit = perf.stiffness_N_per_um * 1e3;            /* N/mm */
-		double k_contacts = s->assembly.nominal_stiffness_N_per_mm; /* N/mm */
-		if (!(k_unit > 0.0) || !(k_contacts > 0.0)) {
-			prsm_problems_add(pr, ip, "computation", "the nominal nut unit has no stiffness at the operating load");
-			bad = 1;
-		}
-		/* the thread, core and body springs only add compliance; a contact model stiffer in
-		 * the assembly than in the load distribution would make this negative: contacts only */
-		s->prsm.unit_rest_compliance_mm_per_N = fmax(0.0, 1.0 / k_unit - 1.0 / k_contacts);
-	}
-	if (losses && !bad) {
-		int nt = perf.threads;
-		if (nt < 1 || nt > PRSM_IO_STUDY_MAX_LOSS_THREADS) {
-			prsm_problems_add(pr, ip, "computation", "the nominal load distribution has no contact loads");
-			bad = 1;
-		} else {
-			s->loss_threads = nt;
-			memcpy(s->loss_loads_N[0], perf.thread_normal_screw_N, (size_t)nt * sizeof(double));
-			memcpy(s->loss_loads_N[1], perf.thread_normal_nut_N, (size_t)nt * sizeof(double));
-			s->prsm.loss_screw_loads_N = s->loss_loads_N[0];
-			s->prsm.loss_nut_loads_N = s->loss_loads_N[1];
-		}
-	}
-	prsm_performance_free(&perf);
-	return bad;
-}
-
-
 /* "monte_carlo"."seed": an integer up to 2^53, which JSON may spell 1e3 */
 void prsm_io_hook_seed(void *base, const cJSON *mc, const char *p, prsm_problems *pr)
 {
@@ -1227,9 +1162,11 @@ static void check_ranges(prsm_io_study *out, prsm_problems *warnings, prsm_probl
 		m->workspace_free(ws);
 }
 
-/* Storage within limits, then the engine's model of the study. */
+/* Storage within limits, then the engine's model of the study (a design study's by the
+ * caller's hook). */
 int prsm_io_step_model(prsm_io_at *at, prsm_problems *pr)
 {
+	const study_reading *c = at->ctx;
 	prsm_io_study *out = at->root;
 	prsm_study *st = &out->study;
 	if (prsm_problems_total(pr) != at->start)
@@ -1268,20 +1205,10 @@ int prsm_io_step_model(prsm_io_at *at, prsm_problems *pr)
 	p->bindings = out->bindings;
 	p->n_outputs = st->m;
 	p->dyn = NULL;
-	if (out->has_dynamics) {
-		prsm_mc_dyn *d = &out->dynamics;
-		d->design = &out->design;
-		d->analysis = &out->analysis;
-		prsm_error err = PRSM_ERROR_INIT;
-		if (prsm_mc_dyn_prepare(d, &out->assembly, p->angles_per_revolution, d->window_rev, &err)) {
-			prsm_problems_add(pr, err.pointer[0] ? err.pointer : "/dynamics", "computation",
-			                  "the dynamic model of the nominal design: %s", err.message);
-			return 0;
-		}
-		p->dyn = d;
-	}
-	if (nominal_unit_terms(out, pr) == 0)
-		prsm_prsm_mc_model(&st->model, p);
+	/* the dynamic model of the nominal design, the nut unit's terms and the model itself are
+	 * computed: the caller's (app/study.c) */
+	if (c->o->prepare_model)
+		c->o->prepare_model(out, pr, c->o->ctx);
 	return 0;
 }
 
@@ -1421,20 +1348,29 @@ int prsm_io_step_dynamics(prsm_io_at *at, prsm_problems *pr)
 	return 0;
 }
 
-int prsm_io_study_read(prsm_io_study *out, const cJSON *doc, prsm_problems *warnings, prsm_problems *pr)
+int prsm_io_study_options_init(prsm_io_study_options *o)
 {
+	*o = (prsm_io_study_options)PRSM_IO_STUDY_OPTIONS_INIT;
+	return 0;
+}
+
+int prsm_io_study_read(prsm_io_study *out, const cJSON *doc, const prsm_io_study_options *hooks,
+                       prsm_problems *warnings, prsm_problems *pr)
+{
+	static const prsm_io_study_options none = PRSM_IO_STUDY_OPTIONS_INIT;
 	memset(out, 0, sizeof *out);
 	if (prsm_json_object_value(doc, "", pr))
 		return PRSM_EINVAL;
-	study_reading c = {warnings, PRSM_EINVAL};
+	study_reading c = {warnings, PRSM_EINVAL, hooks ? hooks : &none};
 	if (prsm_io_read_ctx(out, &prsm_io_t_study, doc, "", &c, pr) == 0)
 		return 0;
 	return c.design_rc && c.design_rc != PRSM_EINVAL ? c.design_rc : PRSM_EINVAL;
 }
 
-int prsm_io_study_load(prsm_io_study *out, const cJSON *doc, prsm_problems *warnings, prsm_problems *pr)
+int prsm_io_study_load(prsm_io_study *out, const cJSON *doc, const prsm_io_study_options *hooks,
+                       prsm_problems *warnings, prsm_problems *pr)
 {
-	int rc = prsm_io_study_read(out, doc, warnings, pr);
+	int rc = prsm_io_study_read(out, doc, hooks, warnings, pr);
 	if (rc)
 		return rc;
 	const int before = prsm_problems_total(pr);

@@ -40,7 +40,9 @@ typedef struct {
 } prsm_io_tolerance;
 
 /* A loaded study: everything the engine's model points into lives here, so the struct must
- * not move after prsm_io_study_load(). Large (about 1 MB): allocate it on the heap. */
+ * not move after prsm_io_study_load(). Large (about 1 MB): allocate it on the heap. The
+ * analysis, the assembly, prsm's model terms and dynamics' prepared model are filled by the
+ * reader's hooks (prsm_io_study_options), the rest by the reader. */
 typedef struct {
 	char name[404]; /* up to 100 characters of UTF-8 */
 	int is_benchmark;               /* an analytic model, not a design: a benchmark or expressions */
@@ -67,18 +69,51 @@ typedef struct {
 	double dyn_stop_half_width;     /* dynamic_monte_carlo/stop_half_width; NaN: none */
 } prsm_io_study;
 
-/* Read and check the study document doc, load its design (nominal analysis and assembly) and
- * build the variables. Every problem goes to problems with its pointer; rule warnings of the
- * design to warnings (may be NULL). Returns 0, PRSM_EINVAL (problems were added) or
- * PRSM_EGEOMETRY / PRSM_EEDGE (the design cannot be analysed; a problem names it). */
-int prsm_io_study_load(prsm_io_study *out, const cJSON *doc, prsm_problems *warnings,
-                       prsm_problems *problems);
+/* What the study reader leaves to its caller (app/study.h, prsm_app_study_options): io reads
+ * documents and runs no analysis, yet the reading needs two results of one, in place, so that
+ * its problems come in the order and number they always did.
+ *
+ * analyse_design is called by the design step once the design, its error set and the assembly
+ * options are read and the design is valid: it runs the nominal analysis into s->analysis and
+ * builds s->assembly, adding a problem (at the design's pointer) when the design cannot work,
+ * and returns 0 or that code. The steps after it take the design as usable only when it
+ * returned 0 (the parameters a tolerance may name, the outputs needing a load, the dynamics
+ * section), and the reader returns its code.
+ *
+ * prepare_model is called by the model step of a design study with no problem so far, once
+ * s->prsm holds the bindings, outputs and assembly options: it builds s->study.model (and what
+ * the outputs need of the nominal nut unit or of the dynamic model), adding a problem at the
+ * output or section that needed what could not be computed.
+ *
+ * NULL hooks (PRSM_IO_STUDY_OPTIONS_INIT): the design is taken as usable when it reads, and a
+ * design study's model is left unbuilt (the study cannot run): a pure reading. */
+typedef struct {
+	int (*analyse_design)(prsm_io_study *s, prsm_problems *warnings, prsm_problems *problems, void *ctx);
+	void (*prepare_model)(prsm_io_study *s, prsm_problems *problems, void *ctx);
+	void *ctx; /* both hooks' */
+} prsm_io_study_options;
+
+#define PRSM_IO_STUDY_OPTIONS_INIT {NULL, NULL, NULL}
+
+/* Set *o to PRSM_IO_STUDY_OPTIONS_INIT. Returns 0. */
+int prsm_io_study_options_init(prsm_io_study_options *o);
+
+/* Read and check the study document doc, with the hooks (NULL: PRSM_IO_STUDY_OPTIONS_INIT), and
+ * build the variables, then check what the reading alone cannot (prsm_io_study_read's
+ * exceptions below). Every problem goes to problems with its pointer; rule warnings of the
+ * design to warnings (may be NULL). Returns 0, PRSM_EINVAL (problems were added) or, from
+ * hooks->analyse_design, PRSM_EGEOMETRY / PRSM_EEDGE (the design cannot be analysed; a problem
+ * names it). prsm_app_study_load (app/study.h) is this with the application's hooks: what
+ * every caller that runs the study calls. */
+int prsm_io_study_load(prsm_io_study *out, const cJSON *doc, const prsm_io_study_options *hooks,
+                       prsm_problems *warnings, prsm_problems *problems);
 
 /* prsm_io_study_load without its range checks (every distribution's 0.135 / 99.865 % quantiles
  * and a benchmark's outputs there within +-1e150; a length error no larger than the thread pitch;
  * a warning beyond linear assembly mode's checked range): the document as read, which the
  * side-by-side proof compares with the reader it replaced. */
-int prsm_io_study_read(prsm_io_study *out, const cJSON *doc, prsm_problems *warnings, prsm_problems *pr);
+int prsm_io_study_read(prsm_io_study *out, const cJSON *doc, const prsm_io_study_options *hooks,
+                       prsm_problems *warnings, prsm_problems *pr);
 
 /* The result document (schemas/study-result.schema.json). The caller owns the tree. */
 cJSON *prsm_io_study_result_to_json(const prsm_io_study *s, const prsm_study_result *r);

@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "app/analyze.h"
 #include "io/analyze_request.h"
 #include "io/global.h"
 #include "util/clock.h"
@@ -32,7 +33,7 @@ static void analysis_version_init(void)
 	cJSON *doc = cJSON_Parse(design), *res = NULL;
 	prsm_problems p;
 	prsm_problems_init(&p);
-	if (doc && prsm_io_analyze(&res, doc, &p) == 0) {
+	if (doc && prsm_app_analyze(&res, doc, &p) == 0) {
 		const cJSON *eng = cJSON_GetObjectItemCaseSensitive(res, "engine");
 		const cJSON *v = cJSON_GetObjectItemCaseSensitive(eng, "version");
 		const cJSON *b = cJSON_GetObjectItemCaseSensitive(eng, "build");
@@ -62,7 +63,7 @@ static int analysis_normalise(cJSON **out, const cJSON *doc, const prsm_job_limi
 		return PRSM_ENOMEM;
 	prsm_problems warnings;
 	prsm_problems_init(&warnings);
-	int rc = prsm_io_analyze_load(rq, doc, &warnings, problems);
+	int rc = prsm_app_analyze_load(rq, doc, &warnings, problems);
 	prsm_io_analyze_free(rq);
 	free(rq);
 	if (rc)
@@ -84,7 +85,7 @@ static int analysis_run(prsm_job_output *out, const char *request, const prsm_jo
 		rc = prsm_error_set(err, doc ? PRSM_ENOMEM : PRSM_EINVAL, NULL, "cannot read the stored request");
 		goto done;
 	}
-	rc = prsm_io_analyze_load(rq, doc, &warnings, &problems);
+	rc = prsm_app_analyze_load(rq, doc, &warnings, &problems);
 	if (rc) {
 		rc = prsm_error_set(err, rc, problems.count ? problems.items[0].pointer : NULL, "%s",
 		                    problems.count ? problems.items[0].message : "the stored request is invalid");
@@ -93,7 +94,7 @@ static int analysis_run(prsm_job_output *out, const char *request, const prsm_jo
 	rq->options.cancel = ctx->cancel;
 	if (ctx->limits.max_time_s > 0)
 		rq->options.deadline_s = prsm_clock_seconds() + ctx->limits.max_time_s;
-	rc = prsm_io_analyze_run(rq);
+	rc = prsm_app_analyze_run(rq);
 	if (rc == PRSM_ECANCELLED) {
 		rc = prsm_cancel_requested(ctx->cancel)
 		         ? prsm_error_set(err, PRSM_ECANCELLED, NULL, "the analysis was cancelled")

@@ -17,6 +17,7 @@
 
 #include "io/analysis_json.h"
 #include "io/json_util.h"
+#include "app/study.h"
 #include "io/study_json.h"
 
 /* Largest samples CSV kept with a job, bytes; a larger one is not stored (its GET says so). */
@@ -39,7 +40,7 @@ static void study_version_init(void)
 	prsm_problems pr;
 	prsm_problems_init(&pr);
 	prsm_error err = PRSM_ERROR_INIT;
-	if (doc && s && r && prsm_io_study_load(s, doc, NULL, &pr) == 0 && prsm_study_run(r, &s->study, &err) == 0) {
+	if (doc && s && r && prsm_app_study_load(s, doc, NULL, &pr) == 0 && prsm_study_run(r, &s->study, &err) == 0) {
 		cJSON *res = prsm_io_study_result_to_json(s, r);
 		const cJSON *v = cJSON_GetObjectItemCaseSensitive(res, "versions");
 		const cJSON *p = cJSON_GetObjectItemCaseSensitive(v, "prsm");
@@ -89,7 +90,7 @@ static int study_normalise(cJSON **out, const cJSON *doc, const prsm_job_limits 
 	prsm_io_study *s = calloc(1, sizeof *s); /* about 1 MB; freed below */
 	if (!s)
 		return PRSM_ENOMEM;
-	int rc = prsm_io_study_load(s, doc, NULL, problems);
+	int rc = prsm_app_study_load(s, doc, NULL, problems);
 	if (!rc) {
 		check_limits(s, doc, lim, problems);
 		if (prsm_problems_total(problems))
@@ -147,7 +148,7 @@ static int study_run(prsm_job_output *out, const char *request, const prsm_job_r
 		rc = prsm_error_set(err, doc ? PRSM_ENOMEM : PRSM_EINVAL, NULL, "cannot read the stored request");
 		goto done;
 	}
-	rc = prsm_io_study_load(s, doc, &warnings, &problems);
+	rc = prsm_app_study_load(s, doc, &warnings, &problems);
 	if (rc) {
 		rc = prsm_error_set(err, rc, problems.count ? problems.items[0].pointer : NULL, "%s",
 		                    problems.count ? problems.items[0].message : "the stored request is invalid");

@@ -18,6 +18,7 @@
 
 #include "http/request.h"
 #include "io/global.h"
+#include "app/analyze.h"
 #include "io/analyze_request.h"
 #include "io/canonical.h"
 #include "job/kind.h"
@@ -45,7 +46,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 		cJSON_Delete(norm);
 		prsm_problems_init(&problems);
 		cJSON *out = NULL;
-		prsm_io_analyze(&out, doc, &problems);
+		prsm_app_analyze(&out, doc, &problems);
 		cJSON_Delete(out);
 		cJSON_Delete(doc);
 	}

@@ -1,7 +1,7 @@
 /*
  * fuzz_study.c: a libFuzzer-style target (LLVMFuzzerTestOneInput) for the tolerance-study
  * document (schemas/study.schema.json, POST /v1/studies, prsm study): the bytes through the
- * command line's reader (prsm_io_study_load with the document's caps) and, when accepted, the
+ * command line's reader (prsm_app_study_load with the document's caps) and, when accepted, the
  * service's (normalise with its limits, canonical request, cache key, the stored request read
  * back). See fuzz_document.h for what must hold. Corpus: corpus/study/.
  */
@@ -9,6 +9,7 @@
 #include <stdlib.h>
 
 #include "fuzz_document.h"
+#include "app/study.h"
 #include "io/study_json.h"
 #include "util/error.h"
 
@@ -17,7 +18,7 @@ static int study_check(const cJSON *doc, prsm_problems *warnings, prsm_problems 
 	prsm_io_study *s = calloc(1, sizeof *s); /* about 1 MB; freed below */
 	if (!s)
 		return PRSM_ENOMEM;
-	int rc = prsm_io_study_load(s, doc, warnings, problems);
+	int rc = prsm_app_study_load(s, doc, warnings, problems);
 	free(s);
 	return rc;
 }

@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "io/json_util.h"
+#include "app/study.h"
 #include "io/study_json.h"
 #include "mc/stats.h"
 #include "opt/alloc_mc.h"
@@ -423,7 +424,7 @@ int prsm_legacy_allocation_read(prsm_io_allocation **out, const cJSON *doc, size
 			goto done;
 		}
 		prsm_problems_init(sp);
-		lrc = prsm_io_study_load(d->study, study, warnings, sp);
+		lrc = prsm_app_study_load(d->study, study, warnings, sp);
 		prsm_json_problems_append_prefixed(pr, sp, "/study");
 		free(sp);
 		kind_ok = lrc == 0;

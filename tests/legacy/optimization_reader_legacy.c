@@ -16,6 +16,7 @@
 
 #include "io/design_json.h"
 #include "io/json_util.h"
+#include "app/study.h"
 #include "io/study_json.h"
 #include "opt/design_problem.h"
 #include "util/utf8.h"
@@ -484,7 +485,7 @@ static void read_robust(prsm_io_optimization *od, const cJSON *doc, const cJSON 
 	prsm_problems *sp = malloc(sizeof *sp);
 	if (s && sp) {
 		prsm_problems_init(sp);
-		if (prsm_io_study_load(s, st, NULL, sp)) {
+		if (prsm_app_study_load(s, st, NULL, sp)) {
 			for (int i = 0; i < sp->count; i++)
 				add_study_problem(pr, od, &sp->items[i]);
 			if (sp->count == 0)
