@@ -17,10 +17,14 @@ project headers it includes are read too) and the members the document does not 
                                  the root's "includes" names the headers that define them;
                                  arrays: "maxItems")
   a table root's "init" names the function that sets the struct's defaults: the generated
-  prsm_io_defaults_<table>() compares it with every "default" of the schema
+  prsm_io_defaults_<table>() compares it with every "default" of the schema; {"generate":
+  "name", "set": [{"field", "value"}]} has the generator write that function: every member
+  zero, each schema default as the reader stores it, then the members "set" names (no default
+  the reader can state: "NAN" for "not given", what a hook's default writes)
   "values": ["PRSM_HAND_RIGHT", ...]   C constants of an enum, in the schema's enum order (into
                                  an int or an int-sized typedef'd enum)
-  integers fill an int, or a size_t (from 0 up); a string with a "field" fills a char array
+  integers fill an int, a long (within an int's range), or a size_t (from 0 up); a string with
+  a "field" fills a char array
   (copied whole, cut on a character boundary when it does not fit)
   a bound of +-1.7976931348623157e+308 (the largest double: "any finite number") is no bound
   "set": {"field": "thinning_rule", "value": "PRSM_THINNING_GIVEN"}   when present and valid
@@ -35,6 +39,12 @@ project headers it includes are read too) and the members the document does not 
   "skip": true                   checked (type, length) and not stored (names, descriptions)
   "missing": "..."               a required member's own problem when it is absent (instead of
                                  "is required (...)"; an array's "{min}", "{max}" are the schema's)
+  "only": {"with": "kind", "is": "torque", "code": "input_kind", "message": "...", "required": "..."}
+                                 the member belongs with that value of its sibling enum: present
+                                 while the sibling holds another, a problem (code, message) at it;
+                                 "required": its problem when absent while the sibling holds it
+                                 (checked once the object is read, the required ones first; not
+                                 when the sibling itself has a problem)
   "when": "!is_study"            a member of its object (a key, and read) only when that int of the
                                  document's struct is nonzero ("!": zero); otherwise the allowed
                                  keys are the others (one condition per object)
@@ -199,6 +209,7 @@ class Gen:
         self.asserts = []
         self.inits = []       # (scope name, struct, init function, [(member path, C value, pointer, kind)])
         self.wrappers = []    # (wrapper name, struct, init function)
+        self.generated_init = None  # (function, struct, [(member path, C value)]): "init": {"generate"}
         self.section_init = {}  # member path -> the value its section's "init" sets
 
     def read_header(self, src_root, rel, strict, seen):
@@ -323,6 +334,8 @@ class Gen:
             if note is None:
                 raise GenError(f'{where} has no "x-prsm" annotation (which C member does it fill?)')
             self.presence(init_, note, key, when, where)
+            if 'only' in note:
+                self.only(init_, note['only'], props, sname, where)
             ptype = prop.get('type')
             if 'hook' in note:
                 h = note['hook']
@@ -428,8 +441,8 @@ class Gen:
                     raise GenError(f'{where}: type {ptype!r} needs a hook')
                 init_['kind'] = KINDS[ptype]
                 want = {'number': 'double', 'integer': 'int', 'boolean': 'int'}.get(ptype)
-                if ptype == 'integer' and ctype == 'size_t':
-                    init_['kind'], want = 'PRSM_IO_SIZE', 'size_t'
+                if ptype == 'integer' and ctype in ('size_t', 'long'):
+                    init_['kind'], want = f'PRSM_IO_{ctype.split("_")[0].upper()}', ctype
                 if want and ctype != want:
                     raise GenError(f'{where}: {ptype} fills a {want}, but {sname}.{field} is {ctype}')
                 lo, hi, lo_x, hi_x = bounds(prop)
@@ -577,6 +590,25 @@ class Gen:
         self.check_scope(iscope)
         return init_
 
+    def only(self, init_, only, props, sname, where):
+        """"only": {"with": "kind", "is": "torque", "code", "message", "required"}: the member belongs
+        with that value of its sibling enum "with": present while the sibling holds another, a
+        problem (code, message); "required": its problem when absent while the sibling holds it."""
+        if not isinstance(only, dict) or not {'with', 'is', 'code', 'message'} <= set(only) or \
+                set(only) - {'with', 'is', 'code', 'message', 'required'}:
+            raise GenError(f'{where}: "only" is {{"with", "is", "code", "message"}} (and "required")')
+        sib = self.resolve(props[only['with']]) if only['with'] in props else None
+        snote = (sib or {}).get('x-prsm') or {}
+        if sib is None or 'enum' not in sib or 'values' not in snote or 'field' not in snote:
+            raise GenError(f'{where}: "only" names {only["with"]}, which is no enum member of this object')
+        if only['is'] not in sib['enum']:
+            raise GenError(f'{where}: "only": {only["with"]} has no value {only["is"]!r}')
+        init_.update({'only_key': c_string(only['with']), 'only_offset': f'offsetof({sname}, {snote["field"]})',
+                      'only_value': snote['values'][sib['enum'].index(only['is'])],
+                      'only_code': c_string(only['code']), 'only_message': c_string(only['message'])})
+        if 'required' in only:
+            init_['only_required'] = c_string(only['required'])
+
     def default_check(self, prop, note, kind, path, pointer, where, init):
         """The schema's default of a member, as the C value the reader would store: checked
         against what the struct's init function sets (prsm_io_defaults_<table>)."""
@@ -589,7 +621,7 @@ class Gen:
             value = note['values'][prop['enum'].index(d)]
         elif kind == 'PRSM_IO_BOOL':
             value = '1' if d else '0'
-        elif kind in ('PRSM_IO_INT', 'PRSM_IO_SIZE'):
+        elif kind in ('PRSM_IO_INT', 'PRSM_IO_SIZE', 'PRSM_IO_LONG'):
             value = str(int(d))
         elif kind == 'PRSM_IO_NUMBER':
             v = c_double(d)
@@ -610,12 +642,34 @@ class Gen:
         for c in scope.computed:
             self.member_type(st, c)
         init = None
-        if 'init' in self.root_note:
-            init = (self.doc, st, self.root_note['init'], [])
+        made = self.root_note.get('init')
+        if isinstance(made, dict):  # {"generate": "name", "set": [...]}: made from the schema's defaults
+            if set(made) - {'generate', 'set'} or not isinstance(made.get('generate'), str):
+                raise GenError(f'{self.doc}: "init" is a function\'s name or {{"generate": "name", "set": [...]}}')
+        if made is not None:
+            init = (self.doc, st, made['generate'] if isinstance(made, dict) else made, [])
             self.inits.append(init)
         root = self.table(self.node, '', st, '', scope, init)
         self.check_scope(scope)
+        if isinstance(made, dict):
+            self.generate_init(st, init, made.get('set', []))
         return root
+
+    def generate_init(self, st, init, extra):
+        """The struct's init function made from the schema: every member zero, then each
+        "default" as the reader would store it, then the members "set" names (those without a
+        default the reader can state: NAN for "not given", the writes of a hook)."""
+        if self.section_init:
+            raise GenError(f'{self.doc}: a generated "init" with sections that set members when present')
+        body = [(path, value) for path, value, _, _ in init[3]]
+        for e in extra:
+            if not isinstance(e, dict) or set(e) != {'field', 'value'}:
+                raise GenError(f'{self.doc}: "set" lists {{"field", "value"}}')
+            self.member_type(st, e['field'])
+            if e['field'] in dict(body):
+                raise GenError(f'{self.doc}: "set" gives {e["field"]}, which has a schema default')
+            body.append((e['field'], str(e['value'])))
+        self.generated_init = (init[2], st, body)
 
 
 class Pools:
@@ -625,7 +679,8 @@ class Pools:
     POOL_OF = {'name': 'strings', 'conflict_with': 'strings', 'conflict_message': 'strings',
                'missing': 'strings', 'code': 'strings', 'message': 'strings', 'names': 'names',
                'values': 'values', 'child': 'tables', 'hook': 'hooks', 'init': 'inits', 'step': 'steps',
-               'after': 'steps', 'key': 'keys'}
+               'after': 'steps', 'key': 'keys', 'only_key': 'strings', 'only_code': 'strings',
+               'only_message': 'strings', 'only_required': 'strings'}
     TYPES = (('strings', 'const char *const prsm_io_gen_strings[]'),
              ('names', 'const char *const *const prsm_io_gen_names[]'),
              ('values', 'const int *const prsm_io_gen_values[]'),
@@ -664,7 +719,7 @@ def emit(gens, out_dir):
          '#ifndef PRSM_IO_TABLES_H', '#define PRSM_IO_TABLES_H', '', '#include "io/doc.h"', '']
     c = ['/* Generated by scripts/gen-io-tables.py from schemas/: do not edit. */',
          '#include "prsm_io_tables.h"', '', '#include <limits.h>', '#include <math.h>', '#include <stddef.h>',
-         '#include <stdlib.h>', '']
+         '#include <stdlib.h>', '#include <string.h>', '']
     includes = sorted({g.root_note['header'] for g in gens})
     h[5:5] = [f'#include "{i}"' for i in includes]
     extra = sorted({i for g in gens for i in g.root_note.get('includes', [])})
@@ -702,6 +757,16 @@ def emit(gens, out_dir):
             c.append('')
             if export:
                 h.append(f'extern const prsm_io_table {cname};')
+        if g.generated_init:
+            fn, st, body = g.generated_init
+            h.append(f'/* Sets the schema\'s defaults (generated: "init": {{"generate"}}). */')
+            h.append(f'void {fn}({st} *s);')
+            c.append(f'void {fn}({st} *s)')
+            c.append('{')
+            c.append('\tmemset(s, 0, sizeof *s);')
+            c += [f'\ts->{path} = {value};' for path, value in body]
+            c.append('}')
+            c.append('')
         for name, st, fn, defaults in g.inits:
             h.append(f'/* The schema\'s defaults against what {fn}() sets: one problem each that differs; returns')
             h.append(' * their count, or -1 when out of memory. */')

@@ -50,7 +50,18 @@ a member the struct lacks):
                                 item i taking element i; "tuple": [{"field": ...}, ...] writes
                                 those members as the array; items of a string enum with "field"
                                 and "values" are the names of the bits set in an int, or, when
-                                "field" is a C array or a pointer, the names of its ints' values
+                                "field" is a C array or a pointer, the names of its ints' values;
+                                "every": K (a number or a member) on a row's "p[].m" numbers or
+                                booleans: item i is element row + i x K (rows that interleave);
+                                "is": "C_CONST": boolean items true when the int is that constant;
+                                "columns": C on an array of arrays of numbers: "count" rows of C
+                                numbers from a row-major C array or pointer; "grid": {"from": m,
+                                "to": m} (and "count", no "field"): numbers evenly spaced between
+                                two double members, from + (to - from) * i / (count - 1);
+                                "slice": true: a row's "count" numbers of a row-major C array or
+                                pointer, element row x count + i (a matrix written row by row)
+  "index": N                    an integer: the row's number + N (an item's position in a rows
+                                table: a stage's number, an eigenvalue's index)
 
 A written object's "view": {"a": "const prsm_analysis *", "F": "double"} has the generator
 declare its struct, prsm_io_<write>_view, in the generated header: the hand code fills it with
@@ -447,17 +458,35 @@ class Gen:
                 raise GenError(f'{where}: "else" can only be null')
             f['else_null'] = '1'
 
-    def count(self, f, note, sname, where):
-        c = note.get('count')
-        if isinstance(c, int) and not isinstance(c, bool):
-            f['count'] = str(c)
+    def count(self, f, note, sname, where, key='count', to='count'):
+        """A count (note[key]: a number, or an int or size_t member) into f[to], or f[to_type]
+        and f[to_at]."""
+        c = note.get(key)
+        if isinstance(c, int) and not isinstance(c, bool) and c >= 0:
+            f[to] = str(c)
         elif isinstance(c, str):
             r = self.scalar(self.ref(sname, c, where), where)
             if r.ctype not in ('int', 'size_t'):
-                raise GenError(f'{where}: the count {c} is an int or a size_t')
-            f['count_type'], f['count_at'] = NUMERIC[r.ctype], r.c()
-        else:
+                raise GenError(f'{where}: the {key} {c} is an int or a size_t')
+            f[to + '_type'], f[to + '_at'] = NUMERIC[r.ctype], r.c()
+        elif key == 'count':
             raise GenError(f'{where}: an array needs "count" (a number or a member)')
+        else:
+            raise GenError(f'{where}: "{key}" is a number or an int or size_t member')
+
+    def grid(self, f, note, sname, where):
+        """"grid": {"from": m, "to": m}: "count" numbers evenly spaced between two doubles."""
+        g = note['grid']
+        if 'field' in note or not isinstance(g, dict) or set(g) != {'from', 'to'}:
+            raise GenError(f'{where}: "grid" is {{"from": member, "to": member}}, without "field"')
+        ends = [self.scalar(self.ref(sname, g[k], where), where) for k in ('from', 'to')]
+        if any(r.ctype != 'double' for r in ends):
+            raise GenError(f'{where}: a grid runs between two double members')
+        self.count(f, note, sname, where)
+        f.update({'shape': 'PRSM_IO_W_GRID', 'type': 'PRSM_IO_W_DOUBLE', 'at': ends[0].c(),
+                  'step_type': 'PRSM_IO_W_DOUBLE', 'step_at': ends[1].c()})
+        self.scale(f, note, sname, where)
+        return f
 
     def enum(self, f, names, note, where):
         values = note.get('values')
@@ -493,6 +522,13 @@ class Gen:
             self.hooks.add(note['hook'])
             if r is not None:
                 f['at'] = r.through().c()
+            return f
+        if 'index' in note:  # the row's number (+ index): an item's position in a rows table
+            if r is not None or stype != 'integer' or isinstance(note['index'], bool) or \
+                    not isinstance(note['index'], int) or note['index'] < 0:
+                raise GenError(f'{where}: "index": N (0 or more) writes the row\'s number + N as an integer, '
+                               'without "field"')
+            f['kind'], f['count'] = 'PRSM_IO_W_INDEX', str(note['index'])
             return f
         if r is None and (const is not None or 'text' in note or 'value' in note):
             value = note.get('value', const)
@@ -584,6 +620,23 @@ class Gen:
             f.update({'shape': 'PRSM_IO_W_TUPLE', 'child': '&' + tname})
             f.pop('at', None)
             return f
+        itype = self.stype(items)
+        if 'grid' in note:
+            if itype not in ('number', 'integer'):
+                raise GenError(f'{where}: a grid\'s items are numbers')
+            return self.grid(f, note, sname, where)
+        if itype == 'array' or 'columns' in note:  # a matrix: rows of "columns" numbers
+            inner = self.expand([(fl, n['items']) for fl, n in items if isinstance(n.get('items'), dict)])
+            if itype != 'array' or 'columns' not in note or r is None or self.stype(inner) not in ('number', 'integer'):
+                raise GenError(f'{where}: an array of arrays of numbers names the elements\' "field" (a C array '
+                               'or a pointer) and its "columns"')
+            self.count(f, note, sname, where)
+            self.count(f, note, sname, where, 'columns', 'step')
+            r.items(where)
+            self.scalar(r, where)
+            f.update({'at': r.c(), 'shape': 'PRSM_IO_W_MATRIX', 'type': self.ctype_kind(r.ctype, where)})
+            self.scale(f, note, sname, where)
+            return f
         inames = self.first(items, 'enum')
         if r is not None and inames is not None and 'values' in note and not (r.dims or r.ptr or r.after):
             f['kind'] = 'PRSM_IO_W_FLAGS'
@@ -593,7 +646,22 @@ class Gen:
             self.count(f, note, sname, where)
         else:  # the whole C array
             f['count'] = f'(int)(sizeof((({r.struct} *)0)->{r.desig}) / sizeof((({r.struct} *)0)->{r.desig}[0]))'
-        itype = self.stype(items)
+        if note.get('slice'):  # the row's "count" elements of a row-major C array
+            if itype not in ('number', 'integer') or r is None or r.row or 'every' in note or 'count' not in note:
+                raise GenError(f'{where}: "slice" takes a row\'s "count" numbers of a C array or pointer (no "[]")')
+            r.items(where)
+            f['at'], f['shape'] = r.c(), 'PRSM_IO_W_SLICE'
+            self.scalar(r, where)
+            f['type'] = self.ctype_kind(r.ctype, where)
+            self.scale(f, note, sname, where)
+            return f
+        if 'every' in note:  # element row + i x every: one of the rows that interleave
+            if itype not in ('number', 'integer', 'boolean') or r is None or not r.row:
+                raise GenError(f'{where}: "every" steps through the elements of a row\'s numbers or '
+                               'booleans ("p[].m")')
+            self.count(f, note, sname, where, 'every', 'step')
+        if 'is' in note and itype != 'boolean':
+            raise GenError(f'{where}: "is" makes boolean items')
         if itype == 'object':
             inote = self.note(items)
             if r is None:  # rows: the items' fields are paths with "[]"
@@ -622,7 +690,12 @@ class Gen:
             self.scalar(r, where)
             if r.ctype != 'int':
                 raise GenError(f'{where}: boolean items are written from ints, not {r.ctype}')
-            f['type'], f['mask'] = 'PRSM_IO_W_INT', str(note.get('mask', -1))
+            if 'is' in note:  # true when the int is that constant
+                if 'mask' in note:
+                    raise GenError(f'{where}: boolean items take "mask" or "is", not both')
+                f['type'], f['is_set'], f['is_value'] = 'PRSM_IO_W_INT', '1', str(note['is'])
+            else:
+                f['type'], f['mask'] = 'PRSM_IO_W_INT', str(note.get('mask', -1))
         elif inames is not None and 'values' in note:  # ints: the names of their values
             self.scalar(r, where)
             if r.ctype != 'int' and r.ctype not in self.enums:

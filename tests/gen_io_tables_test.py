@@ -226,4 +226,50 @@ doc_check('allocation', 'an array of scratch items counts them ("count" without 
 doc_check('allocation', '... into an int or a size_t only',
           lambda s: s['properties']['constraints']['x-prsm'].update(count='model.nominal'), 1,
           'the count model.nominal is an int or a size_t')
+
+# ---- a generated init: the struct's defaults function written from the schema's defaults -----
+with open(os.path.join(src, 'schemas', 'dynamics.schema.json'), encoding='utf-8') as f:
+    docs['dynamics'] = json.load(f)
+
+
+def linear(s):
+    """The dynamics schema's linear section (a table root with a generated init)."""
+    return s['$defs']['linear']
+
+
+doc_check('dynamics', '"init": {"generate"} writes the function: zero, the schema\'s defaults, then "set"', None, 0,
+          'void prsm_io_vib_linear_init(prsm_io_vib_linear *s)\n{\n\tmemset(s, 0, sizeof *s);\n'
+          '\ts->input = PRSM_VIB_IN_MESH_ERROR;\n\ts->input_roller = 0;\n\ts->output = PRSM_VIB_OUT_MESH_DEFLECTION;\n'
+          '\ts->output_roller = 0;\n\ts->from_frequency_ratio = 0.5;\n\ts->to_frequency_ratio = 1.5;\n'
+          '\ts->points = 401;\n\ts->from_Hz = NAN;\n\ts->to_Hz = NAN;\n}')
+doc_check('dynamics', '... a schema default is one edit: the function follows',
+          lambda s: linear(s)['properties']['points'].update(default=801), 0, '\ts->points = 801;\n')
+doc_check('dynamics', '... and a default removed leaves the member zero',
+          lambda s: linear(s)['properties']['points'].pop('default'), 0, '\ts->to_frequency_ratio = 1.5;\n\ts->from_Hz')
+doc_check('dynamics', 'an integer fills a long member (time.max_steps)', None, 0,
+          '.offset = offsetof(prsm_dyn_options, time.max_steps), .kind = PRSM_IO_LONG, .min = 1.0, .max = 1000000000.0')
+doc_check('dynamics', '... and its default is checked against the init function', None, 0,
+          'if (!(s->time.max_steps == 10000000)) {')
+doc_check('dynamics', '"only": a member that belongs with one value of its sibling enum (required then)', None, 0,
+          '{.name = "value_Nm", .required = 0, .only_key = "kind", .only_offset = offsetof(prsm_dyn_options, '
+          'input.kind), .only_value = PRSM_DYN_INPUT_TORQUE, .only_code = "input_kind", .only_message = "a speed input '
+          'is given in rad/s (value_rad_s); value_Nm needs \\"kind\\": \\"torque\\"", .only_required = "a torque '
+          'input needs value_Nm, the motor torque in N m", .offset = offsetof(prsm_dyn_options, input.signal.value)')
+doc_check('dynamics', '"only" with a sibling that is no enum is refused',
+          lambda s: s['properties']['input']['properties']['value_Nm']['x-prsm']['only'].update({'with': 'ramp_time_s'}),
+          1, '"only" names ramp_time_s, which is no enum member of this object')
+doc_check('dynamics', '"only" with a value the sibling does not have is refused',
+          lambda s: s['properties']['input']['properties']['value_Nm']['x-prsm']['only'].update({'is': 'current'}),
+          1, '"only": kind has no value \'current\'')
+doc_check('dynamics', '"only" without its message is refused',
+          lambda s: s['properties']['input']['properties']['value_Nm']['x-prsm']['only'].pop('message'),
+          1, '"only" is {"with", "is", "code", "message"} (and "required")')
+doc_check('dynamics', '"set" naming no member is refused',
+          lambda s: linear(s)['x-prsm']['init']['set'].append({'field': 'nosuch', 'value': 1}), 1, 'nosuch')
+doc_check('dynamics', '"set" on a member with a schema default is refused',
+          lambda s: linear(s)['x-prsm']['init']['set'].append({'field': 'points', 'value': 3}), 1,
+          '"set" gives points, which has a schema default')
+doc_check('dynamics', 'an "init" object without "generate" is refused',
+          lambda s: linear(s)['x-prsm'].update(init={'set': []}), 1,
+          '"init" is a function\'s name or {"generate": "name", "set": [...]}')
 sys.exit(1 if failed else 0)

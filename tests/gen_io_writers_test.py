@@ -199,5 +199,83 @@ s['properties']['calibration']['properties']['dropped_lines']['x-prsm']['field']
 check('enum items from doubles are refused', {'measured-result.schema.json': s}, 1,
       'string enum items are written from ints, not double')
 
+# the series and grids of the dynamics result: a row's elements taken every K ("every": a chain's
+# stages interleave, K per output time), booleans from an int equal to a constant ("is"), a
+# row-major C array as an array of arrays ("columns"), an evenly spaced grid between two members
+SP = ['$defs', 'transient', 'properties', 'stages', 'items', 'properties']
+
+
+def node(d, path):
+    for k in path:
+        d = d[k]
+    return d
+
+
+check('"every", "is", "columns" and "grid" reach the tables', {}, 0,
+      '.after = offsetof(prsm_dyn_stage_point, carrier_ratio)}, .kind = PRSM_IO_W_ARRAY, .count_type = PRSM_IO_W_SIZE, '
+      '.count_at = {.offset = offsetof(prsm_io_dyn_result_view, r), .deref = 1, .offset2 = offsetof(prsm_dyn_result, points)}, '
+      '.step_type = PRSM_IO_W_INT, .step_at = {.offset = offsetof(prsm_io_dyn_result_view, r), .deref = 1, '
+      '.offset2 = offsetof(prsm_dyn_result, stages)}, .type = PRSM_IO_W_DOUBLE}',
+      '.after = offsetof(prsm_dyn_stage_point, flank)}, .kind = PRSM_IO_W_ARRAY',
+      '.type = PRSM_IO_W_INT, .is_set = 1, .is_value = PRSM_DYN_FLANK_UPPER}',
+      '.offset2 = offsetof(prsm_io_vib_result, basins.label), .pointer = 1, '
+      '.stride = sizeof(*((prsm_io_vib_result *)0)->basins.label)}, .kind = PRSM_IO_W_ARRAY',
+      '.offset2 = offsetof(prsm_io_vib_result, basins.nv)}, .shape = PRSM_IO_W_MATRIX, .type = PRSM_IO_W_INT}',
+      '.offset2 = offsetof(prsm_io_vib_result, steady.poincare_size)}, .shape = PRSM_IO_W_MATRIX, .type = PRSM_IO_W_DOUBLE}',
+      '{.name = "deflection", .kind = PRSM_IO_W_ARRAY, .count_type = PRSM_IO_W_INT, ',
+      '.shape = PRSM_IO_W_GRID, .type = PRSM_IO_W_DOUBLE, .at = {.offset = offsetof(prsm_io_vib_result_view, r), '
+      '.deref = 1, .offset2 = offsetof(prsm_io_vib_result, basins.x_min)}, .step_type = PRSM_IO_W_DOUBLE, '
+      '.step_at = {.offset = offsetof(prsm_io_vib_result_view, r), .deref = 1, '
+      '.offset2 = offsetof(prsm_io_vib_result, basins.x_max)}}')
+s = copy.deepcopy(dr)
+node(s, SP + ['carrier_ratio', 'x-prsm'])['every'] = 'r->max_power_balance_relative'
+check('"every" naming no integer member is refused', {'dynamics-result.schema.json': s}, 1,
+      'the every r->max_power_balance_relative is an int or a size_t')
+s = copy.deepcopy(dr)
+node(s, ['$defs', 'transient', 'properties', 'time_s', 'x-prsm'])['every'] = 'r->stages'
+s['$defs']['transient']['properties']['time_s']['x-prsm']['field'] = 'r->settled.efficiency'
+check('"every" outside a row is refused', {'dynamics-result.schema.json': s}, 1,
+      '"every" steps through the elements of a row')
+s = copy.deepcopy(dr)
+node(s, SP + ['upper_flank', 'x-prsm'])['mask'] = 1
+check('boolean items with "mask" and "is" are refused', {'dynamics-result.schema.json': s}, 1,
+      'boolean items take "mask" or "is", not both')
+s = copy.deepcopy(dr)
+node(s, SP + ['carrier_ratio', 'x-prsm'])['is'] = 'PRSM_DYN_FLANK_UPPER'
+check('"is" on number items is refused', {'dynamics-result.schema.json': s}, 1, '"is" makes boolean items')
+s = copy.deepcopy(dr)
+del node(s, ['$defs', 'vib_basins', 'properties', 'labels', 'x-prsm'])['columns']
+check('an array of arrays without "columns" is refused', {'dynamics-result.schema.json': s}, 1,
+      'an array of arrays of numbers names the elements\' "field" (a C array or a pointer) and its "columns"')
+s = copy.deepcopy(dr)
+node(s, ['$defs', 'vib_basins', 'properties', 'labels', 'x-prsm'])['field'] = 'r->basins.nx'
+check('a matrix from a scalar is refused', {'dynamics-result.schema.json': s}, 1, 'no C array or pointer')
+s = copy.deepcopy(dr)
+node(s, ['$defs', 'vib_basins', 'properties', 'deflection', 'x-prsm'])['grid']['to'] = 'r->basins.nv'
+check('a grid to an int is refused', {'dynamics-result.schema.json': s}, 1, 'a grid runs between two double members')
+s = copy.deepcopy(dr)
+node(s, ['$defs', 'vib_basins', 'properties', 'deflection', 'x-prsm'])['field'] = 'r->basins.x_min'
+check('a grid with "field" is refused', {'dynamics-result.schema.json': s}, 1,
+      '"grid" is {"from": member, "to": member}, without "field"')
+check('"slice" and "index" reach the tables (a mode shape: its row of each matrix, its index)', {}, 0,
+      '{.name = "eigenvalue", .kind = PRSM_IO_W_INDEX, .count = 0}',
+      '{.name = "stage", .kind = PRSM_IO_W_INDEX, .count = 1}',
+      '.offset2 = offsetof(prsm_io_vib_result, linear.shape_im), .pointer = 1, '
+      '.stride = sizeof(*((prsm_io_vib_result *)0)->linear.shape_im)}, .kind = PRSM_IO_W_ARRAY, .count_type = '
+      'PRSM_IO_W_INT, .count_at = {.offset = offsetof(prsm_io_vib_result_view, r), .deref = 1, '
+      '.offset2 = offsetof(prsm_io_vib_result, linear.shape_size)}, .shape = PRSM_IO_W_SLICE, .type = PRSM_IO_W_DOUBLE}')
+MP = ['$defs', 'vib_linear', 'properties', 'modes', 'properties', 'shapes', 'items', 'properties']
+s = copy.deepcopy(dr)
+node(s, MP + ['re', 'x-prsm'])['field'] = 'r->linear.eig_re[]'
+check('a slice of a row\'s element ("[]") is refused', {'dynamics-result.schema.json': s}, 1,
+      '"slice" takes a row\'s "count" numbers of a C array or pointer (no "[]")')
+s = copy.deepcopy(dr)
+node(s, MP + ['eigenvalue', 'x-prsm'])['field'] = 'r->linear.eigenvalues'
+check('"index" with a "field" is refused', {'dynamics-result.schema.json': s}, 1,
+      '"index": N (0 or more) writes the row\'s number + N as an integer, without "field"')
+s = copy.deepcopy(dr)
+node(s, MP + ['eigenvalue'])['type'] = 'string'
+check('"index" on a string is refused', {'dynamics-result.schema.json': s}, 1, '"index": N (0 or more)')
+
 print('gen-io-writers:', 'FAILED' if failed else 'all ok')
 sys.exit(1 if failed else 0)

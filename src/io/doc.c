@@ -115,10 +115,13 @@ static int read_field(const prsm_io_at *r, void *base, const prsm_io_field *f, c
 	}
 	case PRSM_IO_INT:
 	case PRSM_IO_SIZE:
+	case PRSM_IO_LONG:
 		present = prsm_json_get_int(&v, obj, ptr, NAME(f), req, (int)f->min, (int)f->max, problems) ==
 		          PRSM_JSON_PRESENT;
 		if (present && f->kind == PRSM_IO_INT)
 			PUT(base, f->offset, v);
+		else if (present && f->kind == PRSM_IO_LONG)
+			PUT(base, f->offset, (long){v});
 		else if (present)
 			PUT(base, f->offset, (size_t){(size_t)v});
 		break;
@@ -212,6 +215,20 @@ static int read_object(const prsm_io_at *r, void *base, const prsm_io_table *t, 
 		    read_field(r, base, f, obj, ptr, problems) && i < 64)
 			at->read |= 1ULL << i;
 	}
+	/* the members that belong with one value of a sibling (an input's kind), once it is read */
+	for (int pass = 0; pass < 2; pass++)
+		for (size_t i = 0; i < t->n_fields; i++) {
+			const prsm_io_field *f = &t->fields[i];
+			if (!f->only_key || prsm_io_problem_at(problems, 0, ptr, STR(f->only_key)))
+				continue;
+			int v;
+			memcpy(&v, (const char *)base + f->only_offset, sizeof v);
+			const int present = cJSON_GetObjectItemCaseSensitive(obj, NAME(f)) != NULL;
+			if (pass == 0 && f->only_required && v == f->only_value && !present)
+				prsm_io_problem(problems, ptr, NAME(f), "required", "%s", STR(f->only_required));
+			else if (pass == 1 && v != f->only_value && present)
+				prsm_io_problem(problems, ptr, NAME(f), STR(f->only_code), "%s", STR(f->only_message));
+		}
 	return 0;
 }
 

@@ -26,6 +26,7 @@ typedef enum {
 	PRSM_IO_NUMBER = 1, /* double, scaled */
 	PRSM_IO_INT,        /* int within [min, max] */
 	PRSM_IO_SIZE,       /* size_t within [min, max] (min >= 0) */
+	PRSM_IO_LONG,       /* long within [min, max] (an int's range) */
 	PRSM_IO_BOOL,       /* int 0 / 1 */
 	PRSM_IO_ENUM,       /* int: values[i] for names[i] */
 	PRSM_IO_STRING,     /* checked (max_chars); copied into a char array of capacity (0: not) */
@@ -89,6 +90,12 @@ typedef struct {
 	unsigned short conflict_with;  /* a member that must not be present with this one */
 	unsigned short conflict_message;
 	unsigned short missing;        /* required: the problem when it is absent (not the generic one) */
+	unsigned short only_key;       /* the member belongs with one value of the sibling enum only_key */
+	size_t only_offset;            /*   (an int at only_offset, only_value): present while it holds */
+	int only_value;                /*   another, a problem (only_code, only_message); only_required: */
+	unsigned short only_code;      /*   its problem when absent while it holds that one. Checked once */
+	unsigned short only_message;   /*   the object is read, the required first, unless only_key has a */
+	unsigned short only_required;  /*   problem */
 	int deferred;                  /* read only when a step asks (prsm_io_get) */
 	int when;                      /* a member (a key, and read) only when the table's condition holds */
 	unsigned short step;           /* steps; arrays and maps: run on each item once read */

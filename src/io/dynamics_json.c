@@ -36,48 +36,6 @@ static int has(const cJSON *obj, const char *key)
 	return cJSON_GetObjectItemCaseSensitive(obj, key) != NULL;
 }
 
-/* The input section's names follow its kind: value_rad_s and sine_amplitude_rad_s for a speed,
- * value_Nm (required) and sine_amplitude_Nm for a torque; only a torque input has an initial
- * speed (a speed input starts at its signal). */
-void prsm_io_hook_dynamics_input(void *base, const cJSON *obj, const char *obj_pointer, prsm_problems *problems)
-{
-	const prsm_dyn_options *o = base;
-	char ptr[PRSM_JSON_POINTER_MAX];
-	if (prsm_io_problem_at(problems, 0, obj_pointer, "kind"))
-		return; /* the kind is unknown: nothing to hold the names against */
-	if (o->input.kind == PRSM_DYN_INPUT_TORQUE) {
-		if (!has(obj, "value_Nm")) {
-			prsm_json_pointer_append(ptr, sizeof ptr, obj_pointer, "value_Nm");
-			prsm_problems_add(problems, ptr, "required", "a torque input needs value_Nm, the motor torque in N m");
-		}
-		if (has(obj, "value_rad_s")) {
-			prsm_json_pointer_append(ptr, sizeof ptr, obj_pointer, "value_rad_s");
-			prsm_problems_add(problems, ptr, "input_kind",
-			                  "a torque input is given in N m (value_Nm); value_rad_s is a speed input's");
-		}
-		if (has(obj, "sine_amplitude_rad_s")) {
-			prsm_json_pointer_append(ptr, sizeof ptr, obj_pointer, "sine_amplitude_rad_s");
-			prsm_problems_add(problems, ptr, "input_kind",
-			                  "the sine amplitude of a torque input is sine_amplitude_Nm");
-		}
-		return;
-	}
-	if (has(obj, "value_Nm")) {
-		prsm_json_pointer_append(ptr, sizeof ptr, obj_pointer, "value_Nm");
-		prsm_problems_add(problems, ptr, "input_kind",
-		                  "a speed input is given in rad/s (value_rad_s); value_Nm needs \"kind\": \"torque\"");
-	}
-	if (has(obj, "sine_amplitude_Nm")) {
-		prsm_json_pointer_append(ptr, sizeof ptr, obj_pointer, "sine_amplitude_Nm");
-		prsm_problems_add(problems, ptr, "input_kind", "the sine amplitude of a speed input is sine_amplitude_rad_s");
-	}
-	if (has(obj, "initial_speed_rad_s")) {
-		prsm_json_pointer_append(ptr, sizeof ptr, obj_pointer, "initial_speed_rad_s");
-		prsm_problems_add(problems, ptr, "input_kind",
-		                  "a speed input starts at its signal's value: initial_speed_rad_s is for a torque input");
-	}
-}
-
 /* The masses: the single-stage fields into stage 0, each item of `stages` into its stage, by
  * the table of one stage (schemas/dynamics.schema.json, $defs/stage_inertia). Which form the
  * request may use depends on its number of stages: prsm_io_dynamics_from_json checks that. */
@@ -104,16 +62,6 @@ void prsm_io_hook_dynamics_inertia(void *base, const cJSON *obj, const char *obj
 		if (prsm_json_object_value(it, ip, problems) == 0)
 			prsm_io_read(&o->inertia.stage[k], &prsm_io_t_dynamics_stage_inertia, it, ip, problems);
 	}
-}
-
-/* time.max_steps: an integer into a long. */
-void prsm_io_hook_dynamics_max_steps(void *base, const cJSON *obj, const char *obj_pointer, prsm_problems *problems)
-{
-	prsm_dyn_options *o = base;
-	int v;
-	if (prsm_json_get_int(&v, obj, obj_pointer, "max_steps", PRSM_JSON_OPTIONAL, 1, 1000000000, problems) ==
-	    PRSM_JSON_PRESENT)
-		o->time.max_steps = v;
 }
 
 /* ---- the reader -------------------------------------------------------------------------------- */
@@ -193,72 +141,9 @@ void prsm_io_gear_pair_init(prsm_vib_gear_pair *g)
 	*g = d;
 }
 
-void prsm_io_vib_steady_init(prsm_io_vib_steady *s)
-{
-	memset(s, 0, sizeof *s);
-	s->transient_periods = 300;
-	s->recorded_periods = 64;
-	s->clock = PRSM_VIB_CLOCK_AUTO;
-	s->observable = PRSM_VIB_OBS_MESH_DEFLECTION;
-	s->roller = 0;
-	s->period_tolerance = NAN;
-	s->samples_per_period = 128;
-	s->lyapunov = 0;
-	s->lyapunov_method = PRSM_VIB_LYAPUNOV_BENETTIN;
-	s->lyapunov_exponents = 1;
-	s->lyapunov_periods = 2000;
-}
-
-void prsm_io_vib_sweep_init(prsm_io_vib_sweep *s)
-{
-	memset(s, 0, sizeof *s);
-	s->parameter = PRSM_IO_SWEEP_FREQUENCY_RATIO;
-	s->from = 0.7;
-	s->to = 1.6;
-	s->step = 0.05;
-	s->up = s->down = 1;
-	s->continuation = 1;
-	s->transient_periods = 300;
-	s->recorded_periods = 64;
-	s->clock = PRSM_VIB_CLOCK_AUTO;
-	s->observable = PRSM_VIB_OBS_MESH_DEFLECTION;
-	s->roller = 0;
-	s->period_tolerance = NAN;
-	s->lyapunov = 0;
-	s->lyapunov_periods = 2000;
-}
-
-void prsm_io_vib_basins_init(prsm_io_vib_basins *b)
-{
-	memset(b, 0, sizeof *b);
-	b->deflection_min = -2.0;
-	b->deflection_max = 4.0;
-	b->deflection_cells = 41;
-	b->rate_min = -3.0;
-	b->rate_max = 3.0;
-	b->rate_cells = 41;
-	b->periods = 100;
-	b->identify_periods = 64;
-	b->distance = 1e-3;
-	b->roller = 0;
-	b->period_tolerance = NAN;
-}
-
-void prsm_io_vib_linear_init(prsm_io_vib_linear *l)
-{
-	memset(l, 0, sizeof *l);
-	l->input = PRSM_VIB_IN_MESH_ERROR;
-	l->output = PRSM_VIB_OUT_MESH_DEFLECTION;
-	l->from_Hz = l->to_Hz = NAN;
-	l->from_frequency_ratio = 0.5;
-	l->to_frequency_ratio = 1.5;
-	l->points = 401;
-}
-
-void prsm_io_vib_frequency_response_init(prsm_io_vib_frequency_response *f)
-{
-	f->agreement_tolerance = 1e-3;
-}
+/* prsm_io_vib_steady_init, _sweep_init, _basins_init, _linear_init and
+ * _frequency_response_init are generated from the schema's defaults (schemas/dynamics.schema.json,
+ * "init": {"generate"}; prsm_io_tables.c). */
 
 void prsm_io_vib_request_init(prsm_io_vib_request *r)
 {
@@ -848,37 +733,11 @@ static const char *name_of(const char *const *names, int n, int v)
 }
 #define NAME(names, v) name_of(names, (int)(sizeof names / sizeof names[0]), (v))
 
-/* An array of n numbers, the first at first, each stride bytes after the previous, x scale. */
-static void series(prsm_jw *w, cJSON *obj, const char *key, const double *first, size_t stride, size_t n,
-                   double scale)
-{
-	cJSON *a = prsm_jw_array(w, obj, key);
-	for (size_t i = 0; a && i < n; i++)
-		prsm_jw_number(w, a, NULL, *(const double *)(const void *)((const char *)first + i * stride) * scale);
-}
-
 /* |B| of stage 0 in m per rad (the stick band's and the stiff switch's default, docs/dynamics.md) */
 static double slip_per_rad_m(const prsm_dyn_stage_params *p)
 {
 	const double *B = p->B_mm[PRSM_DYN_FLANK_LOWER];
 	return sqrt(B[0] * B[0] + B[1] * B[1] + B[2] * B[2]) * 1e-3;
-}
-
-/* A stage's series (at: its member at the first output time; the stages interleave, K per time). */
-void prsm_io_whook_dyn_stage_series(prsm_jw *w, cJSON *obj, const char *key, const void *at)
-{
-	const prsm_dyn_result *r = ((const prsm_io_dyn_result_view *)w->ctx)->r;
-	series(w, obj, key, at, (size_t)r->stages * sizeof *r->stage, r->points, 1.0);
-}
-
-/* true while the stage's upper flank carries the load (at: its flank at the first time). */
-void prsm_io_whook_dyn_stage_upper_flank(prsm_jw *w, cJSON *obj, const char *key, const void *at)
-{
-	const prsm_dyn_result *r = ((const prsm_io_dyn_result_view *)w->ctx)->r;
-	const size_t ss = (size_t)r->stages * sizeof *r->stage;
-	cJSON *fl = prsm_jw_array(w, obj, key);
-	for (size_t i = 0; fl && i < r->points; i++)
-		prsm_jw_bool(w, fl, NULL, *(const int *)(const void *)((const char *)at + i * ss) == PRSM_DYN_FLANK_UPPER);
 }
 
 /* The checks: both maxima within their limits (1), else a warning (warnings not NULL) says which. */
@@ -910,8 +769,6 @@ void prsm_io_dynamics_write(prsm_jw *w, cJSON *obj, const char *key, const prsm_
 	};
 	v.torque_series = v.torque && r->points > 0;
 	v.stuck_series = v.karnopp && r->points > 0;
-	for (int k = 0; k < PRSM_DYN_STAGES_MAX; k++)
-		v.stage_no[k] = k + 1;
 	/* what the model made of each stage (docs/dynamics.md) and the chain's screw-side inertia */
 	v.model_stages = prsm_dyn_model_stages(m);
 	for (int k = 0; k < v.model_stages; k++)
@@ -1060,13 +917,6 @@ void prsm_io_vib_result_free(prsm_io_vib_result *r)
 	memset(r, 0, sizeof *r);
 }
 
-static void int_series(prsm_jw *w, cJSON *obj, const char *key, const int *v, size_t n)
-{
-	cJSON *a = prsm_jw_array(w, obj, key);
-	for (size_t i = 0; a && i < n; i++)
-		prsm_jw_number(w, a, NULL, v[i]);
-}
-
 static void write_te_lines(prsm_jw *w, cJSON *obj, const char *key, const prsm_vib_te_line *l, int n)
 {
 	cJSON *a = prsm_jw_array(w, obj, key);
@@ -1082,16 +932,6 @@ void prsm_io_whook_vib_te_lines(prsm_jw *w, cJSON *obj, const char *key, const v
 		write_te_lines(w, obj, key, o->te_line, o->te_lines);
 	else
 		prsm_jw_string(w, obj, key, o->te_source == PRSM_VIB_TE_STATICS ? "statics" : "none");
-}
-
-/* The Poincare vectors, one per recorded period. */
-void prsm_io_whook_vib_poincare_vectors(prsm_jw *w, cJSON *obj, const char *key, const void *at)
-{
-	const prsm_vib_steady *s = &((const prsm_io_vib_result_view *)w->ctx)->r->steady;
-	cJSON *vecs = prsm_jw_array(w, obj, key);
-	for (int i = 0; vecs && i < s->recorded; i++)
-		series(w, vecs, NULL, s->poincare + (size_t)i * s->poincare_size, sizeof(double), (size_t)s->poincare_size,
-		       1.0);
 }
 
 /* An extreme's roller: null for an axial observable (at: the extreme). */
@@ -1174,50 +1014,18 @@ static size_t failed_points(const prsm_vib_sweep *s)
 	return n;
 }
 
-/* The grid of initial deflections (rates): n values from min to max (at: the basins). */
-static void grid(prsm_jw *w, cJSON *obj, const char *key, double lo, double hi, int n)
-{
-	cJSON *a = prsm_jw_array(w, obj, key);
-	for (int i = 0; a && i < n; i++)
-		prsm_jw_number(w, a, NULL, n > 1 ? lo + (hi - lo) * i / (n - 1) : lo);
-}
-
-void prsm_io_whook_vib_basins_deflection(prsm_jw *w, cJSON *obj, const char *key, const void *at)
-{
-	const prsm_vib_basins *b = at;
-	grid(w, obj, key, b->x_min, b->x_max, b->nx);
-}
-
-void prsm_io_whook_vib_basins_rate(prsm_jw *w, cJSON *obj, const char *key, const void *at)
-{
-	const prsm_vib_basins *b = at;
-	grid(w, obj, key, b->v_min, b->v_max, b->nv);
-}
-
-/* The attractor's label of every cell, row i the i-th deflection (at: the basins). */
-void prsm_io_whook_vib_basins_labels(prsm_jw *w, cJSON *obj, const char *key, const void *at)
-{
-	const prsm_vib_basins *b = at;
-	cJSON *lab = prsm_jw_array(w, obj, key);
-	for (int i = 0; lab && i < b->nx; i++)
-		int_series(w, lab, NULL, b->label + (size_t)i * (size_t)b->nv, (size_t)b->nv);
-}
-
-/* An attractor's label: its index (at: the attractor). */
-void prsm_io_whook_vib_attractor_label(prsm_jw *w, cJSON *obj, const char *key, const void *at)
-{
-	const prsm_vib_attractor *x = at;
-	prsm_jw_number(w, obj, key, (int)(x - ((const prsm_io_vib_result_view *)w->ctx)->r->basins.attractor));
-}
-
-/* Its Poincare points, period x poincare_size (at: the attractor). */
+/* Its Poincare points, period x poincare_size (at: the attractor): a matrix behind a pointer in
+ * each attractor, one pointer more than a table's path follows. */
 void prsm_io_whook_vib_attractor_poincare(prsm_jw *w, cJSON *obj, const char *key, const void *at)
 {
 	const prsm_vib_attractor *x = at;
-	const int size = ((const prsm_io_vib_result_view *)w->ctx)->r->basins.poincare_size;
+	const size_t size = (size_t)((const prsm_io_vib_result_view *)w->ctx)->r->basins.poincare_size;
 	cJSON *pts = prsm_jw_array(w, obj, key);
-	for (int k = 0; pts && k < x->period; k++)
-		series(w, pts, NULL, x->poincare + (size_t)k * size, sizeof(double), (size_t)size, 1.0);
+	for (int k = 0; pts && k < x->period; k++) {
+		cJSON *a = prsm_jw_array(w, pts, NULL);
+		for (size_t j = 0; a && j < size; j++)
+			prsm_jw_number(w, a, NULL, x->poincare[(size_t)k * size + j]);
+	}
 }
 
 /* The FRF's unit: output over input (gear pair: dimensionless). */
@@ -1250,20 +1058,6 @@ void prsm_io_whook_vib_mode_coordinates(prsm_jw *w, cJSON *obj, const char *key,
 		else
 			snprintf(name, sizeof name, "axial_deflection");
 		prsm_jw_string(w, co, NULL, name);
-	}
-}
-
-/* Each eigenvalue's right eigenvector, its real and imaginary parts. */
-void prsm_io_whook_vib_mode_shapes(prsm_jw *w, cJSON *obj, const char *key, const void *at)
-{
-	const prsm_vib_linear *l = &((const prsm_io_vib_result_view *)w->ctx)->r->linear;
-	cJSON *sh = prsm_jw_array(w, obj, key);
-	for (int i = 0; sh && i < l->eigenvalues; i++) {
-		cJSON *e = prsm_jw_object(w, sh, NULL);
-		prsm_jw_number(w, e, "eigenvalue", i);
-		const size_t off = (size_t)i * (size_t)l->shape_size;
-		series(w, e, "re", l->shape_re + off, sizeof(double), (size_t)l->shape_size, 1.0);
-		series(w, e, "im", l->shape_im + off, sizeof(double), (size_t)l->shape_size, 1.0);
 	}
 }
 

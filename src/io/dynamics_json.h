@@ -176,7 +176,9 @@ typedef struct {
 	int te_from_errors;          /* vibration.te_lines "statics": the request's error set */
 } prsm_io_vib_request;
 
-/* The defaults of each section (the schema's, checked by the generated prsm_io_defaults_*). */
+/* The defaults of each section: the gear pair's (dyn/vib.h, checked by the generated
+ * prsm_io_defaults_*); those of steady_state, sweep, basins, linear and frequency_response are
+ * generated from the schema ("init": {"generate"}, prsm_io_tables.c); the request's, each. */
 void prsm_io_gear_pair_init(prsm_vib_gear_pair *g);
 void prsm_io_vib_steady_init(prsm_io_vib_steady *s);
 void prsm_io_vib_sweep_init(prsm_io_vib_sweep *s);

@@ -217,25 +217,60 @@ static void enum_name(prsm_jw *w, cJSON *o, const prsm_io_wfield *f, const char 
 		prsm_jw_null(w, o, key);
 }
 
+/* A count: the fixed one, or (type) the member's at row (0 when a pointer on the way is NULL). */
+static size_t count_of(const void *base, int fixed, int type, const prsm_io_wref *at, size_t row)
+{
+	if (!type)
+		return (size_t)fixed;
+	const char *c = member(base, at, row);
+	return c ? (size_t)number(c, type) : 0;
+}
+
+/* Numbers evenly spaced from the double at `at` to the double at step_at, as the C expression
+ * lo + (hi - lo) * i / (n - 1) computes them (bit-identical to the model's grids). */
+static void grid(prsm_jw *w, cJSON *arr, const void *base, const prsm_io_wfield *f, size_t n, size_t row)
+{
+	const char *lo = member(base, &f->at, row), *hi = member(base, &f->step_at, row);
+	if (lo == NULL || hi == NULL)
+		return;
+	const double a = *(const double *)(const void *)lo, b = *(const double *)(const void *)hi;
+	for (size_t i = 0; arr && i < n; i++)
+		prsm_jw_number(w, arr, NULL, scaled(base, f, n > 1 ? a + (b - a) * (double)i / (double)(n - 1) : a, row));
+}
+
 static void array(prsm_jw *w, cJSON *arr, const void *base, const prsm_io_wfield *f, size_t row)
 {
-	size_t n = (size_t)f->count;
-	if (f->count_type) {
-		const char *c = member(base, &f->count_at, row);
-		n = c ? (size_t)number(c, f->count_type) : 0;
-	}
+	const size_t n = count_of(base, f->count, f->count_type, &f->count_at, row);
 	if (f->shape == PRSM_IO_W_TUPLE) {
 		prsm_io_write_fields(w, arr, base, f_child(f), row);
 		return;
 	}
+	if (f->shape == PRSM_IO_W_GRID) { /* step_at is the grid's end, no count */
+		grid(w, arr, base, f, n, row);
+		return;
+	}
+	const size_t step = count_of(base, f->step, f->step_type, &f->step_at, row);
 	for (size_t i = 0; arr && i < n; i++) {
-		const char *p = f->shape == PRSM_IO_W_ROWS ? base : member(base, &f->at, i);
+		if (f->shape == PRSM_IO_W_MATRIX) { /* item i: elements i x step to i x step + step - 1 */
+			cJSON *r = prsm_jw_array(w, arr, NULL);
+			for (size_t j = 0; r && j < step; j++) {
+				const char *p = member(base, &f->at, i * step + j);
+				if (p == NULL)
+					break;
+				prsm_jw_number(w, r, NULL, scaled(base, f, number(p, f->type), row));
+			}
+			continue;
+		}
+		const size_t k = f->shape == PRSM_IO_W_SLICE ? row * n + i : step ? row + i * step : i;
+		const char *p = f->shape == PRSM_IO_W_ROWS ? base : member(base, &f->at, k);
 		if (p == NULL)
 			break;
 		if (f_child(f))
 			prsm_io_write_fields(w, prsm_jw_object(w, arr, NULL), p, f_child(f), f->shape == PRSM_IO_W_ROWS ? i : 0);
 		else if (f_names(f))
 			enum_name(w, arr, f, NULL, p);
+		else if (f->is_set)
+			prsm_jw_bool(w, arr, NULL, *(const int *)p == f->is_value);
 		else if (f->mask)
 			prsm_jw_bool(w, arr, NULL, (*(const int *)p & f->mask) != 0);
 		else if (f->type >= PRSM_IO_W_CHARS)
@@ -247,7 +282,8 @@ static void array(prsm_jw *w, cJSON *arr, const void *base, const prsm_io_wfield
 
 static void field(prsm_jw *w, cJSON *o, const void *base, const prsm_io_wfield *f, size_t row)
 {
-	const char *p = f->kind == PRSM_IO_W_TEXT || f->kind == PRSM_IO_W_ARRAY ? base : member(base, &f->at, row);
+	const char *p = f->kind == PRSM_IO_W_TEXT || f->kind == PRSM_IO_W_ARRAY || f->kind == PRSM_IO_W_INDEX
+	                ? base : member(base, &f->at, row);
 	if (p == NULL)
 		return;
 	switch (f->kind) {
@@ -285,6 +321,9 @@ static void field(prsm_jw *w, cJSON *o, const void *base, const prsm_io_wfield *
 		break;
 	case PRSM_IO_W_HOOK:
 		f_hook(f)(w, o, f_name(f), p);
+		break;
+	case PRSM_IO_W_INDEX:
+		prsm_jw_number(w, o, f_name(f), (double)(row + (size_t)f->count));
 		break;
 	}
 }

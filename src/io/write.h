@@ -77,10 +77,12 @@ typedef enum {
 	PRSM_IO_W_TEXT,       /* text, as it is (the schema's const) */
 	PRSM_IO_W_OBJECT,     /* the child table's members of the struct here */
 	PRSM_IO_W_ARRAY,      /* count items (shape): of C type `type` (ints with names: their
-	                         names, as ENUM; with a mask: booleans, as BOOL), structs (child),
-	                         rows (the child's members at row i), or a tuple (the child's
-	                         members) */
-	PRSM_IO_W_HOOK        /* hook(w, obj, name, the member here, or the table's struct) */
+	                         names, as ENUM; with a mask: booleans, as BOOL; with is_set:
+	                         booleans, true when the int is is_value), structs (child), rows
+	                         (the child's members at row i), a tuple (the child's members), a
+	                         matrix or a grid */
+	PRSM_IO_W_HOOK,       /* hook(w, obj, name, the member here, or the table's struct) */
+	PRSM_IO_W_INDEX       /* the row's number + count (an item's index in a rows table) */
 } prsm_io_wkind;
 
 typedef enum {
@@ -103,7 +105,20 @@ typedef enum {
 	PRSM_IO_W_IF_ROW   /* from row when_value on */
 } prsm_io_wwhen;
 
-typedef enum { PRSM_IO_W_ITEMS = 0, PRSM_IO_W_STRUCTS, PRSM_IO_W_ROWS, PRSM_IO_W_TUPLE } prsm_io_wshape;
+/* An array's items. ITEMS: element i of `at` (with a step: element row + i x step, every
+ * step-th from the row's own, as a chain's stages interleave in one array, K per time); MATRIX:
+ * count arrays of step numbers, item i element i x step + j of `at` (a row-major C array);
+ * SLICE: the row's count numbers of a row-major C array, element row x count + i; GRID: count
+ * numbers evenly spaced from the double at `at` to the double at step_at. */
+typedef enum {
+	PRSM_IO_W_ITEMS = 0,
+	PRSM_IO_W_STRUCTS,
+	PRSM_IO_W_ROWS,
+	PRSM_IO_W_TUPLE,
+	PRSM_IO_W_MATRIX,
+	PRSM_IO_W_SLICE,
+	PRSM_IO_W_GRID
+} prsm_io_wshape;
 
 struct prsm_io_wtable;
 
@@ -122,11 +137,17 @@ typedef struct {
 	const char *const *names;          /* ENUM, FLAGS */
 	const int *values;
 	int n_values, mask;
+	unsigned char is_set;              /* boolean items: true when the int is is_value (not & mask) */
+	int is_value;
 	const struct prsm_io_wtable *child; /* OBJECT, ARRAY */
 	unsigned char shape;               /* ARRAY: prsm_io_wshape */
-	int count;                         /* ARRAY: count items, or (count_type) the count at count_at */
+	int count;                         /* ARRAY: count items, or (count_type) the count at count_at;
+	                                      INDEX: added to the row's number */
 	unsigned char count_type;
 	prsm_io_wref count_at;
+	int step;                          /* ARRAY: the step of ITEMS, a MATRIX's columns, or */
+	unsigned char step_type;           /* (step_type) the count at step_at; GRID: step_at is */
+	prsm_io_wref step_at;              /* the double the grid ends at */
 	prsm_io_whook hook;
 	unsigned char when, when_type, else_null; /* prsm_io_wwhen; else_null: null, not left out */
 	int when_value;
