@@ -12,7 +12,9 @@
 #include "mc/dist.h"
 #include "util/error.h"
 #include "util/rng.h"
+#include "util/simd.h"
 
+#include <float.h>
 #include <string.h>
 
 #include <gsl/gsl_cdf.h>
@@ -950,6 +952,96 @@ static void test_quantile_n_matches(void **state)
 	}
 }
 
+/* Probabilities for the batch kernels' tests: every region of the normal and the uniform, the
+ * doubles either side of the central region's ends (|u - 1/2| = 0.425), the ends of (0, 1) and
+ * beyond, NaN, infinities, subnormals and signed zeros, the engine's U_MIN and U_MAX. */
+static double kernel_probability(gsl_rng *r, size_t k)
+{
+	static const double special[] = {0.0, -0.0, 1.0, NAN, INFINITY, -INFINITY, -0.5, 1.5, 0x1p-53, 1.0 - 0x1p-53,
+	                                  0x1p-1074, DBL_MIN, 0.5, 0.075, 0.925, 0.5 - 0.425, 0.5 + 0.425, 1e-300,
+	                                  0x1p-1022, 1.0 - 0x1p-52};
+	const size_t ns = sizeof special / sizeof special[0];
+	switch (k % 9) {
+	case 0: return special[(k / 9) % ns];
+	case 1: return nextafter(0.5 - 0.425, (k / 9) % 2 ? 0.0 : 1.0);
+	case 2: return nextafter(0.5 + 0.425, (k / 9) % 2 ? 0.0 : 1.0);
+	case 3: return 0.075 * gsl_rng_uniform_pos(r);
+	case 4: return 1.0 - 0.075 * gsl_rng_uniform_pos(r);
+	case 5: return pow(10.0, -300.0 * gsl_rng_uniform_pos(r));
+	case 6: return 1.0 - pow(2.0, -53.0 * gsl_rng_uniform_pos(r));
+	default: return gsl_rng_uniform_pos(r);
+	}
+}
+
+/* The chunked kernels of the batch quantile (the normal's and the uniform's vector loops and
+ * their scalar fix-ups, the Rayleigh written out), in the baseline and the AVX2 builds, give
+ * prsm_dist_quantile's bits: many probabilities in every region, columns of every length
+ * around the chunk's 64, strided and in place. */
+static void test_quantile_n_kernels(void **state)
+{
+	(void)state;
+	enum { N = 100003 };
+	static double u[3 * N], x[2 * N];
+	static const prsm_dist kinds[] = {
+		D2(PRSM_DIST_NORMAL, 2.385, 0.713), D2(PRSM_DIST_NORMAL, -0.0, 1.0), D2(PRSM_DIST_NORMAL, 1e6, 1e-9),
+		D2(PRSM_DIST_NORMAL, -3.5, 250.0), D2(PRSM_DIST_UNIFORM, -1.7, 3.1), D2(PRSM_DIST_UNIFORM, -0.0, 1e-3),
+		D2(PRSM_DIST_UNIFORM, -5.0, 5.0), D2(PRSM_DIST_UNIFORM, 1e9, 1e9 + 1.0), D1(PRSM_DIST_RAYLEIGH, 2.5),
+		D1(PRSM_DIST_RAYLEIGH, 3e-4),
+	};
+	gsl_rng *r = prsm_rng_alloc(20261126, 19);
+	assert_non_null(r);
+	for (size_t k = 0; k < N; k++)
+		u[3 * k] = kernel_probability(r, k);
+	gsl_rng_free(r);
+	static const size_t lengths[] = {0, 1, 3, 4, 5, 63, 64, 65, 127, 128, 129, 1000, N};
+	for (int allow = 0; allow < 2; allow++) {
+		prsm_simd_allow_avx2(allow);
+		for (size_t c = 0; c < sizeof kinds / sizeof kinds[0]; c++) {
+			const prsm_dist *d = &kinds[c];
+			for (size_t l = 0; l < sizeof lengths / sizeof lengths[0]; l++) {
+				const size_t n = lengths[l], off = (l * 7) % 5; /* the column starts anywhere */
+				const size_t m = n + off > N ? N - off : n;
+				for (size_t k = 0; k < 2 * N; k++)
+					x[k] = -7.0;
+				prsm_dist_quantile_n(d, u + 3 * off, 3, x, 2, m);
+				for (size_t k = 0; k < m; k++) {
+					const double a = x[2 * k], b = prsm_dist_quantile(d, u[3 * (off + k)]);
+					if (memcmp(&a, &b, sizeof a) != 0)
+						fail_msg("build %d, %s(%g, %g), u = %a: %a against %a", allow, prsm_dist_name(d->kind),
+						         d->p[0], d->p[1], u[3 * (off + k)], a, b);
+					assert_true(x[2 * k + 1] == -7.0);
+				}
+				assert_true(x[2 * m] == -7.0); /* nothing past the column */
+			}
+		}
+	}
+	prsm_simd_allow_avx2(1);
+}
+
+/* The Rayleigh quantile, written out, is GSL's gsl_cdf_rayleigh_Pinv bit for bit over the whole
+ * of (0, 1) and both tails, for scales from 1e-6 to 1e6. */
+static void test_rayleigh_matches_gsl(void **state)
+{
+	(void)state;
+	static const double sigmas[] = {1e-6, 3e-4, 0.7, 1.0, 1.9, 2.5, 3.0, 17.3, 1e6};
+	gsl_rng *r = prsm_rng_alloc(20261126, 23);
+	assert_non_null(r);
+	for (size_t s = 0; s < sizeof sigmas / sizeof sigmas[0]; s++) {
+		const prsm_dist d = D1(PRSM_DIST_RAYLEIGH, sigmas[s]);
+		for (long i = 0; i < 200000; i++) {
+			double p = kernel_probability(r, (size_t)i);
+			if (!(p > 0.0 && p < 1.0))
+				continue;
+			const double a = prsm_dist_quantile(&d, p), b = gsl_cdf_rayleigh_Pinv(p, sigmas[s]);
+			double c;
+			prsm_dist_quantile_n(&d, &p, 1, &c, 1, 1);
+			if (memcmp(&a, &b, sizeof a) != 0 || memcmp(&c, &b, sizeof c) != 0)
+				fail_msg("sigma %g, p = %a: %a and %a against GSL's %a", sigmas[s], p, a, c, b);
+		}
+	}
+	gsl_rng_free(r);
+}
+
 static void test_from_tolerance(void **state)
 {
 	(void)state;
@@ -997,6 +1089,8 @@ int main(void)
 		cmocka_unit_test(test_from_tolerance),
 		cmocka_unit_test(test_normal_quantile_matches_gsl),
 		cmocka_unit_test(test_quantile_n_matches),
+		cmocka_unit_test(test_quantile_n_kernels),
+		cmocka_unit_test(test_rayleigh_matches_gsl),
 	};
 	return cmocka_run_group_tests(tests, setup_histograms, NULL);
 }

@@ -7,6 +7,7 @@
 #include "test_support.h"
 
 #include "util/rng.h"
+#include "util/simd.h"
 
 #include <string.h>
 
@@ -279,6 +280,83 @@ static void test_fill_uniform_pos(void **state)
 	}
 }
 
+/* The reference conversion of a block word: prsm_rng_uniform_pos's k / 2^53, 0 for k = 0. */
+static double word_uniform_reference(uint64_t v)
+{
+	const uint64_t k = ((v << 32) | (v >> 32)) >> 11;
+	return (double)k * 0x1p-53;
+}
+
+/* The chunk conversion gives the reference's bits, for random words and for the
+ * words at the edges of its two cases (k = 0, 1, 2^52 - 1, 2^52, 2^52 + 1, 2^53 - 1, the low 11
+ * bits that are dropped), and counts the zeros. */
+static void test_chunk_conversion(void **state)
+{
+	(void)state;
+	static const uint64_t edge_k[] = {0, 1, 2, (UINT64_C(1) << 52) - 1, UINT64_C(1) << 52, (UINT64_C(1) << 52) + 1,
+	                                  (UINT64_C(1) << 53) - 1, UINT64_C(1) << 51, 12345};
+	gsl_rng *r = prsm_rng_alloc(20261126, 11);
+	assert_non_null(r);
+	uint64_t w[64];
+	double u[64];
+	for (int round = 0; round < 20000; round++) {
+		unsigned expect_zeros = 0;
+		for (int i = 0; i < 64; i++) {
+			uint64_t v = ((uint64_t)gsl_rng_get(r) << 32) | gsl_rng_get(r);
+			if (round % 4 == 0 && i % 3 == 0) {
+				/* a word whose k is an edge value, with arbitrary dropped low bits: k's top 32
+				 * bits are the word's low half, its low 21 bits the top of the high half */
+				const uint64_t k = edge_k[(size_t)(round / 4 + i) % (sizeof edge_k / sizeof edge_k[0])];
+				const uint64_t rot = (k << 11) | (v & 0x7ff);
+				v = (rot << 32) | (rot >> 32);
+			}
+			w[i] = v;
+			expect_zeros += word_uniform_reference(v) == 0.0;
+		}
+		const int zeros = prsm_rng_uniforms_of_words_for_test(w, u);
+		if (zeros < 0) { /* no AVX2 here: the chunks are not drawn either */
+			gsl_rng_free(r);
+			skip();
+		}
+		assert_int_equal(zeros, (int)expect_zeros);
+		for (int i = 0; i < 64; i++) {
+			const double ref = word_uniform_reference(w[i]);
+			if (memcmp(&u[i], &ref, sizeof ref) != 0)
+				fail_msg("word %016llx: %a against %a", (unsigned long long)w[i], u[i], ref);
+		}
+	}
+	gsl_rng_free(r);
+}
+
+/* The bulk draw is one call at a time with the AVX2 builds allowed (by chunks, then the blocks
+ * and words left) and not (by blocks): long draws in many streams, from odd and even word
+ * positions. */
+static void test_fill_builds(void **state)
+{
+	(void)state;
+	enum { N = 20000 };
+	static double a[N], b[N];
+	for (int allow = 0; allow < 2; allow++) {
+		prsm_simd_allow_avx2(allow);
+		for (uint64_t stream = 0; stream < 24; stream++) {
+			const size_t n = N - (size_t)(stream * 131 % 97); /* not a whole number of chunks */
+			gsl_rng *r1 = prsm_rng_alloc(20261126 + stream, stream), *r2 = prsm_rng_alloc(20261126 + stream, stream);
+			for (uint64_t k = 0; k < stream % 3; k++) {
+				gsl_rng_get(r1);
+				gsl_rng_get(r2);
+			}
+			for (size_t i = 0; i < n; i++)
+				a[i] = prsm_rng_uniform_pos(r1);
+			prsm_rng_fill_uniform_pos(r2, b, n);
+			assert_memory_equal(a, b, n * sizeof a[0]);
+			assert_int_equal(gsl_rng_get(r1), gsl_rng_get(r2));
+			gsl_rng_free(r1);
+			gsl_rng_free(r2);
+		}
+	}
+	prsm_simd_allow_avx2(1);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -292,6 +370,8 @@ int main(void)
 		cmocka_unit_test(test_uniform_moments),
 		cmocka_unit_test(test_uniform_pos_open_interval),
 		cmocka_unit_test(test_fill_uniform_pos),
+		cmocka_unit_test(test_chunk_conversion),
+		cmocka_unit_test(test_fill_builds),
 		cmocka_unit_test(test_gaussian_moments),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -37,6 +37,7 @@
 #include <float.h>
 #include <math.h>
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -46,6 +47,11 @@
 #include <gsl/gsl_sf_gamma.h>
 
 #include "util/error.h"
+#include "util/simd.h"
+
+#if PRSM_HAVE_AVX2_CLONES
+#include <immintrin.h>
+#endif
 
 #define TRUNC_MIN_MASS 1e-12   /* smallest probability a truncation window may hold */
 #define TRUNC_NARROW 0.5       /* windows narrower than this (standard units) use quadrature */
@@ -720,37 +726,193 @@ static double clamp(double x, double lo, double hi)
 	return x < lo ? lo : (x > hi ? hi : x);
 }
 
+/* ---- the batch quantile (docs/speed.md, "Engine overhead") ---------------------------------
+ *
+ * A column of the engine's block is cut into chunks of QN_CHUNK values. Each chunk is copied to
+ * contiguous storage (the column is strided in the block), then its quantiles are computed as if
+ * every value lay in the region that almost all of them lie in (the normal's central region,
+ * the uniform's open interval) by a loop without branches, which the compiler vectorises, and
+ * last the values are stored, the few outside that region computed again by the scalar path.
+ * The vector loop performs, lane by lane, the scalar expressions' operations in their order, so
+ * every double is the one prsm_dist_quantile gives (test_dist checks both builds of the loop).
+ * The chunk's count is a constant multiple of the vector width so that -O2's very cheap
+ * vectoriser takes the loop whole; a short chunk is padded with 1/2. */
+#define QN_CHUNK 64
+
+/* The normal's value for u in the central region |u - 1/2| <= 0.425 (AS 241's first rational
+ * function, as normal_quantile_open evaluates it), for all QN_CHUNK values whatever their region. */
+static inline void normal_central_chunk(const double *restrict ut, double *restrict xt, double mean, double sd)
+{
+	for (size_t k = 0; k < QN_CHUNK; k++) {
+		const double q = ut[k] - 0.5;
+		const double r = 0.180625 - q * q;
+		xt[k] = mean + sd * (q * (HORNER8(as241_central_num, r) / HORNER8(as241_central_den, r)));
+	}
+}
+
+/* The uniform's value for u in (0, 1), as prsm_dist_quantile's clamp(lo + u (hi - lo), lo, hi). */
+static inline void uniform_open_chunk(const double *restrict ut, double *restrict xt, double lo, double hi)
+{
+	for (size_t k = 0; k < QN_CHUNK; k++) {
+		const double x = lo + ut[k] * (hi - lo);
+		xt[k] = x < lo ? lo : (x > hi ? hi : x);
+	}
+}
+
+static void normal_central_chunk_base(const double *restrict ut, double *restrict xt, double mean, double sd)
+{
+	normal_central_chunk(ut, xt, mean, sd);
+}
+
+static void uniform_open_chunk_base(const double *restrict ut, double *restrict xt, double lo, double hi)
+{
+	uniform_open_chunk(ut, xt, lo, hi);
+}
+
+#if PRSM_HAVE_AVX2_CLONES
+PRSM_TARGET_AVX2 static void normal_central_chunk_avx2(const double *restrict ut, double *restrict xt, double mean,
+                                                       double sd)
+{
+	normal_central_chunk(ut, xt, mean, sd);
+}
+
+PRSM_TARGET_AVX2 static void uniform_open_chunk_avx2(const double *restrict ut, double *restrict xt, double lo,
+                                                     double hi)
+{
+	uniform_open_chunk(ut, xt, lo, hi);
+}
+#endif
+
+typedef void (*quantile_chunk_fn)(const double *restrict ut, double *restrict xt, double a, double b);
+
+#if PRSM_HAVE_AVX2_CLONES
+/* Bit k set when ut[k] lies outside the chunk kernel's region: for the normal (normal = 1) not
+ * |u - 1/2| <= 0.425, for the uniform not 0 < u < 1; NaN lies outside both (ordered compares).
+ * The scalar tests of the two regions, vector by vector, their signs gathered by movemask: the
+ * store then copies the chunk whole and visits only these values, instead of testing each. */
+static uint64_t outside_mask_base(const double *ut, int normal)
+{
+	const __m128d half = _mm_set1_pd(0.5), lim = _mm_set1_pd(0.425), zero = _mm_setzero_pd(), one = _mm_set1_pd(1.0);
+	const __m128d abs_mask = _mm_castsi128_pd(_mm_set1_epi64x(INT64_MAX)); /* fabs: clear the sign */
+	uint64_t mask = 0;
+	for (unsigned k = 0; k < QN_CHUNK; k += 2) {
+		const __m128d v = _mm_loadu_pd(ut + k);
+		const __m128d in = normal ? _mm_cmple_pd(_mm_and_pd(_mm_sub_pd(v, half), abs_mask), lim)
+		                          : _mm_and_pd(_mm_cmpgt_pd(v, zero), _mm_cmplt_pd(v, one));
+		mask |= (uint64_t)(~_mm_movemask_pd(in) & 3) << k;
+	}
+	return mask;
+}
+
+PRSM_TARGET_AVX2 static uint64_t outside_mask_avx2(const double *ut, int normal)
+{
+	const __m256d half = _mm256_set1_pd(0.5), lim = _mm256_set1_pd(0.425), zero = _mm256_setzero_pd(),
+	              one = _mm256_set1_pd(1.0);
+	const __m256d abs_mask = _mm256_castsi256_pd(_mm256_set1_epi64x(INT64_MAX));
+	uint64_t mask = 0;
+	for (unsigned k = 0; k < QN_CHUNK; k += 4) {
+		const __m256d v = _mm256_loadu_pd(ut + k);
+		const __m256d in = normal ? _mm256_cmp_pd(_mm256_and_pd(_mm256_sub_pd(v, half), abs_mask), lim, _CMP_LE_OQ)
+		                          : _mm256_and_pd(_mm256_cmp_pd(v, zero, _CMP_GT_OQ), _mm256_cmp_pd(v, one, _CMP_LT_OQ));
+		mask |= (uint64_t)(~_mm256_movemask_pd(in) & 15) << k;
+	}
+	return mask;
+}
+#endif
+
+/* The scalar values of the normal and the uniform, exactly as prsm_dist_quantile computes them. */
+static double normal_value(const double *p, double v)
+{
+	return isnan(v) ? NAN : v <= 0.0 ? -INFINITY : v >= 1.0 ? INFINITY : p[0] + p[1] * normal_quantile_open(v);
+}
+
+static double uniform_value(const double *p, double v)
+{
+	return isnan(v) ? NAN : v <= 0.0 ? p[0] : v >= 1.0 ? p[1] : clamp(p[0] + v * (p[1] - p[0]), p[0], p[1]);
+}
+
+/* The Rayleigh quantile for u in (0, 1): GSL's gsl_cdf_rayleigh_Pinv (cdf/rayleighinv.c,
+ * sigma * M_SQRT2 * sqrt(-log1p(-P))) written out, the same operations in the same order, so
+ * the same doubles (test_dist checks them against GSL's), without the library call. */
+static inline double rayleigh_open(double sigma, double u)
+{
+	return sigma * M_SQRT2 * sqrt(-log1p(-u));
+}
+
 /* The batch form of prsm_dist_quantile (dist.h): the kind's case once per column, the same
- * expressions per value (normal and uniform inlined), so the same doubles. */
+ * expressions per value, so the same doubles; the normal and the uniform by chunks (above). */
 void prsm_dist_quantile_n(const prsm_dist *d, const double *u, size_t u_stride, double *x, size_t x_stride,
                           size_t n)
 {
 	assert(d != NULL);
 	const double *p = d->p;
-	switch (d->kind) {
-	case PRSM_DIST_NORMAL:
-		for (size_t k = 0; k < n; k++) {
-			const double v = u[k * u_stride];
-			x[k * x_stride] = isnan(v) ? NAN
-			                : v <= 0.0 ? -INFINITY
-			                : v >= 1.0 ? INFINITY
-			                           : p[0] + p[1] * normal_quantile_open(v);
+	if (d->kind == PRSM_DIST_NORMAL || d->kind == PRSM_DIST_UNIFORM) {
+		const int normal = d->kind == PRSM_DIST_NORMAL;
+		quantile_chunk_fn chunk = normal ? normal_central_chunk_base : uniform_open_chunk_base;
+#if PRSM_HAVE_AVX2_CLONES
+		uint64_t (*outside_mask)(const double *ut, int normal) = outside_mask_base;
+		if (prsm_simd_avx2()) {
+			chunk = normal ? normal_central_chunk_avx2 : uniform_open_chunk_avx2;
+			outside_mask = outside_mask_avx2;
 		}
-		return;
-	case PRSM_DIST_UNIFORM:
-		for (size_t k = 0; k < n; k++) {
-			const double v = u[k * u_stride];
-			x[k * x_stride] = isnan(v) ? NAN
-			                : v <= 0.0 ? p[0]
-			                : v >= 1.0 ? p[1]
-			                           : clamp(p[0] + v * (p[1] - p[0]), p[0], p[1]);
+#endif
+		double ut[QN_CHUNK], xt[QN_CHUNK];
+		for (size_t k0 = 0; k0 < n; k0 += QN_CHUNK) {
+			const size_t m = n - k0 < QN_CHUNK ? n - k0 : QN_CHUNK;
+			const double *uk = u + k0 * u_stride;
+			double *xk = x + k0 * x_stride;
+			size_t k = 0;
+			for (; k + 4 <= m; k += 4) { /* unrolled: the strided copy is mostly loop overhead */
+				ut[k] = uk[k * u_stride];
+				ut[k + 1] = uk[(k + 1) * u_stride];
+				ut[k + 2] = uk[(k + 2) * u_stride];
+				ut[k + 3] = uk[(k + 3) * u_stride];
+			}
+			for (; k < m; k++)
+				ut[k] = uk[k * u_stride];
+			for (; k < QN_CHUNK; k++)
+				ut[k] = 0.5;
+			chunk(ut, xt, p[0], p[1]);
+#if PRSM_HAVE_AVX2_CLONES
+			/* the whole chunk stored, then the values outside the region again by the scalar path */
+			uint64_t outside = outside_mask(ut, normal);
+			if (m < QN_CHUNK)
+				outside &= (UINT64_C(1) << m) - 1;
+			for (k = 0; k + 4 <= m; k += 4) {
+				xk[k * x_stride] = xt[k];
+				xk[(k + 1) * x_stride] = xt[k + 1];
+				xk[(k + 2) * x_stride] = xt[k + 2];
+				xk[(k + 3) * x_stride] = xt[k + 3];
+			}
+			for (; k < m; k++)
+				xk[k * x_stride] = xt[k];
+			while (outside) {
+				k = (size_t)__builtin_ctzll(outside);
+				outside &= outside - 1;
+				xk[k * x_stride] = normal ? normal_value(p, ut[k]) : uniform_value(p, ut[k]);
+			}
+#else
+			/* the region's test is true only for u in it: NaN, 0, 1 and beyond take the scalar path */
+			for (k = 0; k < m; k++) {
+				const double v = ut[k];
+				if (normal)
+					xk[k * x_stride] = fabs(v - 0.5) <= 0.425 ? xt[k] : normal_value(p, v);
+				else
+					xk[k * x_stride] = v > 0.0 && v < 1.0 ? xt[k] : uniform_value(p, v);
+			}
+#endif
 		}
-		return;
-	default:
-		for (size_t k = 0; k < n; k++)
-			x[k * x_stride] = prsm_dist_quantile(d, u[k * u_stride]);
 		return;
 	}
+	if (d->kind == PRSM_DIST_RAYLEIGH) {
+		for (size_t k = 0; k < n; k++) {
+			const double v = u[k * u_stride];
+			x[k * x_stride] = isnan(v) ? NAN : v <= 0.0 ? 0.0 : v >= 1.0 ? INFINITY : rayleigh_open(p[0], v);
+		}
+		return;
+	}
+	for (size_t k = 0; k < n; k++)
+		x[k * x_stride] = prsm_dist_quantile(d, u[k * u_stride]);
 }
 
 double prsm_dist_quantile(const prsm_dist *d, double u)
@@ -805,7 +967,7 @@ double prsm_dist_quantile(const prsm_dist *d, double u)
 			return 0.0;
 		if (u >= 1.0)
 			return INFINITY;
-		return gsl_cdf_rayleigh_Pinv(u, p[0]);
+		return rayleigh_open(p[0], u);
 	case PRSM_DIST_EXPONENTIAL:
 	case PRSM_DIST_GAMMA:
 	case PRSM_DIST_WEIBULL: {

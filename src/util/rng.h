@@ -41,4 +41,10 @@ double prsm_rng_uniform_pos(gsl_rng *r);
  * bulk draw). */
 void prsm_rng_fill_uniform_pos(gsl_rng *r, double *u, size_t n);
 
+/* For test_rng only: prsm_rng_fill_uniform_pos's conversion of a chunk's 64 block words w (as
+ * prsm_rng_uniform_pos reads them: the top 53 bits k of the word's halves swapped) into k / 2^53
+ * (0 for k = 0) by its AVX2 build. Returns how many are 0, or -1 when that build cannot run here
+ * (util/simd.h). */
+int prsm_rng_uniforms_of_words_for_test(const uint64_t w[64], double u[64]);
+
 #endif
