@@ -328,6 +328,45 @@ static void test_chunk_conversion(void **state)
 	gsl_rng_free(r);
 }
 
+/* The AVX2 build's Philox blocks (the round keys and the first two rounds' shared products
+ * computed once, the rounds in BMI2 assembly) are Random123's philox4x64_R(10) word for word:
+ * random keys and counters, keys of all zeros and all ones, counters that wrap. */
+static void test_philox_chunk_words(void **state)
+{
+	(void)state;
+	gsl_rng *r = prsm_rng_alloc(20261126, 29);
+	assert_non_null(r);
+	static const uint64_t edge[] = {0, 1, UINT64_MAX, UINT64_MAX - 7, UINT64_C(1) << 63, 0x9E3779B97F4A7C15};
+	const size_t ne = sizeof edge / sizeof edge[0];
+	uint64_t w[64];
+	for (int t = 0; t < 20000; t++) {
+		uint64_t v[3];
+		for (int i = 0; i < 3; i++)
+			v[i] = ((uint64_t)gsl_rng_get(r) << 32) | gsl_rng_get(r);
+		if (t < (int)(ne * ne * ne)) {
+			v[0] = edge[(size_t)t % ne];
+			v[1] = edge[(size_t)t / ne % ne];
+			v[2] = edge[(size_t)t / (ne * ne)];
+		}
+		if (prsm_rng_philox_words_for_test(v[0], v[1], v[2], w) < 0) {
+			gsl_rng_free(r);
+			skip();
+		}
+		const philox4x64_key_t key = {{v[0], v[1]}};
+		for (uint64_t j = 0; j < 16; j++) {
+			const philox4x64_ctr_t ctr = {{v[2] + j, 0, 0, 0}};
+			const philox4x64_ctr_t out = philox4x64_R(10, ctr, key);
+			for (int i = 0; i < 4; i++)
+				if (w[4 * j + (uint64_t)i] != out.v[i])
+					fail_msg("key %016llx %016llx, counter %016llx, block %llu word %d: %016llx against %016llx",
+					         (unsigned long long)v[0], (unsigned long long)v[1], (unsigned long long)v[2],
+					         (unsigned long long)j, i, (unsigned long long)w[4 * j + (uint64_t)i],
+					         (unsigned long long)out.v[i]);
+		}
+	}
+	gsl_rng_free(r);
+}
+
 /* The bulk draw is one call at a time with the AVX2 builds allowed (by chunks, then the blocks
  * and words left) and not (by blocks): long draws in many streams, from odd and even word
  * positions. */
@@ -370,6 +409,7 @@ int main(void)
 		cmocka_unit_test(test_uniform_moments),
 		cmocka_unit_test(test_uniform_pos_open_interval),
 		cmocka_unit_test(test_fill_uniform_pos),
+		cmocka_unit_test(test_philox_chunk_words),
 		cmocka_unit_test(test_chunk_conversion),
 		cmocka_unit_test(test_fill_builds),
 		cmocka_unit_test(test_gaussian_moments),

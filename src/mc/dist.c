@@ -736,7 +736,8 @@ static double clamp(double x, double lo, double hi)
  * The vector loop performs, lane by lane, the scalar expressions' operations in their order, so
  * every double is the one prsm_dist_quantile gives (test_dist checks both builds of the loop).
  * The chunk's count is a constant multiple of the vector width so that -O2's very cheap
- * vectoriser takes the loop whole; a short chunk is padded with 1/2. */
+ * vectoriser takes the loop whole; a short chunk is padded with 1/2. The AVX2 build does a
+ * column's whole chunks in one pass without the copies (whole_chunks_avx2, below). */
 #define QN_CHUNK 64
 
 /* The normal's value for u in the central region |u - 1/2| <= 0.425 (AS 241's first rational
@@ -820,6 +821,87 @@ PRSM_TARGET_AVX2 static uint64_t outside_mask_avx2(const double *ut, int normal)
 }
 #endif
 
+#if PRSM_HAVE_AVX2_CLONES
+/* ---- the AVX2 whole chunk, strided (docs/speed.md, "Engine overhead") ----
+ *
+ * With AVX2, a whole chunk of a column is done in one pass: four values of the column loaded
+ * into a vector (two halves, two loads each), kept in ut for the scalar fix-ups, the region's
+ * function evaluated, the region's test on the same vector into the returned mask, and the four
+ * results stored straight into the strided column. The operations are those of the loops above
+ * (normal_central_chunk, uniform_open_chunk and outside_mask), written with intrinsics, so the
+ * doubles are the same; the strided copies in and out of the chunk and the mask's second pass
+ * are gone. Each group of four is read before it is written, so u and x may be the same array. */
+PRSM_TARGET_AVX2 static inline __m256d horner8_avx2(const double c[8], __m256d x)
+{
+	__m256d s = _mm256_set1_pd(c[7]);
+	s = _mm256_add_pd(_mm256_mul_pd(s, x), _mm256_set1_pd(c[6]));
+	s = _mm256_add_pd(_mm256_mul_pd(s, x), _mm256_set1_pd(c[5]));
+	s = _mm256_add_pd(_mm256_mul_pd(s, x), _mm256_set1_pd(c[4]));
+	s = _mm256_add_pd(_mm256_mul_pd(s, x), _mm256_set1_pd(c[3]));
+	s = _mm256_add_pd(_mm256_mul_pd(s, x), _mm256_set1_pd(c[2]));
+	s = _mm256_add_pd(_mm256_mul_pd(s, x), _mm256_set1_pd(c[1]));
+	return _mm256_add_pd(_mm256_mul_pd(s, x), _mm256_set1_pd(c[0]));
+}
+
+PRSM_TARGET_AVX2 static inline __m256d load4_strided(const double *a, size_t s)
+{
+	const __m128d lo = _mm_loadh_pd(_mm_load_sd(a), a + s);
+	const __m128d hi = _mm_loadh_pd(_mm_load_sd(a + 2 * s), a + 3 * s);
+	return _mm256_insertf128_pd(_mm256_castpd128_pd256(lo), hi, 1);
+}
+
+PRSM_TARGET_AVX2 static inline void store4_strided(double *a, size_t s, __m256d v)
+{
+	const __m128d lo = _mm256_castpd256_pd128(v), hi = _mm256_extractf128_pd(v, 1);
+	_mm_storel_pd(a, lo);
+	_mm_storeh_pd(a + s, lo);
+	_mm_storel_pd(a + 2 * s, hi);
+	_mm_storeh_pd(a + 3 * s, hi);
+}
+
+/* The normal's chunk: x = mean + sd (q (num(r) / den(r))), q = u - 1/2, r = 0.180625 - q q;
+ * bit k of the result set when |q| <= 0.425 fails (outside the central region, or NaN). */
+PRSM_TARGET_AVX2 static uint64_t normal_chunk_strided_avx2(const double *uk, size_t us, double *restrict ut,
+                                                           double *xk, size_t xs, double mean, double sd)
+{
+	const __m256d half = _mm256_set1_pd(0.5), c = _mm256_set1_pd(0.180625), lim = _mm256_set1_pd(0.425);
+	const __m256d vmean = _mm256_set1_pd(mean), vsd = _mm256_set1_pd(sd);
+	const __m256d abs_mask = _mm256_castsi256_pd(_mm256_set1_epi64x(INT64_MAX));
+	uint64_t mask = 0;
+	for (unsigned k = 0; k < QN_CHUNK; k += 4) {
+		const __m256d v = load4_strided(uk + k * us, us);
+		_mm256_storeu_pd(ut + k, v);
+		const __m256d q = _mm256_sub_pd(v, half);
+		const __m256d r = _mm256_sub_pd(c, _mm256_mul_pd(q, q));
+		const __m256d ratio = _mm256_div_pd(horner8_avx2(as241_central_num, r), horner8_avx2(as241_central_den, r));
+		store4_strided(xk + k * xs, xs, _mm256_add_pd(vmean, _mm256_mul_pd(vsd, _mm256_mul_pd(q, ratio))));
+		const __m256d in = _mm256_cmp_pd(_mm256_and_pd(q, abs_mask), lim, _CMP_LE_OQ);
+		mask |= (uint64_t)(~_mm256_movemask_pd(in) & 15) << k;
+	}
+	return mask;
+}
+
+/* The uniform's chunk: x = lo + u (hi - lo), then x < lo ? lo : (x > hi ? hi : x); bit k set
+ * when 0 < u < 1 fails. */
+PRSM_TARGET_AVX2 static uint64_t uniform_chunk_strided_avx2(const double *uk, size_t us, double *restrict ut,
+                                                            double *xk, size_t xs, double lo, double hi)
+{
+	const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
+	const __m256d vlo = _mm256_set1_pd(lo), vhi = _mm256_set1_pd(hi), w = _mm256_set1_pd(hi - lo);
+	uint64_t mask = 0;
+	for (unsigned k = 0; k < QN_CHUNK; k += 4) {
+		const __m256d v = load4_strided(uk + k * us, us);
+		_mm256_storeu_pd(ut + k, v);
+		const __m256d x = _mm256_add_pd(vlo, _mm256_mul_pd(v, w));
+		const __m256d upper = _mm256_blendv_pd(x, vhi, _mm256_cmp_pd(x, vhi, _CMP_GT_OQ));
+		store4_strided(xk + k * xs, xs, _mm256_blendv_pd(upper, vlo, _mm256_cmp_pd(x, vlo, _CMP_LT_OQ)));
+		const __m256d in = _mm256_and_pd(_mm256_cmp_pd(v, zero, _CMP_GT_OQ), _mm256_cmp_pd(v, one, _CMP_LT_OQ));
+		mask |= (uint64_t)(~_mm256_movemask_pd(in) & 15) << k;
+	}
+	return mask;
+}
+#endif
+
 /* The scalar values of the normal and the uniform, exactly as prsm_dist_quantile computes them. */
 static double normal_value(const double *p, double v)
 {
@@ -830,6 +912,30 @@ static double uniform_value(const double *p, double v)
 {
 	return isnan(v) ? NAN : v <= 0.0 ? p[0] : v >= 1.0 ? p[1] : clamp(p[0] + v * (p[1] - p[0]), p[0], p[1]);
 }
+
+#if PRSM_HAVE_AVX2_CLONES
+/* The normal's (normal = 1) or the uniform's column by whole chunks with the AVX2 kernels, the
+ * values outside the kernel's region again by the scalar path; returns how many values were done
+ * (a multiple of QN_CHUNK). */
+static size_t whole_chunks_avx2(const double *p, int normal, const double *u, size_t u_stride, double *x,
+                                size_t x_stride, size_t n)
+{
+	double ut[QN_CHUNK];
+	size_t k0 = 0;
+	for (; n - k0 >= QN_CHUNK; k0 += QN_CHUNK) {
+		const double *uk = u + k0 * u_stride;
+		double *xk = x + k0 * x_stride;
+		uint64_t outside = normal ? normal_chunk_strided_avx2(uk, u_stride, ut, xk, x_stride, p[0], p[1])
+		                          : uniform_chunk_strided_avx2(uk, u_stride, ut, xk, x_stride, p[0], p[1]);
+		while (outside) {
+			const size_t k = (size_t)__builtin_ctzll(outside);
+			outside &= outside - 1;
+			xk[k * x_stride] = normal ? normal_value(p, ut[k]) : uniform_value(p, ut[k]);
+		}
+	}
+	return k0;
+}
+#endif
 
 /* The Rayleigh quantile for u in (0, 1): GSL's gsl_cdf_rayleigh_Pinv (cdf/rayleighinv.c,
  * sigma * M_SQRT2 * sqrt(-log1p(-P))) written out, the same operations in the same order, so
@@ -851,13 +957,19 @@ void prsm_dist_quantile_n(const prsm_dist *d, const double *u, size_t u_stride, 
 		quantile_chunk_fn chunk = normal ? normal_central_chunk_base : uniform_open_chunk_base;
 #if PRSM_HAVE_AVX2_CLONES
 		uint64_t (*outside_mask)(const double *ut, int normal) = outside_mask_base;
-		if (prsm_simd_avx2()) {
+		const int avx2 = prsm_simd_avx2();
+		if (avx2) {
 			chunk = normal ? normal_central_chunk_avx2 : uniform_open_chunk_avx2;
 			outside_mask = outside_mask_avx2;
 		}
 #endif
 		double ut[QN_CHUNK], xt[QN_CHUNK];
-		for (size_t k0 = 0; k0 < n; k0 += QN_CHUNK) {
+		size_t k0 = 0;
+#if PRSM_HAVE_AVX2_CLONES
+		if (avx2) /* whole chunks in one pass (above); the last short one as below */
+			k0 = whole_chunks_avx2(p, normal, u, u_stride, x, x_stride, n);
+#endif
+		for (; k0 < n; k0 += QN_CHUNK) {
 			const size_t m = n - k0 < QN_CHUNK ? n - k0 : QN_CHUNK;
 			const double *uk = u + k0 * u_stride;
 			double *xk = x + k0 * x_stride;

@@ -47,4 +47,9 @@ void prsm_rng_fill_uniform_pos(gsl_rng *r, double *u, size_t n);
  * (util/simd.h). */
 int prsm_rng_uniforms_of_words_for_test(const uint64_t w[64], double u[64]);
 
+/* For test_rng only: the words of the 16 Philox blocks ctr0 .. ctr0 + 15 of stream {key0, key1}
+ * (w[4 j + i] = word i of block j) as prsm_rng_fill_uniform_pos's AVX2 build computes them.
+ * Returns 0, or -1 when that build cannot run here (util/simd.h). */
+int prsm_rng_philox_words_for_test(uint64_t key0, uint64_t key1, uint64_t ctr0, uint64_t w[64]);
+
 #endif
