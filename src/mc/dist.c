@@ -760,30 +760,6 @@ static inline void uniform_open_chunk(const double *restrict ut, double *restric
 	}
 }
 
-static void normal_central_chunk_base(const double *restrict ut, double *restrict xt, double mean, double sd)
-{
-	normal_central_chunk(ut, xt, mean, sd);
-}
-
-static void uniform_open_chunk_base(const double *restrict ut, double *restrict xt, double lo, double hi)
-{
-	uniform_open_chunk(ut, xt, lo, hi);
-}
-
-#if PRSM_HAVE_AVX2_CLONES
-PRSM_TARGET_AVX2 static void normal_central_chunk_avx2(const double *restrict ut, double *restrict xt, double mean,
-                                                       double sd)
-{
-	normal_central_chunk(ut, xt, mean, sd);
-}
-
-PRSM_TARGET_AVX2 static void uniform_open_chunk_avx2(const double *restrict ut, double *restrict xt, double lo,
-                                                     double hi)
-{
-	uniform_open_chunk(ut, xt, lo, hi);
-}
-#endif
-
 typedef void (*quantile_chunk_fn)(const double *restrict ut, double *restrict xt, double a, double b);
 
 #if PRSM_HAVE_AVX2_CLONES
@@ -791,7 +767,7 @@ typedef void (*quantile_chunk_fn)(const double *restrict ut, double *restrict xt
  * |u - 1/2| <= 0.425, for the uniform not 0 < u < 1; NaN lies outside both (ordered compares).
  * The scalar tests of the two regions, vector by vector, their signs gathered by movemask: the
  * store then copies the chunk whole and visits only these values, instead of testing each. */
-static uint64_t outside_mask_base(const double *ut, int normal)
+static uint64_t outside_mask(const double *ut, int normal)
 {
 	const __m128d half = _mm_set1_pd(0.5), lim = _mm_set1_pd(0.425), zero = _mm_setzero_pd(), one = _mm_set1_pd(1.0);
 	const __m128d abs_mask = _mm_castsi128_pd(_mm_set1_epi64x(INT64_MAX)); /* fabs: clear the sign */
@@ -805,23 +781,6 @@ static uint64_t outside_mask_base(const double *ut, int normal)
 	return mask;
 }
 
-PRSM_TARGET_AVX2 static uint64_t outside_mask_avx2(const double *ut, int normal)
-{
-	const __m256d half = _mm256_set1_pd(0.5), lim = _mm256_set1_pd(0.425), zero = _mm256_setzero_pd(),
-	              one = _mm256_set1_pd(1.0);
-	const __m256d abs_mask = _mm256_castsi256_pd(_mm256_set1_epi64x(INT64_MAX));
-	uint64_t mask = 0;
-	for (unsigned k = 0; k < QN_CHUNK; k += 4) {
-		const __m256d v = _mm256_loadu_pd(ut + k);
-		const __m256d in = normal ? _mm256_cmp_pd(_mm256_and_pd(_mm256_sub_pd(v, half), abs_mask), lim, _CMP_LE_OQ)
-		                          : _mm256_and_pd(_mm256_cmp_pd(v, zero, _CMP_GT_OQ), _mm256_cmp_pd(v, one, _CMP_LT_OQ));
-		mask |= (uint64_t)(~_mm256_movemask_pd(in) & 15) << k;
-	}
-	return mask;
-}
-#endif
-
-#if PRSM_HAVE_AVX2_CLONES
 /* ---- the AVX2 whole chunk, strided (docs/speed.md, "Engine overhead") ----
  *
  * With AVX2, a whole chunk of a column is done in one pass: four values of the column loaded
@@ -954,19 +913,13 @@ void prsm_dist_quantile_n(const prsm_dist *d, const double *u, size_t u_stride, 
 	const double *p = d->p;
 	if (d->kind == PRSM_DIST_NORMAL || d->kind == PRSM_DIST_UNIFORM) {
 		const int normal = d->kind == PRSM_DIST_NORMAL;
-		quantile_chunk_fn chunk = normal ? normal_central_chunk_base : uniform_open_chunk_base;
-#if PRSM_HAVE_AVX2_CLONES
-		uint64_t (*outside_mask)(const double *ut, int normal) = outside_mask_base;
-		const int avx2 = prsm_simd_avx2();
-		if (avx2) {
-			chunk = normal ? normal_central_chunk_avx2 : uniform_open_chunk_avx2;
-			outside_mask = outside_mask_avx2;
-		}
-#endif
+		/* with AVX2 the whole chunks take one pass each (whole_chunks_avx2); a column's last
+		 * short chunk, and every chunk without AVX2, the baseline loops below */
+		const quantile_chunk_fn chunk = normal ? normal_central_chunk : uniform_open_chunk;
 		double ut[QN_CHUNK], xt[QN_CHUNK];
 		size_t k0 = 0;
 #if PRSM_HAVE_AVX2_CLONES
-		if (avx2) /* whole chunks in one pass (above); the last short one as below */
+		if (prsm_simd_avx2())
 			k0 = whole_chunks_avx2(p, normal, u, u_stride, x, x_stride, n);
 #endif
 		for (; k0 < n; k0 += QN_CHUNK) {

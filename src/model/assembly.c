@@ -551,7 +551,8 @@ static int solve_joint(prsm_assembly_state *st, const prsm_assembly *as, const p
 	for (int j = 0; j < Z; j++)
 		w[j] = st->w_mm[j];
 	for (int it = 1; it <= JOINT_MAX_ITERATIONS; it++) {
-		double R = -F, den = 0.0, num = 0.0, dtotal = 0.0;
+		/* den: the system's stiffness dF/du, sum_j S_j' N_j' / (S_j' + N_j') */
+		double R = -F, den = 0.0, num = 0.0;
 		int balanced = 1;
 		for (int j = 0; j < Z; j++) {
 			const double wlo = gs_min[j], whi = u - gn_min[j];
@@ -574,14 +575,13 @@ static int solve_joint(prsm_assembly_state *st, const prsm_assembly *as, const p
 			if (d > 0.0) {
 				den += dS[j] * dN[j] / d;
 				num += dN[j] * h[j] / d;
-				dtotal += dS[j] * dN[j] / d;
 			}
 		}
 		if (!isfinite(R) || !isfinite(num))
 			return 0;
 		if (balanced && fabs(R) <= 1e-11 * F) {
 			st->u_mm = u;
-			st->stiffness_N_per_mm = dtotal;
+			st->stiffness_N_per_mm = den;
 			for (int j = 0; j < Z; j++) {
 				st->w_mm[j] = w[j];
 				st->roller_load_N[j] = load[j];
