@@ -293,12 +293,44 @@ double prsm_assembly_gap_linear(const prsm_assembly_pair *ap, const double *e)
 	return ap->gap_mm + linear_change(ap, e);
 }
 
-static double dot(const double *a, const double *b)
+/* g0 = gap + linear_change(e0) and g1 = sens . e1 of pair_terms' e0 and e1, without building the
+ * two vectors: the same products added in the same order. e1's components that pair_terms leaves
+ * at zero are skipped; each would add a zero product to a sum that is never -0 (it starts at +0,
+ * and x + (-x) rounds to +0), which leaves the sum's bits as they are. */
+static void pair_gap(double *g0, double *g1, const prsm_assembly_pair *ap, const prsm_errors *e,
+                     const roller_terms *t, int j, int side)
 {
+	_Static_assert(PRSM_PERTURB_COUNT == 10 && PRSM_PERTURB_BODY_SHIFT == 4 && PRSM_PERTURB_ROLLER_SHIFT == 9,
+	               "pair_gap names every perturbation component in index order");
+	const prsm_body_errors *b = side == PRSM_SIDE_SCREW ? &e->screw : &e->nut;
+	const prsm_roller_errors *r = &e->roller[j];
+	const double ax = ap->mirrored ? -1.0 : 1.0;
+	const double *g = ap->sens;
 	double s = 0.0;
-	for (int i = 0; i < PRSM_PERTURB_COUNT; i++)
-		s += a[i] * b[i];
-	return s;
+	s += g[PRSM_PERTURB_BODY_DX] * t->body_dx[side];
+	s += g[PRSM_PERTURB_BODY_DY] * t->body_dy[side];
+	s += g[PRSM_PERTURB_BODY_RADIUS] * b->pitch_radius_mm;
+	s += g[PRSM_PERTURB_BODY_BETA] * b->flank_angle_rad;
+	s += g[PRSM_PERTURB_BODY_SHIFT] * (-0.5 * b->thickness_mm - ax * t->body_D[side]);
+	s += g[PRSM_PERTURB_ROLLER_DX] * t->roller_dx;
+	s += g[PRSM_PERTURB_ROLLER_DY] * t->roller_dy;
+	s += g[PRSM_PERTURB_ROLLER_SHIFT] * (-0.5 * r->thickness_mm + ax * t->roller_D[side]);
+	const double dr = r->pitch_radius_mm, dR = r->arc_radius_mm;
+	if (dr != 0.0 || dR != 0.0) {
+		const double rr = ap->pair.roller_radius_mm, R = ap->pair.arc_radius_mm;
+		const double r1 = rr + dr, R1 = R + dR;
+		s += sqrt(R1 * R1 - r1 * r1) - sqrt(R * R - rr * rr) -
+		     (sqrt(R1 * R1 - ap->u2_mm2) - sqrt(R * R - ap->u2_mm2));
+	}
+	*g0 = ap->gap_mm + s;
+	double z = 0.0;
+	z += g[PRSM_PERTURB_BODY_DX] * t->body_dx_z[side];
+	z += g[PRSM_PERTURB_BODY_DY] * t->body_dy_z[side];
+	z += g[PRSM_PERTURB_BODY_SHIFT] * (-ax * t->body_D_z[side]);
+	z += g[PRSM_PERTURB_ROLLER_DX] * t->roller_dx_z;
+	z += g[PRSM_PERTURB_ROLLER_DY] * t->roller_dy_z;
+	z += g[PRSM_PERTURB_ROLLER_SHIFT] * (ax * t->roller_D_z);
+	*g1 = z;
 }
 
 int prsm_assembly_gaps_at(prsm_assembly_gaps *out, const prsm_assembly *as, const prsm_errors *e,
@@ -307,14 +339,19 @@ int prsm_assembly_gaps_at(prsm_assembly_gaps *out, const prsm_assembly *as, cons
 	const int Z = as->rollers, nt = as->threads, ns = as->starts;
 	int rc = 0;
 	out->edge_contacts = out->failed_contacts = 0;
-	/* what start_shift and thread_z give, once per call (the same products: the same bits; the
-	 * thread positions of an engagement of up to 256 threads, a longer one computes them) */
-	double shift[2][PRSM_ERRORS_MAX_STARTS], zk[256];
+	/* what start_shift and thread_z give, once per call (the same products: the same bits); the
+	 * start shifts signed by each side's mirroring and repeated, so that thread k of a roller
+	 * whose first thread meets start si takes shift[side][si + k] without a wrap-around (an
+	 * engagement of up to 256 threads; a longer one computes them as it goes) */
+	double shift[2][PRSM_ERRORS_MAX_STARTS + 256], zk[256];
 	const int ztab = nt <= 256;
 	for (int side = 0; side < 2; side++) {
 		const prsm_body_errors *b = side == PRSM_SIDE_SCREW ? &e->screw : &e->nut;
+		const double ax = as->pairs[side][dir].mirrored ? -1.0 : 1.0;
 		for (int i = 0; i < ns; i++)
-			shift[side][i] = as->screw_p * b->start_index_rad[i];
+			shift[side][i] = ax * (as->screw_p * b->start_index_rad[i]);
+		for (int i = ns; i < ns + nt && ztab; i++)
+			shift[side][i] = shift[side][i - ns];
 	}
 	for (int k = 0; k < nt && ztab; k++)
 		zk[k] = thread_z(as, k);
@@ -323,11 +360,8 @@ int prsm_assembly_gaps_at(prsm_assembly_gaps *out, const prsm_assembly *as, cons
 		compute_terms(&t, as, e, j, theta);
 		for (int side = 0; side < 2; side++) {
 			const prsm_assembly_pair *ap = &as->pairs[side][dir];
-			const double ax = ap->mirrored ? -1.0 : 1.0;
-			double e0[PRSM_PERTURB_COUNT], e1[PRSM_PERTURB_COUNT];
-			pair_terms(e0, e1, as, e, &t, j, side, dir);
-			/* e1 holds no radius terms: its part is the plain dot product */
-			const double g0 = prsm_assembly_gap_linear(ap, e0), g1 = dot(ap->sens, e1);
+			double g0, g1;
+			pair_gap(&g0, &g1, ap, e, &t, j, side);
 			double *g = &out->gap_mm[side][j * nt];
 			/* linear mode (docs/model/errors-and-assembly.md): nominal gap + sensitivities . perturbation; the shift
 			 * sensitivity is exactly 1 */
@@ -336,20 +370,28 @@ int prsm_assembly_gaps_at(prsm_assembly_gaps *out, const prsm_assembly *as, cons
 			if (si < 0)
 				si += ns;
 			if (ztab) {
-				for (int k = 0; k < nt; k++) {
-					g[k] = g0 + g1 * zk[k] - ax * shift[side][si];
-					if (++si == ns)
-						si = 0;
-				}
+				const double *sh = &shift[side][si];
+				int k = 0;
+#ifdef __SSE2__
+				/* two threads an instruction, each lane the scalar loop's operations */
+				const __m128d a = _mm_set1_pd(g0), c = _mm_set1_pd(g1);
+				for (; k + 1 < nt; k += 2)
+					_mm_storeu_pd(g + k, _mm_sub_pd(_mm_add_pd(a, _mm_mul_pd(c, _mm_loadu_pd(zk + k))),
+					                                _mm_loadu_pd(sh + k)));
+#endif
+				for (; k < nt; k++)
+					g[k] = g0 + g1 * zk[k] - sh[k];
 			} else {
 				for (int k = 0; k < nt; k++) {
-					g[k] = g0 + g1 * thread_z(as, k) - ax * shift[side][si];
+					g[k] = g0 + g1 * thread_z(as, k) - shift[side][si];
 					if (++si == ns)
 						si = 0;
 				}
 			}
 			if (mode != PRSM_MODE_EXACT)
 				continue;
+			double e0[PRSM_PERTURB_COUNT], e1[PRSM_PERTURB_COUNT];
+			pair_terms(e0, e1, as, e, &t, j, side, dir);
 			for (int k = 0; k < nt; k++) {
 				double ek[PRSM_PERTURB_COUNT], gk;
 				thread_perturbation(ek, e0, e1, as, e, k, side, dir, t.start_offset);
