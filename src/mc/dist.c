@@ -873,9 +873,34 @@ static double uniform_value(const double *p, double v)
 }
 
 #if PRSM_HAVE_AVX2_CLONES
+/* The normal's tails of a chunk, four at a time: lg[i] = log(min(v, 1 - v)) of the values v in
+ * (0, 1) outside the central region (the library call, scalar, as normal_quantile_open makes it),
+ * lower[i] -0 when v < 1/2 (its sign bit turns x into -x), +0 otherwise; each result mean + sd x goes to xk[idx[i] xs]. Per lane the
+ * operations of normal_quantile_open and normal_value: r = sqrt(-lg), both rational functions of
+ * the middle and the far tail, the one r picks (r <= 5), its sign, then mean + sd x; so the same
+ * doubles. lg, lower: m rounded up to a multiple of four, the padding lanes not stored. */
+PRSM_TARGET_AVX2 static void normal_tails_avx2(const double *lg, const double *lower, const unsigned char *idx,
+                                               unsigned m, double *xk, size_t xs, double mean, double sd)
+{
+	const __m256d vmean = _mm256_set1_pd(mean), vsd = _mm256_set1_pd(sd), five = _mm256_set1_pd(5.0);
+	const __m256d sign = _mm256_set1_pd(-0.0), mid0 = _mm256_set1_pd(1.6);
+	for (unsigned i = 0; i < m; i += 4) {
+		const __m256d r = _mm256_sqrt_pd(_mm256_xor_pd(_mm256_loadu_pd(lg + i), sign));
+		const __m256d t = _mm256_sub_pd(r, mid0), t5 = _mm256_sub_pd(r, five);
+		const __m256d xm = _mm256_div_pd(horner8_avx2(as241_middle_num, t), horner8_avx2(as241_middle_den, t));
+		const __m256d xt = _mm256_div_pd(horner8_avx2(as241_tail_num, t5), horner8_avx2(as241_tail_den, t5));
+		__m256d x = _mm256_blendv_pd(xt, xm, _mm256_cmp_pd(r, five, _CMP_LE_OQ));
+		x = _mm256_xor_pd(x, _mm256_and_pd(_mm256_loadu_pd(lower + i), sign));
+		double out[4];
+		_mm256_storeu_pd(out, _mm256_add_pd(vmean, _mm256_mul_pd(vsd, x)));
+		for (unsigned l = 0; l < 4 && i + l < m; l++)
+			xk[idx[i + l] * xs] = out[l];
+	}
+}
+
 /* The normal's (normal = 1) or the uniform's column by whole chunks with the AVX2 kernels, the
- * values outside the kernel's region again by the scalar path; returns how many values were done
- * (a multiple of QN_CHUNK). */
+ * values outside the kernel's region again by the scalar path (the normal's tails, four at a
+ * time, by normal_tails_avx2); returns how many values were done (a multiple of QN_CHUNK). */
 static size_t whole_chunks_avx2(const double *p, int normal, const double *u, size_t u_stride, double *x,
                                 size_t x_stride, size_t n)
 {
@@ -886,11 +911,33 @@ static size_t whole_chunks_avx2(const double *p, int normal, const double *u, si
 		double *xk = x + k0 * x_stride;
 		uint64_t outside = normal ? normal_chunk_strided_avx2(uk, u_stride, ut, xk, x_stride, p[0], p[1])
 		                          : uniform_chunk_strided_avx2(uk, u_stride, ut, xk, x_stride, p[0], p[1]);
-		while (outside) {
-			const size_t k = (size_t)__builtin_ctzll(outside);
-			outside &= outside - 1;
-			xk[k * x_stride] = normal ? normal_value(p, ut[k]) : uniform_value(p, ut[k]);
+		if (!normal) {
+			while (outside) {
+				const size_t k = (size_t)__builtin_ctzll(outside);
+				outside &= outside - 1;
+				xk[k * x_stride] = uniform_value(p, ut[k]);
+			}
+			continue;
 		}
+		_Static_assert(QN_CHUNK <= 256, "a chunk's indices fit an unsigned char");
+		double lg[QN_CHUNK + 3], lower[QN_CHUNK + 3];
+		unsigned char idx[QN_CHUNK];
+		unsigned m = 0;
+		while (outside) {
+			const unsigned k = (unsigned)__builtin_ctzll(outside);
+			outside &= outside - 1;
+			const double v = ut[k];
+			if (!(v > 0.0 && v < 1.0)) {
+				xk[k * x_stride] = normal_value(p, v); /* NaN, 0 or 1 */
+				continue;
+			}
+			lg[m] = log(v < 0.5 ? v : 1.0 - v);
+			lower[m] = v < 0.5 ? -0.0 : 0.0; /* the sign bit: x = -x below one half */
+			idx[m++] = (unsigned char)k;
+		}
+		for (unsigned i = m; i % 4 != 0; i++)
+			lg[i] = lower[i] = 0.0;
+		normal_tails_avx2(lg, lower, idx, m, xk, x_stride, p[0], p[1]);
 	}
 	return k0;
 }
