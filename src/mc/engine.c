@@ -646,6 +646,18 @@ int prsm_mc_prefix_add(prsm_mc_prefix *p, const prsm_mc_options *o, size_t m, si
 	                    code, err);
 }
 
+/* prefix_merge of the run's block b (its moments, in-spec counts, statuses and failure codes in
+ * c and out); the targets are checked on the prefix unless the run is split or b is its last
+ * block. Both merge loops of the run (one worker, several) call it. */
+static int merge_block(prsm_mc_prefix *pf, const run_ctx *c, const prsm_mc_options *o, size_t b, int split,
+                       prsm_mc_result *out, int *code, prsm_error *err)
+{
+	const size_t nt = (size_t)o->n_targets, r0 = b * c->block_size;
+	return prefix_merge(pf, o, &c->block_mom[b * nt], &c->block_in[b * nt], out->status + r0, out->fail_code + r0,
+	                    block_rows(c, b), c->first_row + r0, nt && !split && b + 1 < c->stop_blocks, &out->stop,
+	                    code, err);
+}
+
 void prsm_mc_prefix_progress(const prsm_mc_prefix *p, const prsm_mc_options *o, size_t cap)
 {
 	if (o->progress)
@@ -861,12 +873,8 @@ static int run(prsm_mc_result *out, const prsm_mc_model *model, const prsm_mc_va
 				out->stop = PRSM_STOP_TIME_CAP;
 				break;
 			}
-			size_t nb = block_rows(c, b);
-			size_t r0 = b * c->block_size;
 			int code = 0;
-			if (prefix_merge(&pf, o, &c->block_mom[b * nt], &c->block_in[b * nt], out->status + r0,
-			                 out->fail_code + r0, nb, c->first_row + r0, nt && !split && b + 1 < c->stop_blocks,
-			                 &out->stop, &code, err)) {
+			if (merge_block(&pf, c, o, b, split, out, &code, err)) {
 				rc = code;
 				break;
 			}
@@ -902,12 +910,8 @@ static int run(prsm_mc_result *out, const prsm_mc_model *model, const prsm_mc_va
 	while (pf.blocks < c->stop_blocks) {
 		const size_t prefix = pf.blocks;
 		if (c->block_done[prefix]) {
-			size_t nb = block_rows(c, prefix);
-			size_t r0 = prefix * c->block_size;
 			int code = 0;
-			if (prefix_merge(&pf, o, &c->block_mom[prefix * nt], &c->block_in[prefix * nt], out->status + r0,
-			                 out->fail_code + r0, nb, c->first_row + r0, nt && !split && prefix + 1 < c->stop_blocks,
-			                 &out->stop, &code, err)) {
+			if (merge_block(&pf, c, o, prefix, split, out, &code, err)) {
 				rc = code;
 				c->stop_blocks = pf.blocks;
 				break;
