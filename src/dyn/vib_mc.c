@@ -21,8 +21,12 @@
 
 #include <complex.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 #include "dyn/vib_internal.h"
 
@@ -150,6 +154,89 @@ int prsm_vib_mc_apply(prsm_vib_model *m, const prsm_vib_mc_sample *s, prsm_error
 	return 0;
 }
 
+/* ---- the screen's phasors, kept from one sample to the next ---- */
+
+/* A study's tolerances change k_a, b_a, the TE lines' amplitudes and phases, b_g, e_g and the
+ * damping ratios (§8.6), not the model's structure: the window, the stiffness segments, the
+ * grids' times and the line and mesh frequencies are the same for every sample, and so are the
+ * arguments of the screen's phasors e^{i x} (cexp) and of the mesh error's sin / cos (§8.3.3),
+ * some 1,900 a sample and a sixth of the screen's instructions. The j-th such evaluation of a
+ * screen is kept in slot j of a per-thread table with its argument's bits; a later screen whose
+ * j-th argument has the same bits takes the kept value (the same function of the same argument:
+ * the same bits), any other computes and keeps its own. The slots below memo_*_n have all been
+ * written, since a screen's evaluations take the slots in order. The reference loops
+ * (o->reference) compute every one. */
+#define MEMO_CEXP 3072
+#define MEMO_SINCOS 1024
+typedef struct {
+	uint64_t re, im; /* the argument's bits */
+	cplx v;          /* cexp of it */
+} memo_cexp_slot;
+typedef struct {
+	uint64_t x;  /* the argument's bits */
+	double s, c; /* sin, cos of it */
+} memo_sincos_slot;
+static _Thread_local memo_cexp_slot memo_cexp_tab[MEMO_CEXP];
+static _Thread_local memo_sincos_slot memo_sincos_tab[MEMO_SINCOS];
+static _Thread_local int memo_cexp_n, memo_sincos_n; /* valid slots */
+
+typedef struct {
+	int cexp_j, sincos_j; /* the next evaluation's slot in this screen */
+} memo_cursor;
+
+static uint64_t dbits(double x)
+{
+	uint64_t u;
+	memcpy(&u, &x, sizeof u);
+	return u;
+}
+
+/* cexp(z) through the table (mc NULL: the reference, always cexp) */
+static cplx memo_cexp(memo_cursor *mc, cplx z)
+{
+	if (mc == NULL)
+		return cexp(z);
+	const int j = mc->cexp_j++;
+	const uint64_t re = dbits(creal(z)), im = dbits(cimag(z));
+	if (j < memo_cexp_n && memo_cexp_tab[j].re == re && memo_cexp_tab[j].im == im)
+		return memo_cexp_tab[j].v;
+	const cplx v = cexp(z);
+	if (j < MEMO_CEXP) {
+		memo_cexp_tab[j].re = re;
+		memo_cexp_tab[j].im = im;
+		memo_cexp_tab[j].v = v;
+		if (j >= memo_cexp_n)
+			memo_cexp_n = j + 1;
+	}
+	return v;
+}
+
+/* *s = sin(x), *c = cos(x) through the table (mc NULL: always computed) */
+static void memo_sincos(memo_cursor *mc, double x, double *s, double *c)
+{
+	if (mc != NULL) {
+		const int j = mc->sincos_j++;
+		const uint64_t u = dbits(x);
+		if (j < memo_sincos_n && memo_sincos_tab[j].x == u) {
+			*s = memo_sincos_tab[j].s;
+			*c = memo_sincos_tab[j].c;
+			return;
+		}
+		*s = sin(x);
+		*c = cos(x);
+		if (j < MEMO_SINCOS) {
+			memo_sincos_tab[j].x = u;
+			memo_sincos_tab[j].s = *s;
+			memo_sincos_tab[j].c = *c;
+			if (j >= memo_sincos_n)
+				memo_sincos_n = j + 1;
+		}
+		return;
+	}
+	*s = sin(x);
+	*c = cos(x);
+}
+
 /* ---- small dense linear algebra (n <= 2 PRSM_VIB_ROLLERS_MAX + 1) ---- */
 
 /* Solve A x = b in place (A n x n row-major, destroyed; b gets x). Returns 0, or 1 when singular. */
@@ -259,6 +346,62 @@ static void cmatvec(cplx *y, const double *A, const cplx *x, int n)
 			s += A[i * n + j] * x[j];
 		y[i] = s;
 	}
+}
+
+/* cmatvec of the fast loops: each part of y[i] is 0 + A[i][0] x[0] + A[i][1] x[1] + ... in that
+ * order (a real times a complex is the two parts' products), so the two parts as the two lanes of
+ * an SSE2 register give the same bits as cmatvec, in half the operations. */
+static void cmatvec_fast(cplx *y, const double *A, const cplx *x, int n)
+{
+#ifdef __SSE2__
+	for (int i = 0; i < n; i++) {
+		__m128d s = _mm_setzero_pd();
+		for (int j = 0; j < n; j++)
+			s = _mm_add_pd(s, _mm_mul_pd(_mm_set1_pd(A[i * n + j]), _mm_loadu_pd((const double *)&x[j])));
+		_mm_storeu_pd((double *)&y[i], s);
+	}
+#else
+	cmatvec(y, A, x, n);
+#endif
+}
+
+/* u e for the fast loops, as the compiler's complex product computes it: (u_r e_r - u_i e_i,
+ * u_r e_i + u_i e_r), and the library's product when both parts are NaN. In SSE2 lanes it is
+ * u_r (e_r, e_i) + u_i (-e_i, e_r): the first lane's u_r e_r + (-(u_i e_i)) is u_r e_r - u_i e_i
+ * exactly (negation is exact, and x + (-y) is x - y). e1 = (e_r, e_i), e2 = (-e_i, e_r). */
+#ifdef __SSE2__
+static inline __m128d cmul_lanes(const cplx *u, __m128d e1, __m128d e2, cplx e)
+{
+	const __m128d v = _mm_loadu_pd((const double *)u);
+	const __m128d p = _mm_add_pd(_mm_mul_pd(_mm_unpacklo_pd(v, v), e1), _mm_mul_pd(_mm_unpackhi_pd(v, v), e2));
+	if (_mm_movemask_pd(_mm_cmpunord_pd(p, p)) == 3) {
+		const cplx q = *u * e;
+		return _mm_loadu_pd((const double *)&q);
+	}
+	return p;
+}
+#endif
+
+/* One grid step of a TE line's envelope in the fast loops: z <- E (z - u e_p) + u e_t, the
+ * reference's complex loops (t1, t2: nr scratch) with the products of cmul_lanes and
+ * cmatvec_fast, bit for bit. */
+static void line_step(cplx *z, const cplx *u, cplx ep, cplx et, const double *E, int nr, cplx *t1, cplx *t2)
+{
+#ifdef __SSE2__
+	const __m128d p1 = _mm_set_pd(cimag(ep), creal(ep)), p2 = _mm_set_pd(creal(ep), -cimag(ep));
+	const __m128d q1 = _mm_set_pd(cimag(et), creal(et)), q2 = _mm_set_pd(creal(et), -cimag(et));
+	for (int q = 0; q < nr; q++)
+		_mm_storeu_pd((double *)&t1[q], _mm_sub_pd(_mm_loadu_pd((const double *)&z[q]), cmul_lanes(&u[q], p1, p2, ep)));
+	cmatvec_fast(t2, E, t1, nr);
+	for (int q = 0; q < nr; q++)
+		_mm_storeu_pd((double *)&z[q], _mm_add_pd(_mm_loadu_pd((const double *)&t2[q]), cmul_lanes(&u[q], q1, q2, et)));
+#else
+	for (int q = 0; q < nr; q++)
+		t1[q] = z[q] - u[q] * ep;
+	cmatvec(t2, E, t1, nr);
+	for (int q = 0; q < nr; q++)
+		z[q] = t2[q] + u[q] * et;
+#endif
 }
 
 /* ---- the grouped linear gear branch ---- */
@@ -474,7 +617,7 @@ static void axial_grid_reference(double *ymin_, double *fbest_, double *fworst_,
  * times faster (the compiler's complex products check for NaN, fmin and fmax are calls). */
 static void axial_grid(double *ymin_, double *fbest_, double *fworst_, double *xbest_, const cplx *Yk,
                        const cplx *Xk, const cplx *Fk, const cplx *rot, const prsm_vib_te_line *line, int L, long Na,
-                       double dth, double sa)
+                       double dth, double sa, memo_cursor *mc)
 {
 	double yr[PRSM_VIB_TE_LINES_MAX], yi[PRSM_VIB_TE_LINES_MAX], xr[PRSM_VIB_TE_LINES_MAX], xi[PRSM_VIB_TE_LINES_MAX];
 	double fr[PRSM_VIB_TE_LINES_MAX], fi[PRSM_VIB_TE_LINES_MAX], rr[PRSM_VIB_TE_LINES_MAX], ri[PRSM_VIB_TE_LINES_MAX];
@@ -489,16 +632,46 @@ static void axial_grid(double *ymin_, double *fbest_, double *fworst_, double *x
 		rr[k] = creal(rot[k]);
 		ri[k] = cimag(rot[k]);
 	}
+#ifdef __SSE2__
+	/* the same sums in SSE2 lanes, each lane the scalar loop's operations in its order: (yv, xs)
+	 * += a (yr, xr) - b (yi, xi); (fs, -) += a (fr, 0) - b (fi, 0); the phasor (pr, pi) =
+	 * a (rr, ri) + b (-ri, rr), whose first lane a rr + b (-ri) is a rr - b ri exactly (negation is
+	 * exact, and x + (-y) is x - y) */
+	__m128d vyr[PRSM_VIB_TE_LINES_MAX], vyi[PRSM_VIB_TE_LINES_MAX], vfr[PRSM_VIB_TE_LINES_MAX];
+	__m128d vfi[PRSM_VIB_TE_LINES_MAX], vr1[PRSM_VIB_TE_LINES_MAX], vr2[PRSM_VIB_TE_LINES_MAX];
+	__m128d vp[PRSM_VIB_TE_LINES_MAX];
+	for (int k = 0; k < L; k++) {
+		vyr[k] = _mm_set_pd(xr[k], yr[k]);
+		vyi[k] = _mm_set_pd(xi[k], yi[k]);
+		vfr[k] = _mm_set_pd(0.0, fr[k]);
+		vfi[k] = _mm_set_pd(0.0, fi[k]);
+		vr1[k] = _mm_set_pd(ri[k], rr[k]);
+		vr2[k] = _mm_set_pd(rr[k], -ri[k]);
+	}
+#endif
 	double ymin = INFINITY;
 	double xbest = -1.0, fbest = -INFINITY, fworst = INFINITY;
 	double xprev2 = 0, xprev = 0, fprev2 = 0, fprev = 0;
 	for (long n = 0; n < Na + 2; n++) {
 		if (n % 256 == 0)
 			for (int k = 0; k < L; k++) {
-				const cplx e = cexp(I * line[k].order_per_rev * dth * (double)(n % Na));
+				const cplx e = memo_cexp(mc, I * line[k].order_per_rev * dth * (double)(n % Na));
 				pr[k] = creal(e);
 				pi[k] = cimag(e);
+#ifdef __SSE2__
+				vp[k] = _mm_set_pd(pi[k], pr[k]);
+#endif
 			}
+#ifdef __SSE2__
+		__m128d yx = _mm_setzero_pd(), f2 = _mm_setzero_pd();
+		for (int k = 0; k < L; k++) {
+			const __m128d a = _mm_unpacklo_pd(vp[k], vp[k]), b = _mm_unpackhi_pd(vp[k], vp[k]);
+			yx = _mm_add_pd(yx, _mm_sub_pd(_mm_mul_pd(vyr[k], a), _mm_mul_pd(vyi[k], b)));
+			f2 = _mm_add_pd(f2, _mm_sub_pd(_mm_mul_pd(vfr[k], a), _mm_mul_pd(vfi[k], b)));
+			vp[k] = _mm_add_pd(_mm_mul_pd(a, vr1[k]), _mm_mul_pd(b, vr2[k]));
+		}
+		const double yv = _mm_cvtsd_f64(yx), xs = _mm_cvtsd_f64(_mm_unpackhi_pd(yx, yx)), fs = _mm_cvtsd_f64(f2);
+#else
 		double yv = 0.0, xs = 0.0, fs = 0.0;
 		for (int k = 0; k < L; k++) {
 			const double a = pr[k], b = pi[k];
@@ -508,6 +681,7 @@ static void axial_grid(double *ymin_, double *fbest_, double *fworst_, double *x
 			pr[k] = a * rr[k] - b * ri[k];
 			pi[k] = a * ri[k] + b * rr[k];
 		}
+#endif
 		if (n < Na) {
 			const double y = sa * yv, f = sa * fs;
 			ymin = y < ymin ? y : ymin;
@@ -561,9 +735,16 @@ static double window_extreme_fast(const double *v0, const cplx *v, int P, int L,
                                   keyed *heap)
 {
 	double rr[PRSM_VIB_TE_LINES_MAX], ri[PRSM_VIB_TE_LINES_MAX];
+#ifdef __SSE2__
+	__m128d vr1[PRSM_VIB_TE_LINES_MAX], vr2[PRSM_VIB_TE_LINES_MAX];
+#endif
 	for (int k = 0; k < L; k++) {
 		rr[k] = creal(rot[k]);
 		ri[k] = cimag(rot[k]);
+#ifdef __SSE2__
+		vr1[k] = _mm_set_pd(ri[k], rr[k]);
+		vr2[k] = _mm_set_pd(rr[k], -ri[k]);
+#endif
 	}
 	for (int p = 0; p < P; p++) {
 		double a = 0.0;
@@ -585,6 +766,22 @@ static double window_extreme_fast(const double *v0, const cplx *v, int P, int L,
 		const int p = heap[0].idx;
 		heap[0] = heap[--n];
 		sift_down(heap, n, 0);
+#ifdef __SSE2__
+		/* the phasors (x, y) as SSE2 pairs, rotated as in axial_grid: x (rr, ri) + y (-ri, rr) */
+		__m128d vp[PRSM_VIB_TE_LINES_MAX];
+		for (int k = 0; k < L; k++)
+			vp[k] = _mm_loadu_pd((const double *)&v[(size_t)k * P + p]);
+		for (long mm = 0; mm < Nm; mm++) {
+			double s = v0[p];
+			for (int k = 0; k < L; k++) {
+				const __m128d x = _mm_unpacklo_pd(vp[k], vp[k]), y = _mm_unpackhi_pd(vp[k], vp[k]);
+				s += _mm_cvtsd_f64(vp[k]);
+				vp[k] = _mm_add_pd(_mm_mul_pd(x, vr1[k]), _mm_mul_pd(y, vr2[k]));
+			}
+			if (sign * s < best)
+				best = sign * s;
+		}
+#else
 		double pr[PRSM_VIB_TE_LINES_MAX], pi[PRSM_VIB_TE_LINES_MAX];
 		for (int k = 0; k < L; k++) {
 			pr[k] = creal(v[(size_t)k * P + p]);
@@ -601,6 +798,7 @@ static double window_extreme_fast(const double *v0, const cplx *v, int P, int L,
 			if (sign * s < best)
 				best = sign * s;
 		}
+#endif
 	}
 	return sign * best;
 }
@@ -700,6 +898,7 @@ int prsm_vib_mc_screen(prsm_vib_mc_out *out, double *state0, const prsm_vib_mode
 		                      "after prsm_vib_mc_apply");
 	const int Z = c->Z, L = P->te_lines;
 	const double ws = P->screw_speed_rad_s;
+	memo_cursor mc_ = {0, 0}, *mc = o->reference ? NULL : &mc_; /* the reference computes every phasor */
 	/* the window: W revolutions (every line order and the mesh order are multiples of 1/W) */
 	double Wrev = 0.0;
 	{
@@ -754,7 +953,7 @@ int prsm_vib_mc_screen(prsm_vib_mc_out *out, double *state0, const prsm_vib_mode
 		if (o->reference)
 			axial_grid_reference(&ymin, &fpk, &fmn, &xpk, Yk, Xk, Fk, rot, P->te_line, L, Na, dth, sa);
 		else
-			axial_grid(&ymin, &fpk, &fmn, &xpk, Yk, Xk, Fk, rot, P->te_line, L, Na, dth, sa);
+			axial_grid(&ymin, &fpk, &fmn, &xpk, Yk, Xk, Fk, rot, P->te_line, L, Na, dth, sa, mc);
 	}
 	out->peak_dynamic_te_m = xpk;
 	out->peak_thread_force_N = fabs(c->F0) + fpk;
@@ -899,11 +1098,12 @@ int prsm_vib_mc_screen(prsm_vib_mc_out *out, double *state0, const prsm_vib_mode
 		memset(r, 0, sizeof r);
 		for (int s = 0; s < ns; s++) {
 			const double t0 = off[s] * T, t1 = off[s + 1] * T;
+			const cplx e0 = memo_cexp(mc, I * wtau * t0), e1 = memo_cexp(mc, I * wtau * t1);
 			for (int i = 0; i < nr; i++)
-				tmp[i] = r[i] - (rc_s(s)[i] + creal(Cq(s)[i] * cexp(I * wtau * t0)));
+				tmp[i] = r[i] - (rc_s(s)[i] + creal(Cq(s)[i] * e0));
 			matvec(tmp2, Eseg + nn * (size_t)s, tmp, nr);
 			for (int i = 0; i < nr; i++)
-				r[i] = tmp2[i] + rc_s(s)[i] + creal(Cq(s)[i] * cexp(I * wtau * t1));
+				r[i] = tmp2[i] + rc_s(s)[i] + creal(Cq(s)[i] * e1);
 			matmul(w1, Eseg + nn * (size_t)s, Phi, nr);
 			memcpy(Phi, w1, nn * sizeof *Phi);
 		}
@@ -961,7 +1161,8 @@ int prsm_vib_mc_screen(prsm_vib_mc_out *out, double *state0, const prsm_vib_mode
 				if (i > 0) {
 					const double tp = tau - h;
 					/* one phasor per point (the same value the reference computes per component) */
-					const cplx ep = o->reference ? 0.0 : cexp(I * wtau * tp), et = o->reference ? 0.0 : cexp(I * wtau * tau);
+					const cplx ep = o->reference ? 0.0 : memo_cexp(mc, I * wtau * tp);
+					const cplx et = o->reference ? 0.0 : memo_cexp(mc, I * wtau * tau);
 					for (int q = 0; q < nr; q++)
 						tmp[q] = rho[q] - (rc_s(s)[q] + creal(Cq(s)[q] * (o->reference ? cexp(I * wtau * tp) : ep)));
 					matvec(tmp2, Esub + nn * (size_t)s, tmp, nr);
@@ -970,7 +1171,9 @@ int prsm_vib_mc_screen(prsm_vib_mc_out *out, double *state0, const prsm_vib_mode
 				}
 				for (int g = 0; g < G; g++) {
 					const double ph = wtau * tau + 2.0 * M_PI * S.gamma[g];
-					const double e = c->eg * sin(ph), ed = c->eg * wtau * cos(ph);
+					double sn, cs;
+					memo_sincos(mc, ph, &sn, &cs);
+					const double e = c->eg * sn, ed = c->eg * wtau * cs;
 					const double xr = rho[g] - e;
 					vals[((size_t)p * G + g) * 2] = sg * xr - 1.0;
 					vals[((size_t)p * G + g) * 2 + 1] =
@@ -983,7 +1186,7 @@ int prsm_vib_mc_screen(prsm_vib_mc_out *out, double *state0, const prsm_vib_mode
 		cplx rot[PRSM_VIB_TE_LINES_MAX];
 		for (int k = 0; k < L; k++) {
 			const double w = wl[k];
-			rot[k] = cexp(I * w * T);
+			rot[k] = memo_cexp(mc, I * w * T);
 			for (int s = 0; s < ns; s++) {
 				/* the thread columns cY, cW do not depend on the stiffness (friction only) */
 				const double *A = Aseg + nn * (size_t)s;
@@ -1003,11 +1206,12 @@ int prsm_vib_mc_screen(prsm_vib_mc_out *out, double *state0, const prsm_vib_mode
 				rz[i] = 0.0;
 			for (int s = 0; s < ns; s++) {
 				const double ta = off[s] * T, tb = off[s + 1] * T;
+				const cplx ea = memo_cexp(mc, I * w * ta), eb = memo_cexp(mc, I * w * tb);
 				for (int i = 0; i < nr; i++)
-					t1v[i] = rz[i] - useg(s)[i] * cexp(I * w * ta);
-				cmatvec(t2v, Eseg + nn * (size_t)s, t1v, nr);
+					t1v[i] = rz[i] - useg(s)[i] * ea;
+				(o->reference ? cmatvec : cmatvec_fast)(t2v, Eseg + nn * (size_t)s, t1v, nr);
 				for (int i = 0; i < nr; i++)
-					rz[i] = t2v[i] + useg(s)[i] * cexp(I * w * tb);
+					rz[i] = t2v[i] + useg(s)[i] * eb;
 			}
 			for (int i = 0; i < nr; i++)
 				for (int j = 0; j < nr; j++)
@@ -1026,12 +1230,16 @@ int prsm_vib_mc_screen(prsm_vib_mc_out *out, double *state0, const prsm_vib_mode
 					const double tau = off[s] * T + i * h;
 					if (i > 0) {
 						const double tp = tau - h;
-						const cplx ep = o->reference ? 0.0 : cexp(I * w * tp), et = o->reference ? 0.0 : cexp(I * w * tau);
-						for (int q = 0; q < nr; q++)
-							t1v[q] = z[q] - useg(s)[q] * (o->reference ? cexp(I * w * tp) : ep);
-						cmatvec(t2v, Esub + nn * (size_t)s, t1v, nr);
-						for (int q = 0; q < nr; q++)
-							z[q] = t2v[q] + useg(s)[q] * (o->reference ? cexp(I * w * tau) : et);
+						if (o->reference) {
+							for (int q = 0; q < nr; q++)
+								t1v[q] = z[q] - useg(s)[q] * cexp(I * w * tp);
+							cmatvec(t2v, Esub + nn * (size_t)s, t1v, nr);
+							for (int q = 0; q < nr; q++)
+								z[q] = t2v[q] + useg(s)[q] * cexp(I * w * tau);
+						} else {
+							const cplx ep = memo_cexp(mc, I * w * tp), et = memo_cexp(mc, I * w * tau);
+							line_step(z, useg(s), ep, et, Esub + nn * (size_t)s, nr, t1v, t2v);
+						}
 					}
 					for (int g = 0; g < G; g++) {
 						lv[(((size_t)k * npts + p) * G + g) * 2] = sg * z[g];
