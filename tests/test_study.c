@@ -396,6 +396,42 @@ static void test_ranges(void **state)
 	free(t);
 }
 
+/* The range checks are a computation, the application's hook (prsm_io_study_options.check_study,
+ * app/study.c): the reader alone takes a distribution beyond +-1e150 and a benchmark whose output
+ * overflows, the application refuses both at their pointers. */
+static void test_range_hook(void **state)
+{
+	(void)state;
+	static const char *const docs[][2] = {
+		{"{\"model\": {\"benchmark\": \"linear\", \"coefficients\": [1]}, \"tolerances\": ["
+		 "{\"parameter\": \"x1\", \"distribution\": \"normal\", \"mean\": 1e300, \"sd\": 1e299}]}", "/tolerances/0"},
+		{"{\"model\": {\"benchmark\": \"linear\", \"coefficients\": [1e300]}, \"tolerances\": ["
+		 "{\"parameter\": \"x1\", \"distribution\": \"normal\", \"mean\": 0, \"sd\": 1}]}", "/model"},
+	};
+	prsm_io_study *s = calloc(1, sizeof *s);
+	assert_non_null(s);
+	for (size_t k = 0; k < sizeof docs / sizeof docs[0]; k++) {
+		cJSON *doc = cJSON_Parse(docs[k][0]);
+		assert_non_null(doc);
+		prsm_problems pr;
+		prsm_problems_init(&pr);
+		assert_int_equal(prsm_io_study_load(s, doc, NULL, NULL, &pr), 0);
+		assert_int_equal(pr.count, 0);
+		prsm_io_study_options o;
+		prsm_app_study_options(&o);
+		assert_non_null(o.check_study);
+		o.check_study = NULL; /* the other hooks alone: still no check */
+		assert_int_equal(prsm_io_study_load(s, doc, &o, NULL, &pr), 0);
+		assert_int_equal(pr.count, 0);
+		assert_int_equal(prsm_app_study_load(s, doc, NULL, &pr), PRSM_EINVAL);
+		assert_int_equal(pr.count, 1);
+		assert_string_equal(pr.items[0].pointer, docs[k][1]);
+		assert_string_equal(pr.items[0].code, "range");
+		cJSON_Delete(doc);
+	}
+	free(s);
+}
+
 /* The sliding efficiency is efficiency_sliding; its older name, efficiency, gives the same
  * samples and a warning that it is not analyze's eta with its losses (issue 18). */
 static void test_efficiency_names(void **state)
@@ -542,6 +578,7 @@ int main(void)
 		cmocka_unit_test(test_efficiency_names),
 		cmocka_unit_test(test_catalogue_size),
 		cmocka_unit_test(test_reader_hooks),
+		cmocka_unit_test(test_range_hook),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,7 +1,8 @@
 /*
- * study.c: a study's nominal analysis and the engine's model of its design (see study.h), as
- * the hooks of the study reader (io/study_json.c): the design step asks for the analysis, the
- * model step for the model.
+ * study.c: a study's nominal analysis, the engine's model of its design and the range checks
+ * of what the engine will compute (see study.h), as the hooks of the study reader
+ * (io/study_json.c): the design step asks for the analysis, the model step for the model, the
+ * loaded document for the checks.
  */
 #include "app/study.h"
 
@@ -9,6 +10,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "io/errors_json.h"
 #include "io/json_util.h"
 #include "mc/prsm_model.h"
 #include "model/analysis.h"
@@ -114,11 +116,143 @@ static void prepare_model(prsm_io_study *out, prsm_problems *pr, void *ctx)
 		prsm_prsm_mc_model(&st->model, p);
 }
 
+/* Magnitudes a study's inputs and outputs may reach (at the 0.135 / 99.865 % quantiles): beyond
+ * it their squares, and so the moments, overflow double arithmetic. */
+#define RANGE_MAX 1e150
+/* Linear assembly mode was checked against exact mode to about 1 % up to errors of this size
+ * (docs/model/errors-and-assembly.md), um. */
+#define LINEAR_VALID_UM 50.0
+
+/* A document the engine cannot compute is refused here, at the field that makes it so, not at
+ * run time without a cause (issue 19, items 4 and 6): every distribution's 0.135 and 99.865 %
+ * quantiles within +-RANGE_MAX; a benchmark's outputs too, at the centre and with each input at
+ * either quantile in turn; a length error no larger than the thread pitch (an error that size
+ * is no manufacturing error of a meshing thread), and in linear assembly mode a warning beyond
+ * the range where that mode was checked. prsm_io_study_options.check_study, once the document
+ * reads without a problem. */
+static void check_ranges(prsm_io_study *out, prsm_problems *warnings, prsm_problems *pr, void *ctx)
+{
+	(void)ctx;
+	prsm_study *st = &out->study;
+	const double u[2] = {0.00135, 0.99865};
+	const int before = prsm_problems_total(pr);
+	for (size_t g = 0; g < out->n_tolerances; g++) {
+		const prsm_io_tolerance *t = &out->tolerances[g];
+		char tp[PRSM_JSON_POINTER_MAX];
+		prsm_json_pointer_append_index(tp, sizeof tp, "/tolerances", (int)g);
+		double q[2];
+		for (int k = 0; k < 2; k++)
+			q[k] = prsm_dist_quantile(&t->dist, u[k]);
+		if (!(fabs(q[0]) <= RANGE_MAX && fabs(q[1]) <= RANGE_MAX)) {
+			prsm_problems_add(pr, tp, "range", "the distribution spans %.6g to %.6g (0.135 to 99.865 %%): "
+			                  "beyond +-%g its squares overflow double arithmetic", q[0], q[1], RANGE_MAX);
+			continue;
+		}
+		if (out->is_benchmark)
+			continue;
+		const prsm_mc_binding *b = &out->bindings[st->groups[g].first_var]; /* its first variable's */
+		if (b->part == PRSM_PART_DYNAMICS) {
+			/* absolute values: a damping ratio in (0, 1), a mesh error >= 0, a backlash > 0 */
+			const int damping = b->offset == PRSM_DYN_TOL_DAMPING, error = b->offset == PRSM_DYN_TOL_MESH_ERROR;
+			const int bad = damping ? !(q[0] > 0.0 && q[1] < 1.0) : error ? !(q[0] >= 0.0) : !(q[0] > 0.0);
+			if (bad)
+				prsm_problems_add(pr, tp, "range", "%s spans %.6g to %.6g (0.135 to 99.865 %%): it must be %s there",
+				                  t->parameter, q[0], q[1],
+				                  damping ? "in (0, 1)" : error ? ">= 0 um" : "> 0 um");
+			continue;
+		}
+		const char *key = strchr(t->parameter, '.');
+		const char *unit = key ? prsm_io_error_unit_of(key + 1) : "";
+		if (strcmp(unit, "um") != 0 && strcmp(unit, "um_per_300mm") != 0)
+			continue;
+		const double big = fmax(fabs(q[0]), fabs(q[1])), pitch_um = 1e3 * out->design.pitch_mm;
+		if (big > pitch_um)
+			prsm_problems_add(pr, tp, "range", "%s reaches %.6g um (99.865 %% quantile), more than the "
+			                  "thread pitch (%.6g um): not a manufacturing error of a meshing thread",
+			                  t->parameter, big, pitch_um);
+		else if (big > LINEAR_VALID_UM && out->assembly_options.mode == PRSM_MODE_LINEAR && warnings)
+			prsm_problems_add(warnings, tp, "linear_range", "%s reaches %.3g um: linear assembly mode "
+			                  "was checked against exact mode (about 1 %%) only up to %g um errors; use "
+			                  "\"assembly\": {\"mode\": \"exact\"} for errors this large",
+			                  t->parameter, big, LINEAR_VALID_UM);
+	}
+	if (!out->is_benchmark || prsm_problems_total(pr) > before)
+		return;
+	/* a benchmark's outputs at the centre and one input at a time at its quantiles */
+	const prsm_mc_model *m = &st->model;
+	double x[PRSM_MC_MAX_VARIABLES], y[PRSM_MC_MAX_OUTPUTS];
+	unsigned flags;
+	void *ws = NULL;
+	if (m->workspace_alloc && m->workspace_alloc(&ws, m->ctx))
+		return;
+	for (size_t i = 0; i < st->d; i++)
+		x[i] = prsm_dist_center(&st->vars[i].dist);
+	/* the centres first (j = 0, i = d), then each input at either quantile; one problem is enough */
+	int stop = 0;
+	for (size_t j = 0; j <= st->d && !stop; j++) {
+		const size_t i = j == 0 ? st->d : j - 1;
+		for (int k = 0; k < (i < st->d ? 2 : 1); k++) {
+			const double keep = i < st->d ? x[i] : 0.0;
+			if (i < st->d)
+				x[i] = prsm_dist_quantile(&st->vars[i].dist, u[k]);
+			int bad = m->eval(y, &flags, m->ctx, ws, x) != 0;
+			size_t o = 0;
+			while (o < st->m && fabs(y[o]) <= RANGE_MAX)
+				o++;
+			bad |= o < st->m;
+			if (bad && out->bench.kind == PRSM_BENCH_EXPRESSION) {
+				/* an expression model: the expression at fault, and where; not finite there is a
+				 * warning (those samples fail, and the failure policy applies), beyond +-RANGE_MAX
+				 * a problem (the moments would overflow) */
+				const prsm_expr_model *em = &out->expr;
+				const size_t e = em->output_expr[o < st->m ? o : 0];
+				const int finite = o < st->m ? isfinite(y[o]) : 0;
+				prsm_problems *to = finite ? pr : warnings;
+				char ep[PRSM_JSON_POINTER_MAX], where[160];
+				if (out->expr_single)
+					snprintf(ep, sizeof ep, "/model/expression");
+				else
+					prsm_json_pointer_append(ep, sizeof ep, "/model/expressions", em->expr_names[e]);
+				if (i < st->d)
+					snprintf(where, sizeof where, "with %s at its %s quantile %.6g", st->info[i].name,
+					         k ? "99.865 %" : "0.135 %", x[i]);
+				else
+					snprintf(where, sizeof where, "at the distributions' centres");
+				if (to && finite)
+					prsm_problems_add(to, ep, "range", "%s reaches %.6g %s: beyond +-%g its moments overflow double "
+					                  "arithmetic", em->expr_names[e], y[o], where, RANGE_MAX);
+				else if (to)
+					prsm_problems_add(to, ep, "not_finite", "%s is not finite %s: such samples fail (the failure "
+					                  "policy applies)", em->expr_names[e], where);
+				stop = 1;
+				break;
+			}
+			if (bad) {
+				if (i < st->d)
+					prsm_problems_add(pr, "/model", "range", "the model's output leaves +-%g (or is not "
+					                  "finite) with %s at its %s quantile %.6g: its moments would overflow "
+					                  "double arithmetic; use smaller coefficients or tolerances",
+					                  RANGE_MAX, st->info[i].name, k ? "99.865 %" : "0.135 %", x[i]);
+				else
+					prsm_problems_add(pr, "/model", "range", "the model's output leaves +-%g (or is not "
+					                  "finite) at the distributions' centres", RANGE_MAX);
+				stop = 1;
+				break;
+			}
+			if (i < st->d)
+				x[i] = keep;
+		}
+	}
+	if (ws && m->workspace_free)
+		m->workspace_free(ws);
+}
+
 int prsm_app_study_options(prsm_io_study_options *o)
 {
 	prsm_io_study_options_init(o);
 	o->analyse_design = analyse_design;
 	o->prepare_model = prepare_model;
+	o->check_study = check_ranges;
 	return 0;
 }
 

@@ -1,7 +1,8 @@
 /*
  * study.h: a tolerance study's computations before it runs (schemas/study.schema.json): the
  * nominal analysis of its design, the assembly built on it, and the engine's model of the
- * design with what its outputs need of the nominal nut unit or of the dynamic model. The
+ * design with what its outputs need of the nominal nut unit or of the dynamic model, and the
+ * ranges it would compute checked (distributions, a benchmark's outputs). The
  * document is read by io/study_json.h, which calls these where its reading needs them (its
  * hooks, prsm_io_study_options), so that a study's problems come in one list, in the reading's
  * order; the study then runs by mc/study.h and is written by io/study_json.h.

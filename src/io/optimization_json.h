@@ -122,12 +122,6 @@ cJSON *prsm_io_optimization_result_head(const prsm_io_optimization *od, const pr
 /* cancelled, stop_reason, evaluations, solver and search into doc. */
 void prsm_io_optimization_run_json(cJSON *doc, const prsm_io_optimization *od, const prsm_io_opt_run *run);
 
-/* The point's variables, objectives, constraints, robust constraints, figures and design (and
- * with full its analysis) into o; the names of violated constraints appended to violated (may
- * be NULL). Returns 0 or PRSM_ENOMEM. */
-int prsm_io_optimization_point_json(cJSON *o, const prsm_io_optimization *od, const prsm_io_opt_point *p,
-                                    int full, cJSON *violated);
-
 /* status, feasible, violated and best (p NULL when the run found nothing). Returns 0 or
  * PRSM_ENOMEM. */
 int prsm_io_optimization_best_json(cJSON *doc, const prsm_io_optimization *od, int status,

@@ -120,8 +120,10 @@ static void robust_json(prsm_jw *w, cJSON *arr, const prsm_io_optimization *od,
 	}
 }
 
-int prsm_io_optimization_point_json(cJSON *o, const prsm_io_optimization *od, const prsm_io_opt_point *p,
-                                    int full, cJSON *violated)
+/* The point's variables, objectives, constraints, robust constraints, figures, design and
+ * analysis into o; the names of violated constraints appended to violated (may be NULL).
+ * Returns 0 or PRSM_ENOMEM. */
+static int point_json(cJSON *o, const prsm_io_optimization *od, const prsm_io_opt_point *p, cJSON *violated)
 {
 	prsm_jw w = PRSM_JW_INIT;
 	prsm_io_write(&w, o, "variables", &p->design, &prsm_io_w_variables);
@@ -134,8 +136,7 @@ int prsm_io_optimization_point_json(cJSON *o, const prsm_io_optimization *od, co
 		prsm_problems none;
 		prsm_problems_init(&none);
 		prsm_io_write(&w, o, "design", &p->design, &prsm_io_w_resolved_design);
-		if (full)
-			prsm_io_analysis_write(&w, prsm_jw_object(&w, o, "analysis"), p->analysis, &p->design, p->perf, &none);
+		prsm_io_analysis_write(&w, prsm_jw_object(&w, o, "analysis"), p->analysis, &p->design, p->perf, &none);
 	} else {
 		prsm_jw_null(&w, o, "design");
 	}
@@ -175,7 +176,7 @@ int prsm_io_optimization_best_json(cJSON *doc, const prsm_io_optimization *od, i
 	if (!violated || !best)
 		rc = PRSM_ENOMEM;
 	else if (status != PRSM_OPT_NOTHING)
-		rc = prsm_io_optimization_point_json(best, od, p, 1, violated);
+		rc = point_json(best, od, p, violated);
 	/* feasible only when the optimiser found it so and the fresh check violates nothing */
 	if (status == PRSM_OPT_FEASIBLE && cJSON_GetArraySize(violated) > 0)
 		status = PRSM_OPT_INFEASIBLE;
@@ -214,7 +215,7 @@ int prsm_io_optimization_front_point_json(cJSON *points, const prsm_io_optimizat
 	prsm_jw w = PRSM_JW_INIT;
 	cJSON *pt = prsm_jw_object(&w, points, NULL);
 	prsm_jw_number(&w, pt, "epsilon_limit", epsilon_limit);
-	int rc = pt ? prsm_io_optimization_point_json(pt, od, p, 1, NULL) : 0;
+	int rc = pt ? point_json(pt, od, p, NULL) : 0;
 	return rc ? rc : w.failed ? PRSM_ENOMEM : 0;
 }
 

@@ -85,33 +85,37 @@ typedef struct {
  * the outputs need of the nominal nut unit or of the dynamic model), adding a problem at the
  * output or section that needed what could not be computed.
  *
+ * check_study is called by prsm_io_study_load once the document reads without a problem: it
+ * refuses, at the field at fault, what the engine could not compute (app/study.c: the
+ * distributions' and a benchmark's outputs' ranges), adding problems and warnings.
+ *
  * NULL hooks (PRSM_IO_STUDY_OPTIONS_INIT): the design is taken as usable when it reads, and a
- * design study's model is left unbuilt (the study cannot run): a pure reading. */
+ * design study's model is left unbuilt (the study cannot run), nothing checked: a pure reading. */
 typedef struct {
 	int (*analyse_design)(prsm_io_study *s, prsm_problems *warnings, prsm_problems *problems, void *ctx);
 	void (*prepare_model)(prsm_io_study *s, prsm_problems *problems, void *ctx);
-	void *ctx; /* both hooks' */
+	void (*check_study)(prsm_io_study *s, prsm_problems *warnings, prsm_problems *problems, void *ctx);
+	void *ctx; /* the hooks' */
 } prsm_io_study_options;
 
-#define PRSM_IO_STUDY_OPTIONS_INIT {NULL, NULL, NULL}
+#define PRSM_IO_STUDY_OPTIONS_INIT {NULL, NULL, NULL, NULL}
 
 /* Set *o to PRSM_IO_STUDY_OPTIONS_INIT. Returns 0. */
 int prsm_io_study_options_init(prsm_io_study_options *o);
 
 /* Read and check the study document doc, with the hooks (NULL: PRSM_IO_STUDY_OPTIONS_INIT), and
- * build the variables, then check what the reading alone cannot (prsm_io_study_read's
- * exceptions below). Every problem goes to problems with its pointer; rule warnings of the
- * design to warnings (may be NULL). Returns 0, PRSM_EINVAL (problems were added) or, from
+ * build the variables, then check what the reading alone cannot (hooks->check_study). Every
+ * problem goes to problems with its pointer; rule warnings of the design to warnings (may be
+ * NULL). Returns 0, PRSM_EINVAL (problems were added) or, from
  * hooks->analyse_design, PRSM_EGEOMETRY / PRSM_EEDGE (the design cannot be analysed; a problem
  * names it). prsm_app_study_load (app/study.h) is this with the application's hooks: what
  * every caller that runs the study calls. */
 int prsm_io_study_load(prsm_io_study *out, const cJSON *doc, const prsm_io_study_options *hooks,
                        prsm_problems *warnings, prsm_problems *problems);
 
-/* prsm_io_study_load without its range checks (every distribution's 0.135 / 99.865 % quantiles
- * and a benchmark's outputs there within +-1e150; a length error no larger than the thread pitch;
- * a warning beyond linear assembly mode's checked range): the document as read, which the
- * side-by-side proof compares with the reader it replaced. */
+/* prsm_io_study_load without hooks->check_study (the range checks of app/study.c) and the
+ * warning on the older output name: the document as read, which the side-by-side proof
+ * compares with the reader it replaced. */
 int prsm_io_study_read(prsm_io_study *out, const cJSON *doc, const prsm_io_study_options *hooks,
                        prsm_problems *warnings, prsm_problems *pr);
 

@@ -86,29 +86,20 @@ void prsm_io_whook_contributions(prsm_jw *w, cJSON *obj, const char *key, const 
 	}
 }
 
-/* One side of a spec in the rare-event phase (schemas/study-result.schema.json, $defs/rare_side);
- * nothing when the spec has no limit on that side. */
-static void rare_side(prsm_jw *w, cJSON *obj, const char *key, const prsm_study_rare_side *sd)
+void prsm_io_whook_rare_stop(prsm_jw *w, cJSON *obj, const char *key, const void *at)
 {
-	if (!sd->present)
-		return;
-	const prsm_study *st = &((const prsm_io_study_result_view *)w->ctx)->s->study;
-	cJSON *o = prsm_jw_object(w, obj, key);
-	prsm_jw_string(w, o, "method", prsm_rare_method_name(sd->method));
-	prsm_jw_number(w, o, "probability", sd->pf);
-	prsm_jw_number(w, o, "ppm", 1e6 * sd->pf);
-	prsm_jw_pair(w, o, "interval95_ppm", 1e6 * sd->lower, 1e6 * sd->upper);
-	prsm_jw_number(w, o, "coefficient_of_variation", sd->cov);
-	prsm_jw_number(w, o, "reliability_index", sd->beta);
-	prsm_jw_number(w, o, "evaluations", (double)sd->evaluations);
-	prsm_jw_bool(w, o, "converged", sd->converged);
-	prsm_jw_string(w, o, "stop", prsm_rare_stop_name(sd->stop));
-	prsm_jw_string(w, o, "note", sd->note);
-	prsm_jw_number(w, o, "counted", (double)sd->failures);
-	prsm_jw_number(w, o, "samples", (double)sd->n);
+	prsm_jw_string(w, obj, key, prsm_rare_stop_name(((const prsm_study_rare_side *)at)->stop));
+}
+
+/* A rare-event side's FORM design point (schemas/study-result.schema.json, $defs/rare_side):
+ * nothing when FORM found none. */
+void prsm_io_whook_rare_design_point(prsm_jw *w, cJSON *obj, const char *key, const void *at)
+{
+	const prsm_study_rare_side *sd = at;
 	if (!sd->has_design_point || !sd->x_star)
 		return;
-	cJSON *dp = prsm_jw_object(w, o, "design_point");
+	const prsm_study *st = &((const prsm_io_study_result_view *)w->ctx)->s->study;
+	cJSON *dp = prsm_jw_object(w, obj, key);
 	prsm_jw_number(w, dp, "reliability_index", sd->form_beta);
 	cJSON *tol = prsm_jw_array(w, dp, "tolerances");
 	for (size_t g = 0; tol && g < st->n_groups; g++) {
@@ -122,16 +113,6 @@ static void rare_side(prsm_jw *w, cJSON *obj, const char *key, const prsm_study_
 		prsm_jw_string(w, t, "name", st->info[v].name);
 		prsm_jw_number(w, t, "value", sd->x_star[v]);
 	}
-}
-
-void prsm_io_whook_rare_lower(prsm_jw *w, cJSON *obj, const char *key, const void *at)
-{
-	rare_side(w, obj, key, &((const prsm_study_output_result *)at)->rare[0]);
-}
-
-void prsm_io_whook_rare_upper(prsm_jw *w, cJSON *obj, const char *key, const void *at)
-{
-	rare_side(w, obj, key, &((const prsm_study_output_result *)at)->rare[1]);
 }
 
 /* The first PRSM_MC_LISTED_FAILURES samples of a status. */
@@ -197,38 +178,11 @@ void prsm_io_whook_outputs(prsm_jw *w, cJSON *obj, const char *key, const void *
 		prsm_io_write(w, outs, v->s->study.outputs[v->o].name, &v->r->out[v->o], &prsm_io_w_output);
 }
 
-static void write_probability(prsm_jw *w, cJSON *obj, const char *key, const prsm_study_probability *p)
+/* A probability's half interval width (schemas/study-result.schema.json, $defs/probability). */
+void prsm_io_whook_half_width(prsm_jw *w, cJSON *obj, const char *key, const void *at)
 {
-	cJSON *o = prsm_jw_object(w, obj, key);
-	prsm_jw_number(w, o, "p", p->p);
-	prsm_jw_pair(w, o, "wilson95", p->low95, p->high95);
-	prsm_jw_number(w, o, "half_width", 0.5 * (p->high95 - p->low95));
-	prsm_jw_number(w, o, "count", (double)p->count);
-	prsm_jw_number(w, o, "n", (double)p->n);
-}
-
-/* "dynamics" (schemas/study-result.schema.json): the probabilities, the screen, the model's settings */
-static void write_dynamics(prsm_jw *w, cJSON *doc, const prsm_io_study *s, const prsm_study_dynamics *d)
-{
-	cJSON *o = prsm_jw_object(w, doc, "dynamics");
-	write_probability(w, o, "probability_contact_loss", &d->contact_loss);
-	write_probability(w, o, "probability_non_periodic", &d->non_periodic);
-	cJSON *sc = prsm_jw_object(w, o, "screening");
-	prsm_jw_number(w, sc, "screened", (double)d->screened);
-	prsm_jw_number(w, sc, "integrated", (double)d->integrated);
-	prsm_jw_number(w, sc, "integration_failures", (double)d->failed);
-	prsm_jw_number(w, sc, "no_axial_play", (double)d->no_play);
-	const prsm_mc_dyn *m = &s->dynamics;
-	prsm_jw_number(w, o, "window_revolutions", m->window_rev);
-	prsm_jw_number(w, o, "screw_speed_rad_s", m->vib.screw_speed_rad_s);
-	prsm_jw_number(w, o, "axial_load_N", isnan(m->vib.axial_load_N) ? m->dyn.load.value : m->vib.axial_load_N);
-	cJSON *tl = prsm_jw_array(w, o, "te_orders_per_rev");
-	for (int k = 0; k < m->n_orders; k++)
-		prsm_jw_number(w, tl, NULL, m->order_kstar[k]);
-	if (isnan(s->dyn_stop_half_width))
-		prsm_jw_null(w, o, "stop_half_width");
-	else
-		prsm_jw_number(w, o, "stop_half_width", s->dyn_stop_half_width);
+	const prsm_study_probability *p = at;
+	prsm_jw_number(w, obj, key, 0.5 * (p->high95 - p->low95));
 }
 
 cJSON *prsm_io_study_result_to_json(const prsm_io_study *s, const prsm_study_result *r)
@@ -237,12 +191,12 @@ cJSON *prsm_io_study_result_to_json(const prsm_io_study *s, const prsm_study_res
 		.s = s, .r = r, .model = s->is_benchmark ? prsm_bench_name(s->bench.kind) : "design",
 		.bootstrap = r->sobol_replicates ? 0 : s->study.sens.bootstrap,
 		.sobol_method = r->sobol_replicates >= 2 ? 2 : r->sobol_replicates > 0,
+		.has_dynamics = s->has_dynamics && r->dynamics.present,
+		.dyn_load_N = isnan(s->dynamics.vib.axial_load_N) ? s->dynamics.dyn.load.value : s->dynamics.vib.axial_load_N,
 	};
 	prsm_jw w = {0, &v};
 	cJSON *doc = prsm_jw_root(&w);
 	prsm_io_write_fields(&w, doc, &v, &prsm_io_w_study_result, 0);
-	if (s->has_dynamics && r->dynamics.present)
-		write_dynamics(&w, doc, s, &r->dynamics);
 	return prsm_jw_done(&w, doc);
 }
 
