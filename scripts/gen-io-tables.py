@@ -68,6 +68,14 @@ project headers it includes are read too) and the members the document does not 
   there is no "field"; strings checked against maxLength), "after" (a step run once the array
   is read, present or not). Numbers (with their limits) fill a double array. A step's
   annotation may be {"name", "writes"}.
+  a table root's "rules" (checked by prsm_io_check_rules once the object is read, where the
+  caller places the pass; each in its turn): [{"members": [...], "with": "analysis", "is": [...],
+  "code", "message"}, ...]: each member belongs with those values of the sibling enum "with"
+  (absent: its default); present while the sibling holds another, a problem at it ("{member}" in
+  the message is its name, "{value}" the sibling's value); "if" / "unless": a sibling that must
+  be present / absent for the rule to hold; "keep": [...]: the rule is on each member of the
+  (object) member but those; "value": "shape", "values": [...]: on that member's string value
+  unless it is one of those
   maps (an object with "additionalProperties" and no properties): "key" (prsm_io_key_<name>
   picks the struct a member fills, or refuses its name) and "each"; the items' x-prsm names
   their "struct".
@@ -211,6 +219,7 @@ class Gen:
         self.wrappers = []    # (wrapper name, struct, init function)
         self.generated_init = None  # (function, struct, [(member path, C value)]): "init": {"generate"}
         self.section_init = {}  # member path -> the value its section's "init" sets
+        self.rule_list = []   # the root's "rules": one dict per member each names
 
     def read_header(self, src_root, rel, strict, seen):
         """The structs and enums of header rel, and of the project headers it includes."""
@@ -650,10 +659,55 @@ class Gen:
             init = (self.doc, st, made['generate'] if isinstance(made, dict) else made, [])
             self.inits.append(init)
         root = self.table(self.node, '', st, '', scope, init)
+        self.rules(self.node)
         self.check_scope(scope)
         if isinstance(made, dict):
             self.generate_init(st, init, made.get('set', []))
         return root
+
+    def rules(self, node):
+        """The root's "rules" (prsm_io_check_rules): one prsm_io_rule per member of each, in order."""
+        rules = node['x-prsm'].get('rules', [])
+        props = node.get('properties', {})
+        where = f'{self.path}: "rules"'
+        keys = {'members', 'with', 'is', 'if', 'unless', 'keep', 'value', 'values', 'code', 'message'}
+        for k, rule in enumerate(rules):
+            w = f'{where}[{k}]'
+            if not isinstance(rule, dict) or not {'members', 'with', 'is', 'code', 'message'} <= set(rule) or \
+                    set(rule) - keys or ('keep' in rule and 'value' in rule) or ('value' in rule) != ('values' in rule):
+                raise GenError(f'{w}: a rule is {{"members", "with", "is", "code", "message"}} (and "if", '
+                               f'"unless", "keep" or "value" with "values")')
+            sib = self.resolve(props[rule['with']]) if rule['with'] in props else {}
+            names = sib.get('enum')
+            if not names or not all(isinstance(e, str) for e in names) or sib.get('default') not in names:
+                raise GenError(f'{w}: "with" names {rule["with"]}, which is no string enum with a default here')
+            if not rule['is'] or set(rule['is']) - set(names):
+                raise GenError(f'{w}: "is" lists values of {rule["with"]} ({", ".join(names)})')
+            for c in ('if', 'unless'):
+                if c in rule and rule[c] not in props:
+                    raise GenError(f'{w}: "{c}" names {rule[c]}, which is no member here')
+            for m in rule['members']:
+                if m not in props:
+                    raise GenError(f'{w}: "members" names {m}, which is no member here')
+                sub = self.resolve(props[m]).get('properties', {})
+                if 'keep' in rule and (not sub or set(rule['keep']) - set(sub)):
+                    raise GenError(f'{w}: "keep" lists members of {m}')
+                if 'value' in rule:
+                    en = self.resolve(sub[rule['value']]).get('enum') if rule['value'] in sub else None
+                    if not en or set(rule['values']) - set(en):
+                        raise GenError(f'{w}: "values" lists values of {m}.{rule["value"]}')
+                r = {'member': c_string(m), 'with': c_string(rule['with']),
+                     'with_default': c_string(sib['default']), 'with_names': names, 'allowed': rule['is'],
+                     'code': c_string(rule['code']), 'message': c_string(rule['message'].replace('{member}', m))}
+                if 'if' in rule:
+                    r['present'] = c_string(rule['if'])
+                if 'unless' in rule:
+                    r['absent'] = c_string(rule['unless'])
+                if 'keep' in rule:
+                    r['keep'] = rule['keep']
+                if 'value' in rule:
+                    r['sub'], r['sub_values'] = c_string(rule['value']), rule['values']
+                self.rule_list.append(r)
 
     def generate_init(self, st, init, extra):
         """The struct's init function made from the schema: every member zero, then each
@@ -680,7 +734,10 @@ class Pools:
                'missing': 'strings', 'code': 'strings', 'message': 'strings', 'names': 'names',
                'values': 'values', 'child': 'tables', 'hook': 'hooks', 'init': 'inits', 'step': 'steps',
                'after': 'steps', 'key': 'keys', 'only_key': 'strings', 'only_code': 'strings',
-               'only_message': 'strings', 'only_required': 'strings'}
+               'only_message': 'strings', 'only_required': 'strings',
+               'member': 'strings', 'sub': 'strings', 'with': 'strings', 'with_default': 'strings',
+               'present': 'strings', 'absent': 'strings', 'with_names': 'names', 'allowed': 'names',
+               'keep': 'names', 'sub_values': 'names'}
     TYPES = (('strings', 'const char *const prsm_io_gen_strings[]'),
              ('names', 'const char *const *const prsm_io_gen_names[]'),
              ('values', 'const int *const prsm_io_gen_values[]'),
@@ -788,6 +845,25 @@ def emit(gens, out_dir):
             c.append('\treturn bad;')
             c.append('}')
             c.append('')
+        if g.rule_list:  # the root's "rules": prsm_io_r_<table> (their name lists first)
+            lists = {}
+            for r in g.rule_list:
+                for k in ('with_names', 'allowed', 'keep', 'sub_values'):
+                    if k in r:
+                        key = tuple(r[k])
+                        if key not in lists:
+                            lists[key] = f'prsm_io_r_{g.doc}_names{len(lists)}'
+                            c.append(f'static const char *const {lists[key]}[] = {{' +
+                                     ', '.join(c_string(n) for n in key) + ', NULL};')
+                        r[k] = lists[key]
+            c.append(f'static const prsm_io_rule prsm_io_r_{g.doc}_rules[] = {{')
+            for r in g.rule_list:
+                c.append('\t{' + ', '.join(f'.{k} = {pools.ref(k, v)}' for k, v in r.items()) + '},')
+            c.append('};')
+            c.append(f'const prsm_io_rules prsm_io_r_{g.doc} = {{prsm_io_r_{g.doc}_rules, '
+                     f'sizeof prsm_io_r_{g.doc}_rules / sizeof prsm_io_r_{g.doc}_rules[0]}};')
+            c.append('')
+            h.append(f'extern const prsm_io_rules prsm_io_r_{g.doc};')
         # the sections other code reads on their own (e.g. an operating point in a study)
         for cname, sname, fields, keys, cond in g.tables:
             for sec in g.root_note.get('export', []):

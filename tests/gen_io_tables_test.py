@@ -272,4 +272,49 @@ doc_check('dynamics', '"set" on a member with a schema default is refused',
 doc_check('dynamics', 'an "init" object without "generate" is refused',
           lambda s: linear(s)['x-prsm'].update(init={'set': []}), 1,
           '"init" is a function\'s name or {"generate": "name", "set": [...]}')
+
+
+def rule(s, k):
+    """The dynamics root's k-th rule."""
+    return s['x-prsm']['rules'][k]
+
+
+RULE_CHECKS = [  # (name, edit of the dynamics schema or None, exit code, text the output holds)
+    ('"rules": one rule per member, in the listed order, the sibling\'s names and default', None, 0,
+     '{.member = "gear_pair", .with = "analysis", .with_default = "transient", .with_names = '
+     'prsm_io_r_dynamics_names0, .allowed = prsm_io_r_dynamics_names1, .code = "not_used", .message = "belongs to '
+     'the vibration analyses'),
+    ('... the name lists they use', None, 0,
+     'static const char *const prsm_io_r_dynamics_names1[] = {"linear", "vibration", "sweep", '
+     '"frequency_response", "basins", NULL};'),
+    ('... "{member}" is each member\'s name, "if" a sibling that must be there', None, 0,
+     '{.member = "inertia", .with = "analysis", .with_default = "transient", .with_names = '
+     'prsm_io_r_dynamics_names0, .allowed = prsm_io_r_dynamics_names2, .code = "not_used", .message = "a gear pair '
+     'is dimensionless and has every parameter in gear_pair: inertia is the reduced model\'s (with a design)", '
+     '.present = "gear_pair"}'),
+    ('... "keep" the members the rule spares, "unless" a sibling that must be absent', None, 0,
+     '"the vibration model\'s load is constant: axial_load_N", .absent = "gear_pair", .keep = '
+     'prsm_io_r_dynamics_names4}'),
+    ('... "value" a member\'s value and the values it may hold', None, 0,
+     '.absent = "gear_pair", .sub = "shape", .sub_values = prsm_io_r_dynamics_names5}'),
+    ('... and the table of them', None, 0,
+     'const prsm_io_rules prsm_io_r_dynamics = {prsm_io_r_dynamics_rules, sizeof prsm_io_r_dynamics_rules / '
+     'sizeof prsm_io_r_dynamics_rules[0]};'),
+    ('a rule "with" a sibling that is no enum with a default is refused', lambda s: rule(s, 2).update({'with': 'time'}),
+     1, '"rules"[2]: "with" names time, which is no string enum with a default here'),
+    ('a rule with a value the sibling does not have is refused',
+     lambda s: rule(s, 2).update({'is': ['transient', 'calibrate']}), 1, '"rules"[2]: "is" lists values of analysis'),
+    ('a rule on a member the object does not have is refused', lambda s: rule(s, 2)['members'].append('outputs'), 1,
+     '"members" names outputs, which is no member here'),
+    ('a rule keeping a member its object does not have is refused', lambda s: rule(s, 1)['keep'].append('step_s'), 1,
+     '"rules"[1]: "keep" lists members of time'),
+    ('a rule on a value its member cannot hold is refused', lambda s: rule(s, 6)['values'].append('square'), 1,
+     '"rules"[6]: "values" lists values of load.shape'),
+    ('a rule "if" a sibling the object does not have is refused', lambda s: rule(s, 4).update({'if': 'pair'}), 1,
+     '"rules"[4]: "if" names pair, which is no member here'),
+    ('a rule without its message is refused', lambda s: rule(s, 3).pop('message'), 1,
+     '"rules"[3]: a rule is {"members", "with", "is", "code", "message"}'),
+]
+for name, edit, rc, text in RULE_CHECKS:
+    doc_check('dynamics', name, edit, rc, text)
 sys.exit(1 if failed else 0)

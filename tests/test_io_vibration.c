@@ -460,6 +460,43 @@ static void test_problems_all_at_once(void **state)
 	assert_int_equal(p.count, 7);
 }
 
+/* The members an analysis does not use (the schema's "rules"), each at its pointer, in the order
+ * the rules list them (within a section: the document's order), the transient's and a vibration
+ * analysis' in their own orders. */
+static void test_rules_in_their_order(void **state)
+{
+	(void)state;
+	static const struct {
+		const char *doc;
+		const char *pointers[12];
+	} cases[] = {
+		{"{\"analysis\": \"vibration\", \"basins\": {}, \"sweep\": {}, \"linear\": {}, \"steady_state\": {},"
+		 " \"friction\": {\"static_mu\": 0.1, \"model\": \"viscous\"}, \"load\": {\"shape\": \"ramp\", \"ramp_time_s\": 1},"
+		 " \"losses\": \"statics\", \"input\": {}, \"time\": {\"stepper\": \"rk8pd\", \"end_s\": 1, \"rel_tol\": 1e-8}}",
+		 {"/dynamics/time/stepper", "/dynamics/time/end_s", "/dynamics/input", "/dynamics/losses",
+		  "/dynamics/load/ramp_time_s", "/dynamics/load/shape", "/dynamics/friction/static_mu",
+		  "/dynamics/friction/model", "/dynamics/linear", "/dynamics/sweep", "/dynamics/basins", NULL}},
+		{"{\"linear\": {}, \"basins\": {}, \"gear_pair\": {}, \"input\": {}, \"time\": {\"end_s\": 0.01}}",
+		 {"/dynamics/gear_pair", "/dynamics/basins", "/dynamics/linear", NULL}},
+	};
+	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+		prsm_dyn_options o;
+		prsm_io_vib_request v;
+		prsm_problems p;
+		assert_int_equal(read_text(&o, &v, cases[i].doc, 1, &p), PRSM_EINVAL);
+		int k = 0;
+		for (int j = 0; j < p.count; j++)
+			if (strcmp(p.items[j].code, "not_used") == 0) {
+				if (cases[i].pointers[k] == NULL || strcmp(p.items[j].pointer, cases[i].pointers[k]) != 0)
+					dump(&p);
+				assert_non_null(cases[i].pointers[k]);
+				assert_string_equal(p.items[j].pointer, cases[i].pointers[k]);
+				k++;
+			}
+		assert_null(cases[i].pointers[k]);
+	}
+}
+
 int main(void)
 {
 	prsm_global_init();
@@ -469,6 +506,7 @@ int main(void)
 		cmocka_unit_test(test_every_field),
 		cmocka_unit_test(test_every_invalid_case_at_its_pointer),
 		cmocka_unit_test(test_problems_all_at_once),
+		cmocka_unit_test(test_rules_in_their_order),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -35,18 +35,6 @@ void prsm_io_whook_spectrum_lines(prsm_jw *w, cJSON *obj, const char *key, const
 	}
 }
 
-/* Gaps of one side and direction, roller by roller: [[thread 0 .. n_t - 1] per roller], um. */
-void prsm_io_whook_gap_table(prsm_jw *w, cJSON *obj, const char *key, const void *at)
-{
-	const prsm_io_gap_view *g = at;
-	cJSON *arr = prsm_jw_array(w, obj, key);
-	for (int j = 0; arr && j < g->rollers; j++) {
-		cJSON *row = prsm_jw_array(w, arr, NULL);
-		for (int k = 0; row && k < g->threads; k++)
-			prsm_jw_number(w, row, NULL, g->gap_mm[j * g->threads + k] * UM);
-	}
-}
-
 cJSON *prsm_io_assembly_to_json(const prsm_assembly_report *r, const prsm_assembly *as,
                                 const prsm_assembly_options *o, const prsm_assembly_workspace *ws)
 {

@@ -282,3 +282,70 @@ int prsm_io_was_read(const prsm_io_at *at, const char *key)
 			return 1;
 	return 0;
 }
+
+/* ---- the rules of a table, checked once the object is read (doc.h) ---------------------------- */
+
+static int listed(unsigned short names, const char *s)
+{
+	for (const char *const *n = prsm_io_gen_names[names]; n && *n; n++)
+		if (strcmp(*n, s) == 0)
+			return 1;
+	return 0;
+}
+
+void prsm_io_problem_once(prsm_problems *problems, int from, const char *pointer, const char *key, const char *code,
+                          const char *fmt, ...)
+{
+	char p[PRSM_JSON_POINTER_MAX], msg[PRSM_PROBLEM_MESSAGE_MAX];
+	if (key)
+		prsm_json_pointer_append(p, sizeof p, pointer, key);
+	else
+		snprintf(p, sizeof p, "%s", pointer);
+	for (int i = from; i < problems->count; i++)
+		if (strcmp(problems->items[i].pointer, p) == 0)
+			return;
+	va_list ap;
+	va_start(ap, fmt);
+	vsnprintf(msg, sizeof msg, fmt, ap);
+	va_end(ap);
+	prsm_problems_add(problems, p, code, "%s", msg);
+}
+
+/* A rule's problem at pointer/member[/key] ("{value}" in its message: the sibling's value). */
+static void rule_problem(prsm_problems *problems, int from, const char *pointer, const prsm_io_rule *r,
+                         const char *key, const char *value)
+{
+	char p[PRSM_JSON_POINTER_MAX];
+	prsm_json_pointer_append(p, sizeof p, pointer, STR(r->member));
+	const char *m = STR(r->message), *at = strstr(m, "{value}");
+	prsm_io_problem_once(problems, from, p, key, STR(r->code), "%.*s%s%s", at ? (int)(at - m) : (int)strlen(m), m,
+	                     at ? value : "", at ? at + strlen("{value}") : "");
+}
+
+void prsm_io_check_rules(const prsm_io_rules *rules, const cJSON *obj, const char *obj_pointer, int from,
+                         prsm_problems *problems)
+{
+	if (!cJSON_IsObject(obj))
+		return;
+	for (size_t i = 0; i < rules->n; i++) {
+		const prsm_io_rule *r = &rules->rules[i];
+		const cJSON *w = cJSON_GetObjectItemCaseSensitive(obj, STR(r->with));
+		const char *value = w == NULL ? STR(r->with_default) : cJSON_IsString(w) ? w->valuestring : NULL;
+		const cJSON *m = cJSON_GetObjectItemCaseSensitive(obj, STR(r->member));
+		if (value == NULL || !listed(r->with_names, value) || listed(r->allowed, value) || m == NULL ||
+		    (r->present && !cJSON_GetObjectItemCaseSensitive(obj, STR(r->present))) ||
+		    (r->absent && cJSON_GetObjectItemCaseSensitive(obj, STR(r->absent))))
+			continue;
+		if (r->keep) { /* its members but those */
+			for (const cJSON *it = cJSON_IsObject(m) ? m->child : NULL; it; it = it->next)
+				if (it->string != NULL && !listed(r->keep, it->string))
+					rule_problem(problems, from, obj_pointer, r, it->string, value);
+		} else if (r->sub) { /* its member's value */
+			const cJSON *s = cJSON_IsObject(m) ? cJSON_GetObjectItemCaseSensitive(m, STR(r->sub)) : NULL;
+			if (cJSON_IsString(s) && !listed(r->sub_values, s->valuestring))
+				rule_problem(problems, from, obj_pointer, r, STR(r->sub), value);
+		} else {
+			rule_problem(problems, from, obj_pointer, r, NULL, value);
+		}
+	}
+}

@@ -138,6 +138,21 @@ typedef struct prsm_io_table {
 	int when_not;
 } prsm_io_table;
 
+/* A rule of a table's "rules" (its x-prsm; io/doc.c, prsm_io_check_rules): member (with keep:
+ * each of its members but those; with sub: its member sub's string value unless one of
+ * sub_values) belongs with the values `allowed` of the sibling enum `with` (its JSON value, absent:
+ * with_default; not one of with_names: no rule), while `present` is there and `absent` is not
+ * (0: no condition); else a problem (code, message; "{value}": the sibling's value) at it. */
+typedef struct {
+	unsigned short member, sub, with, with_default, with_names, allowed; /* strings, names */
+	unsigned short present, absent, keep, sub_values, code, message;
+} prsm_io_rule;
+
+typedef struct {
+	const prsm_io_rule *rules;
+	size_t n;
+} prsm_io_rules;
+
 /* Read object obj (pointer obj_pointer) into base by table t: keys, then each field in the
  * schema's order. obj must be an object (the caller checks the document's root). Returns 0, or
  * PRSM_EINVAL when a problem was added. */
@@ -162,6 +177,17 @@ int prsm_io_get(const prsm_io_at *at, const char *key, prsm_problems *problems);
 
 /* For a step: 1 when field key of at's table was there and valid. */
 int prsm_io_was_read(const prsm_io_at *at, const char *key);
+
+/* Check obj (pointer obj_pointer, NULL: absent) against the rules of its table, once it and the
+ * members they name are read (the caller places the pass in its problem list's order): each rule
+ * in turn, its problems in the document's order of the members; none at a pointer that has one
+ * since the first `from` problems. */
+void prsm_io_check_rules(const prsm_io_rules *rules, const cJSON *obj, const char *obj_pointer, int from,
+                         prsm_problems *problems);
+
+/* prsm_io_problem unless a problem since the first `from` is at pointer/key already. */
+void prsm_io_problem_once(prsm_problems *problems, int from, const char *pointer, const char *key, const char *code,
+                          const char *fmt, ...) __attribute__((format(printf, 6, 7)));
 
 /* A problem at pointer/key (key NULL: at pointer). */
 void prsm_io_problem(prsm_problems *problems, const char *pointer, const char *key, const char *code,

@@ -66,15 +66,6 @@ void prsm_io_hook_dynamics_inertia(void *base, const cJSON *obj, const char *obj
 
 /* ---- the reader -------------------------------------------------------------------------------- */
 
-/* 1 when a problem since `from` is at pointer exactly. */
-static int problem_at_pointer(const prsm_problems *p, int from, const char *pointer)
-{
-	for (int i = from; i < p->count; i++)
-		if (strcmp(p->items[i].pointer, pointer) == 0)
-			return 1;
-	return 0;
-}
-
 /* The single-stage form (fields of `inertia`) or the chain's (`inertia.stages`, K objects). */
 static void check_inertia_form(const cJSON *obj, int stages, prsm_problems *problems)
 {
@@ -94,9 +85,8 @@ static void check_inertia_form(const cJSON *obj, int stages, prsm_problems *prob
 				                  "a chain of %d stages gives each stage's masses in inertia.stages "
 				                  "(%d objects, stage 1 first)", stages, stages);
 			}
-		if (cJSON_IsArray(arr) && cJSON_GetArraySize(arr) != stages &&
-		    !problem_at_pointer(problems, 0, "/dynamics/inertia/stages"))
-			prsm_problems_add(problems, "/dynamics/inertia/stages", "size",
+		if (cJSON_IsArray(arr) && cJSON_GetArraySize(arr) != stages)
+			prsm_io_problem_once(problems, 0, "/dynamics/inertia/stages", NULL, "size",
 			                  "must have %d objects, one per stage of the chain (got %d)", stages,
 			                  cJSON_GetArraySize(arr));
 	}
@@ -106,9 +96,6 @@ static void check_inertia_form(const cJSON *obj, int stages, prsm_problems *prob
 
 static const char *const analysis_names[] = {"transient", "linear", "vibration", "sweep", "frequency_response",
                                              "basins", NULL};
-/* the section each vibration analysis reads, besides the model's */
-static const char *const analysis_section[PRSM_IO_DYN_ANALYSES] = {NULL, "linear", "steady_state", "sweep",
-                                                                   "frequency_response", "basins"};
 
 const char *prsm_io_dynamics_analysis_name(int analysis)
 {
@@ -249,20 +236,11 @@ static void read_section(void *base, const prsm_io_table *t, const cJSON *obj, c
 }
 
 /* The step of the dynamics table (schemas/dynamics.schema.json, "order"): the analysis and the
- * sections of the vibration analyses into the caller's prsm_io_vib_request (at->ctx; NULL: read
- * into a scratch request, checked only). */
+ * sections of the vibration analyses into the prsm_io_vib_request of prsm_io_dynamics_read
+ * (at->ctx). */
 int prsm_io_step_dynamics_vibration(prsm_io_at *at, prsm_problems *problems)
 {
-	prsm_io_vib_request *scratch = NULL, *v = at->ctx;
-	if (v == NULL) {
-		scratch = malloc(sizeof *scratch);
-		if (scratch == NULL) {
-			prsm_problems_add(problems, at->pointer, "memory", "out of memory reading the dynamics object");
-			return 1;
-		}
-		prsm_io_vib_request_init(scratch);
-		v = scratch;
-	}
+	prsm_io_vib_request *v = at->ctx;
 	const cJSON *obj = at->obj;
 	const cJSON *a = cJSON_GetObjectItemCaseSensitive(obj, "analysis");
 	if (a != NULL) {
@@ -289,52 +267,12 @@ int prsm_io_step_dynamics_vibration(prsm_io_at *at, prsm_problems *problems)
 	read_section(&v->linear, &prsm_io_t_dynamics_linear, obj, at->pointer, "linear", problems);
 	read_section(&v->frequency_response, &prsm_io_t_dynamics_frequency_response, obj, at->pointer,
 	             "frequency_response", problems);
-	free(scratch);
 	return 0;
-}
-
-/* A problem at /dynamics/<section>[/<key>] unless one is there already. */
-static void problem_once(prsm_problems *p, int from, const char *section, const char *key, const char *code,
-                         const char *fmt, ...) __attribute__((format(printf, 6, 7)));
-static void problem_once(prsm_problems *p, int from, const char *section, const char *key, const char *code,
-                         const char *fmt, ...)
-{
-	char ptr[PRSM_JSON_POINTER_MAX], sec[PRSM_JSON_POINTER_MAX];
-	prsm_json_pointer_append(sec, sizeof sec, "/dynamics", section);
-	if (key != NULL)
-		prsm_json_pointer_append(ptr, sizeof ptr, sec, key);
-	else
-		snprintf(ptr, sizeof ptr, "%s", sec);
-	for (int i = from; i < p->count; i++)
-		if (strcmp(p->items[i].pointer, ptr) == 0)
-			return;
-	char msg[PRSM_PROBLEM_MESSAGE_MAX];
-	va_list ap;
-	va_start(ap, fmt);
-	vsnprintf(msg, sizeof msg, fmt, ap);
-	va_end(ap);
-	prsm_problems_add(p, ptr, code, "%s", msg);
 }
 
 static const cJSON *member(const cJSON *obj, const char *key)
 {
 	return cJSON_IsObject(obj) ? cJSON_GetObjectItemCaseSensitive(obj, key) : NULL;
-}
-
-/* Every member of section (an object of obj) but the allowed ones: "not used" at its pointer. */
-static void only_members(prsm_problems *p, int from, const cJSON *obj, const char *section,
-                         const char *const *allowed, const char *why)
-{
-	const cJSON *s = member(obj, section);
-	if (!cJSON_IsObject(s))
-		return;
-	for (const cJSON *it = s->child; it; it = it->next) {
-		int ok = 0;
-		for (int i = 0; allowed[i] && !ok; i++)
-			ok = it->string != NULL && strcmp(it->string, allowed[i]) == 0;
-		if (!ok && it->string != NULL)
-			problem_once(p, from, section, it->string, "not_used", "%s", why);
-	}
 }
 
 static int axial_observable(int obs)
@@ -348,17 +286,18 @@ static void observable_rules(prsm_problems *p, int from, const prsm_io_vib_reque
 {
 	const int pair = v->gear_pair_model, br = v->vibration.branches;
 	if (axial_observable(observable) && (pair || br == PRSM_VIB_BRANCHES_GEAR))
-		problem_once(p, from, section, "observable", "branch",
-		             "%s: an axial observable needs the reduced model's axial branch (vibration.branches both or "
-		             "axial)", pair ? "a gear pair has none" : "the axial branch is off");
+		prsm_io_problem_once(p, from, section, "observable", "branch",
+		                     "%s: an axial observable needs the reduced model's axial branch (vibration.branches both or "
+		                     "axial)", pair ? "a gear pair has none" : "the axial branch is off");
 	else if (!axial_observable(observable) && !pair && br == PRSM_VIB_BRANCHES_AXIAL)
-		problem_once(p, from, section, "observable", "branch",
-		             "the gear branch is off (vibration.branches axial): observe axial_deflection, axial_rate "
-		             "or thread_force");
+		prsm_io_problem_once(p, from, section, "observable", "branch",
+		                     "the gear branch is off (vibration.branches axial): observe axial_deflection, axial_rate "
+		                     "or thread_force");
 	if (clock == PRSM_VIB_CLOCK_TE && (pair || v->vibration.te_source == PRSM_VIB_TE_NONE))
-		problem_once(p, from, section, "clock", "no_te",
-		             "the te clock is the common period of the TE lines: %s", pair ? "a gear pair has none"
-		                                                                       : "give vibration.te_lines");
+		prsm_io_problem_once(p, from, section, "clock", "no_te",
+		                     "the te clock is the common period of the TE lines: %s",
+		                     pair ? "a gear pair has none"
+		                                                                               : "give vibration.te_lines");
 }
 
 static void periods_rule(prsm_problems *p, int from, const char *section, int transient, int recorded,
@@ -366,9 +305,9 @@ static void periods_rule(prsm_problems *p, int from, const char *section, int tr
 {
 	const double total = (double)transient + recorded + (lyapunov ? lyapunov_periods : 0);
 	if (total > PRSM_VIB_PERIODS_MAX)
-		problem_once(p, from, section, "transient_periods", "too_long",
-		             "%.0f forcing periods per run (transient + recorded%s), at most %d", total,
-		             lyapunov ? " + Lyapunov" : "", PRSM_VIB_PERIODS_MAX);
+		prsm_io_problem_once(p, from, section, "transient_periods", "too_long",
+		                     "%.0f forcing periods per run (transient + recorded%s), at most %d", total,
+		                     lyapunov ? " + Lyapunov" : "", PRSM_VIB_PERIODS_MAX);
 }
 
 /* A sweep grid value of parameter par is valid for the model (the engine's ranges). */
@@ -407,98 +346,110 @@ static void sweep_rules(prsm_problems *p, int from, const cJSON *obj, const prsm
 	                                   PRSM_IO_SWEEP_MESH_DAMPING_RATIO};
 	int ok_par = 1;
 	if (fr && s->parameter != PRSM_IO_SWEEP_FREQUENCY_RATIO) {
-		problem_once(p, from, "sweep", "parameter", "frequency_response",
-		             "a frequency response sweeps the frequency ratio (got %s)", prsm_io_sweep_parameter_name(s->parameter));
+		prsm_io_problem_once(p, from, "/dynamics/sweep", "parameter", "frequency_response",
+		                     "a frequency response sweeps the frequency ratio (got %s)",
+		                     prsm_io_sweep_parameter_name(s->parameter));
 		ok_par = 0;
 	} else if (s->parameter != PRSM_IO_SWEEP_FREQUENCY_RATIO) {
 		int reduced = 0;
 		for (size_t i = 0; i < sizeof reduced_only / sizeof reduced_only[0]; i++)
 			reduced |= s->parameter == reduced_only[i];
 		if (reduced == pair) {
-			problem_once(p, from, "sweep", "parameter", "model",
-			             "%s is a parameter of the %s: the %s sweeps frequency_ratio, %s",
-			             prsm_io_sweep_parameter_name(s->parameter), pair ? "reduced model" : "gear pair",
-			             pair ? "gear pair" : "reduced model",
-			             pair ? "error_amplitude, damping_ratio, mean_load or stiffness_variation"
-			                  : "screw_speed_rad_s, mesh_error_um or mesh_damping_ratio");
+			prsm_io_problem_once(p, from, "/dynamics/sweep", "parameter", "model",
+			                     "%s is a parameter of the %s: the %s sweeps frequency_ratio, %s",
+			                     prsm_io_sweep_parameter_name(s->parameter),
+			                     pair ? "reduced model" : "gear pair",
+			                     pair ? "gear pair" : "reduced model",
+			                     pair ? "error_amplitude, damping_ratio, mean_load or stiffness_variation"
+			                          : "screw_speed_rad_s, mesh_error_um or mesh_damping_ratio");
 			ok_par = 0;
 		}
 	}
 	if (fr && member(so, "directions") != NULL && !(s->up && s->down))
-		problem_once(p, from, "sweep", "directions", "frequency_response",
-		             "a frequency response sweeps both ways (its jumps are where they disagree): [\"up\", \"down\"]");
+		prsm_io_problem_once(p, from, "/dynamics/sweep", "directions", "frequency_response",
+		                     "a frequency response sweeps both ways (its jumps are where they disagree): [\"up\", \"down\"]");
 	if (!(s->to >= s->from)) {
-		problem_once(p, from, "sweep", "to", "order", "the sweep runs from %g to %g: to must be >= from", s->from,
-		             s->to);
+		prsm_io_problem_once(p, from, "/dynamics/sweep", "to", "order",
+		                     "the sweep runs from %g to %g: to must be >= from", s->from,
+		                     s->to);
 		return;
 	}
 	const double q = floor((s->to - s->from) / s->step + 1e-9);
 	if (!(q + 1.0 <= PRSM_VIB_SWEEP_POINTS_MAX)) {
-		problem_once(p, from, "sweep", "step", "too_many",
-		             "the sweep has %.4g points per direction, at most %d: raise the step", q + 1.0,
-		             PRSM_VIB_SWEEP_POINTS_MAX);
+		prsm_io_problem_once(p, from, "/dynamics/sweep", "step", "too_many",
+		                     "the sweep has %.4g points per direction, at most %d: raise the step", q + 1.0,
+		                     PRSM_VIB_SWEEP_POINTS_MAX);
 		return;
 	}
 	const int dirs = fr ? 2 : s->up + s->down;
 	const double total = (q + 1.0) * dirs *
 	                     ((double)s->transient_periods + s->recorded_periods + (s->lyapunov ? s->lyapunov_periods : 0));
 	if (total > 5e8)
-		problem_once(p, from, "sweep", NULL, "too_long",
-		             "the sweep integrates %.3g forcing periods in all, at most 5e8: fewer points or periods", total);
-	periods_rule(p, from, "sweep", s->transient_periods, s->recorded_periods, s->lyapunov, s->lyapunov_periods);
+		prsm_io_problem_once(p, from, "/dynamics", "sweep", "too_long",
+		                     "the sweep integrates %.3g forcing periods in all, at most 5e8: fewer points or periods", total);
+	periods_rule(p, from, "/dynamics/sweep", s->transient_periods, s->recorded_periods, s->lyapunov, s->lyapunov_periods);
 	if (ok_par) {
 		const char *why = sweep_value_invalid(v, s->parameter, s->from);
 		if (why)
-			problem_once(p, from, "sweep", "from", "range", "%s (got %g)", why, s->from);
+			prsm_io_problem_once(p, from, "/dynamics/sweep", "from", "range", "%s (got %g)", why, s->from);
 		const double last = s->from + q * s->step;
 		why = sweep_value_invalid(v, s->parameter, last);
 		if (why)
-			problem_once(p, from, "sweep", "to", "range", "%s (the last grid value is %g)", why, last);
+			prsm_io_problem_once(p, from, "/dynamics/sweep", "to", "range",
+			                     "%s (the last grid value is %g)", why, last);
 	}
-	observable_rules(p, from, v, "sweep", s->observable, s->clock);
+	observable_rules(p, from, v, "/dynamics/sweep", s->observable, s->clock);
 	if (pair && s->roller != 0)
-		problem_once(p, from, "sweep", "roller", "model", "a gear pair has one mesh: roller 0");
+		prsm_io_problem_once(p, from, "/dynamics/sweep", "roller", "model",
+		                     "a gear pair has one mesh: roller 0");
 }
 
 static void steady_rules(prsm_problems *p, int from, const prsm_io_vib_request *v)
 {
 	const prsm_io_vib_steady *s = &v->steady_state;
-	periods_rule(p, from, "steady_state", s->transient_periods, s->recorded_periods, s->lyapunov, s->lyapunov_periods);
+	periods_rule(p, from, "/dynamics/steady_state", s->transient_periods, s->recorded_periods, s->lyapunov, s->lyapunov_periods);
 	if ((double)s->recorded_periods * s->samples_per_period > 4e7)
-		problem_once(p, from, "steady_state", "samples_per_period", "too_many",
-		             "%d recorded periods x %d samples is more than 4e7 samples", s->recorded_periods,
-		             s->samples_per_period);
-	observable_rules(p, from, v, "steady_state", s->observable, s->clock);
+		prsm_io_problem_once(p, from, "/dynamics/steady_state", "samples_per_period", "too_many",
+		                     "%d recorded periods x %d samples is more than 4e7 samples", s->recorded_periods,
+		                     s->samples_per_period);
+	observable_rules(p, from, v, "/dynamics/steady_state", s->observable, s->clock);
 	if (v->gear_pair_model && s->roller != 0)
-		problem_once(p, from, "steady_state", "roller", "model", "a gear pair has one mesh: roller 0");
+		prsm_io_problem_once(p, from, "/dynamics/steady_state", "roller", "model",
+		                     "a gear pair has one mesh: roller 0");
 	if (v->gear_pair_model && s->lyapunov_exponents > 2)
-		problem_once(p, from, "steady_state", "lyapunov_exponents", "range",
-		             "a gear pair has 2 Lyapunov exponents (got %d)", s->lyapunov_exponents);
+		prsm_io_problem_once(p, from, "/dynamics/steady_state", "lyapunov_exponents", "range",
+		                     "a gear pair has 2 Lyapunov exponents (got %d)", s->lyapunov_exponents);
 	if (s->lyapunov_method == PRSM_VIB_LYAPUNOV_TWO_TRAJECTORIES && s->lyapunov_exponents != 1)
-		problem_once(p, from, "steady_state", "lyapunov_exponents", "range",
-		             "two trajectories give the largest exponent only: 1 (got %d)", s->lyapunov_exponents);
+		prsm_io_problem_once(p, from, "/dynamics/steady_state", "lyapunov_exponents", "range",
+		                     "two trajectories give the largest exponent only: 1 (got %d)",
+		                     s->lyapunov_exponents);
 }
 
 static void basins_rules(prsm_problems *p, int from, const prsm_io_vib_request *v)
 {
 	const prsm_io_vib_basins *b = &v->basins;
 	if (!(b->deflection_max > b->deflection_min))
-		problem_once(p, from, "basins", "deflection_max", "order", "the grid needs deflection_min < deflection_max");
+		prsm_io_problem_once(p, from, "/dynamics/basins", "deflection_max", "order",
+		                     "the grid needs deflection_min < deflection_max");
 	if (!(b->rate_max > b->rate_min))
-		problem_once(p, from, "basins", "rate_max", "order", "the grid needs rate_min < rate_max");
+		prsm_io_problem_once(p, from, "/dynamics/basins", "rate_max", "order",
+		                     "the grid needs rate_min < rate_max");
 	const double cells = (double)b->deflection_cells * b->rate_cells;
 	if (cells > PRSM_VIB_BASIN_CELLS_MAX)
-		problem_once(p, from, "basins", "deflection_cells", "too_many", "%.0f cells, at most %d", cells,
-		             PRSM_VIB_BASIN_CELLS_MAX);
+		prsm_io_problem_once(p, from, "/dynamics/basins", "deflection_cells", "too_many",
+		                     "%.0f cells, at most %d", cells,
+		                     PRSM_VIB_BASIN_CELLS_MAX);
 	else if (cells * ((double)b->periods + b->identify_periods) > 2e8)
-		problem_once(p, from, "basins", "periods", "too_long",
-		             "the grid integrates %.3g forcing periods in all, at most 2e8", cells * ((double)b->periods +
-		                                                                                     b->identify_periods));
+		prsm_io_problem_once(p, from, "/dynamics/basins", "periods", "too_long",
+		                     "the grid integrates %.3g forcing periods in all, at most 2e8",
+		                     cells * ((double)b->periods +
+		                                                                                             b->identify_periods));
 	if (v->gear_pair_model && b->roller != 0)
-		problem_once(p, from, "basins", "roller", "model", "a gear pair has one mesh: roller 0");
+		prsm_io_problem_once(p, from, "/dynamics/basins", "roller", "model",
+		                     "a gear pair has one mesh: roller 0");
 	if (!v->gear_pair_model && v->vibration.branches == PRSM_VIB_BRANCHES_AXIAL)
-		problem_once(p, from, "basins", NULL, "branch",
-		             "the basins vary a roller's spin: the gear branch is off (vibration.branches axial)");
+		prsm_io_problem_once(p, from, "/dynamics", "basins", "branch",
+		                     "the basins vary a roller's spin: the gear branch is off (vibration.branches axial)");
 }
 
 static void linear_rules(prsm_problems *p, int from, const cJSON *obj, const prsm_io_vib_request *v)
@@ -510,33 +461,42 @@ static void linear_rules(prsm_problems *p, int from, const cJSON *obj, const prs
 	                                                                          "to_frequency_ratio"};
 	for (int i = 0; i < 2; i++) {
 		if (pair && member(lo, hz[i]))
-			problem_once(p, from, "linear", hz[i], "model",
-			             "a gear pair is dimensionless: give the band as from_frequency_ratio, to_frequency_ratio");
+			prsm_io_problem_once(p, from, "/dynamics/linear", hz[i], "model",
+			                     "a gear pair is dimensionless: give the band as from_frequency_ratio, to_frequency_ratio");
 		if (!pair && member(lo, ratio[i]))
-			problem_once(p, from, "linear", ratio[i], "model",
-			             "the reduced model's band is in Hz: from_Hz, to_Hz");
+			prsm_io_problem_once(p, from, "/dynamics/linear", ratio[i], "model",
+			                     "the reduced model's band is in Hz: from_Hz, to_Hz");
 	}
 	if (pair && !(l->to_frequency_ratio > l->from_frequency_ratio))
-		problem_once(p, from, "linear", "to_frequency_ratio", "order", "the band needs from < to");
+		prsm_io_problem_once(p, from, "/dynamics/linear", "to_frequency_ratio", "order",
+		                     "the band needs from < to");
 	if (!pair && !isnan(l->from_Hz) && !isnan(l->to_Hz) && !(l->to_Hz > l->from_Hz))
-		problem_once(p, from, "linear", "to_Hz", "order", "the band needs from_Hz < to_Hz");
+		prsm_io_problem_once(p, from, "/dynamics/linear", "to_Hz", "order", "the band needs from_Hz < to_Hz");
 	const int axial_in = l->input != PRSM_VIB_IN_MESH_ERROR, axial_out = l->output != PRSM_VIB_OUT_MESH_DEFLECTION;
 	if (pair && axial_in)
-		problem_once(p, from, "linear", "input", "model", "a gear pair is excited by its mesh error: mesh_error");
+		prsm_io_problem_once(p, from, "/dynamics/linear", "input", "model",
+		                     "a gear pair is excited by its mesh error: mesh_error");
 	if (pair && axial_out)
-		problem_once(p, from, "linear", "output", "model", "a gear pair's output is its mesh deflection");
+		prsm_io_problem_once(p, from, "/dynamics/linear", "output", "model",
+		                     "a gear pair's output is its mesh deflection");
 	if (!pair && axial_in && br == PRSM_VIB_BRANCHES_GEAR)
-		problem_once(p, from, "linear", "input", "branch", "the axial branch is off (vibration.branches gear)");
+		prsm_io_problem_once(p, from, "/dynamics/linear", "input", "branch",
+		                     "the axial branch is off (vibration.branches gear)");
 	if (!pair && !axial_in && br == PRSM_VIB_BRANCHES_AXIAL)
-		problem_once(p, from, "linear", "input", "branch", "the gear branch is off (vibration.branches axial)");
+		prsm_io_problem_once(p, from, "/dynamics/linear", "input", "branch",
+		                     "the gear branch is off (vibration.branches axial)");
 	if (!pair && axial_out && br == PRSM_VIB_BRANCHES_GEAR)
-		problem_once(p, from, "linear", "output", "branch", "the axial branch is off (vibration.branches gear)");
+		prsm_io_problem_once(p, from, "/dynamics/linear", "output", "branch",
+		                     "the axial branch is off (vibration.branches gear)");
 	if (!pair && !axial_out && br == PRSM_VIB_BRANCHES_AXIAL)
-		problem_once(p, from, "linear", "output", "branch", "the gear branch is off (vibration.branches axial)");
+		prsm_io_problem_once(p, from, "/dynamics/linear", "output", "branch",
+		                     "the gear branch is off (vibration.branches axial)");
 	if (pair && l->input_roller != 0)
-		problem_once(p, from, "linear", "input_roller", "model", "a gear pair has one mesh: roller 0");
+		prsm_io_problem_once(p, from, "/dynamics/linear", "input_roller", "model",
+		                     "a gear pair has one mesh: roller 0");
 	if (pair && l->output_roller != 0)
-		problem_once(p, from, "linear", "output_roller", "model", "a gear pair has one mesh: roller 0");
+		prsm_io_problem_once(p, from, "/dynamics/linear", "output_roller", "model",
+		                     "a gear pair has one mesh: roller 0");
 }
 
 /* The vibration model's own checks (dyn/vib.h), each problem at the request's name for it. */
@@ -567,92 +527,43 @@ static void model_checks(prsm_problems *p, int from, const prsm_io_vib_request *
 				if (strcmp(leaf + 1, pair_names[k][0]) == 0)
 					snprintf(ptr, sizeof ptr, "/dynamics/gear_pair/%s", pair_names[k][1]);
 		}
-		if (!problem_at_pointer(p, from, ptr))
-			prsm_problems_add(p, ptr, mp.items[i].code, "%s", mp.items[i].message);
+		prsm_io_problem_once(p, from, ptr, NULL, mp.items[i].code, "%s", mp.items[i].message);
 	}
 }
 
 /* The rules of the vibration analyses (analysis != transient) and of the transient against their
- * sections, once each field has been read. */
+ * sections, once each field has been read: which members belong with which analysis is the
+ * schema's ("rules", prsm_io_check_rules); the number of stages and the sections' own rules are
+ * here. */
 static void vibration_rules(prsm_problems *p, int from, const cJSON *obj, prsm_io_vib_request *v, int stages)
 {
 	const int an = v->analysis;
-	static const char *const vib_sections[] = {"gear_pair", "vibration", "steady_state", "sweep", "basins", "linear",
-	                                           "frequency_response", NULL};
 	if (an == PRSM_IO_DYN_TRANSIENT) {
-		for (int i = 0; vib_sections[i] && stages > 0; i++)
-			if (member(obj, vib_sections[i]))
-				problem_once(p, from, vib_sections[i], NULL, "not_used",
-				             "belongs to the vibration analyses (docs/vibration.md): the transient does not use it; "
-				             "set \"analysis\" to linear, vibration, sweep, frequency_response or basins");
-		if (stages == 0)
-			problem_once(p, from, "analysis", NULL, "design",
-			             "the transient needs a design: a request without one is a gear pair "
-			             "(an analysis other than transient, and gear_pair)");
+		if (stages > 0)
+			prsm_io_check_rules(&prsm_io_r_dynamics, obj, "/dynamics", from, p);
+		else
+			prsm_io_problem_once(p, from, "/dynamics", "analysis", "design",
+			                     "the transient needs a design: a request without one is a gear pair "
+			                     "(an analysis other than transient, and gear_pair)");
 		return;
 	}
 	const int pair = v->gear_pair_model;
 	if (stages > 1)
-		problem_once(p, from, "analysis", NULL, "single_stage",
-		             "the vibration model (docs/vibration.md) is built for a single-stage screw, not a chain of %d",
-		             stages);
+		prsm_io_problem_once(p, from, "/dynamics", "analysis", "single_stage",
+		                     "the vibration model (docs/vibration.md) is built for a single-stage screw, not a chain of %d",
+		                     stages);
 	if (stages >= 1 && pair)
-		problem_once(p, from, "gear_pair", NULL, "with_design",
-		             "the gear pair is a request of its own, without a design: {\"dynamics\": {\"analysis\": ..., "
-		             "\"gear_pair\": {...}}}; a design runs its reduced model (the vibration object)");
+		prsm_io_problem_once(p, from, "/dynamics", "gear_pair", "with_design",
+		                     "the gear pair is a request of its own, without a design: {\"dynamics\": {\"analysis\": ..., "
+		                     "\"gear_pair\": {...}}}; a design runs its reduced model (the vibration object)");
 	if (stages == 0 && !pair)
-		problem_once(p, from, "gear_pair", NULL, "required",
-		             "a request without a design is a gear pair: give gear_pair (or a design for the reduced model)");
-	/* the transient's members the vibration analyses do not use */
-	static const char *const integ[] = {"rel_tol", "abs_tol", "max_steps", NULL};
-	only_members(p, from, obj, "time", integ,
-	             "the vibration analyses count forcing periods (steady_state, sweep, basins): their time object "
-	             "holds rel_tol, abs_tol and max_steps only");
-	static const char *const none[] = {NULL};
-	if (member(obj, "input"))
-		problem_once(p, from, "input", NULL, "not_used",
-		             "the vibration model runs at the constant screw speed of vibration.screw_speed_rad_s "
-		             "(or vibration.frequency_ratio): input drives the transient only");
-	if (member(obj, "losses"))
-		problem_once(p, from, "losses", NULL, "not_used",
-		             "the vibration model has the screw-contact friction only: losses belong to the transient");
-	if (pair) {
-		static const char *const design_only[] = {"load", "friction", "inertia", "vibration"};
-		for (size_t i = 0; i < sizeof design_only / sizeof design_only[0]; i++)
-			if (member(obj, design_only[i]))
-				problem_once(p, from, design_only[i], NULL, "not_used",
-				             "a gear pair is dimensionless and has every parameter in gear_pair: %s is the reduced "
-				             "model's (with a design)", design_only[i]);
-	} else {
-		static const char *const load_keys[] = {"axial_load_N", "shape", NULL};
-		only_members(p, from, obj, "load", load_keys, "the vibration model's load is constant: axial_load_N");
-		if (cJSON_IsObject(member(obj, "load")) && member(member(obj, "load"), "shape") &&
-		    cJSON_IsString(member(member(obj, "load"), "shape")) &&
-		    strcmp(member(member(obj, "load"), "shape")->valuestring, "constant") != 0 &&
-		    strcmp(member(member(obj, "load"), "shape")->valuestring, "step") != 0)
-			problem_once(p, from, "load", "shape", "not_used", "the vibration model's load is constant");
-		static const char *const fric_keys[] = {"model", "mu", "smoothing_velocity_m_s", NULL};
-		only_members(p, from, obj, "friction", fric_keys,
-		             "the vibration model's friction is regularised Coulomb: model, mu, smoothing_velocity_m_s");
-		const cJSON *fm = member(member(obj, "friction"), "model");
-		if (cJSON_IsString(fm) && strcmp(fm->valuestring, "coulomb") != 0)
-			problem_once(p, from, "friction", "model", "not_used",
-			             "the vibration model's friction is regularised Coulomb (docs/vibration.md)");
-	}
-	(void)none;
-	/* the sections against the analysis */
-	for (int a = PRSM_IO_DYN_LINEAR; a < PRSM_IO_DYN_ANALYSES; a++) {
-		const char *sec = analysis_section[a];
-		if (member(obj, sec) && a != an && !(a == PRSM_IO_DYN_SWEEP && an == PRSM_IO_DYN_FREQUENCY_RESPONSE))
-			problem_once(p, from, sec, NULL, "not_used", "belongs to analysis %s, not %s", analysis_names[a],
-			             analysis_names[an]);
-	}
+		prsm_io_problem_once(p, from, "/dynamics", "gear_pair", "required",
+		                     "a request without a design is a gear pair: give gear_pair (or a design for the reduced model)");
+	prsm_io_check_rules(&prsm_io_r_dynamics, obj, "/dynamics", from, p);
 	/* the integration: the time object's tolerances, else the analysis' */
 	const double tol = an == PRSM_IO_DYN_LINEAR || an == PRSM_IO_DYN_VIBRATION ? 1e-10 : 1e-9;
-	const cJSON *t = member(obj, "time");
 	v->integration.rel_tol = tol;
 	v->integration.abs_tol = tol;
-	(void)t;
 	if (an == PRSM_IO_DYN_VIBRATION)
 		steady_rules(p, from, v);
 	else if (an == PRSM_IO_DYN_SWEEP || an == PRSM_IO_DYN_FREQUENCY_RESPONSE)
@@ -702,8 +613,8 @@ int prsm_io_dynamics_read(prsm_dyn_options *o, prsm_io_vib_request *v_in, const 
 		prsm_problems_init(&cross);
 		prsm_dyn_options_check(o, stages >= 1 ? stages : 1, &cross);
 		for (int i = 0; i < cross.count; i++)
-			if (!problem_at_pointer(problems, first, cross.items[i].pointer))
-				prsm_problems_add(problems, cross.items[i].pointer, cross.items[i].code, "%s", cross.items[i].message);
+			prsm_io_problem_once(problems, first, cross.items[i].pointer, NULL, cross.items[i].code, "%s",
+			                     cross.items[i].message);
 	}
 	if (v->analysis >= 0)
 		vibration_rules(problems, first, obj, v, stages);

@@ -12,8 +12,9 @@
  * the vibration analyses (gear_pair, vibration, steady_state, sweep, basins, linear,
  * frequency_response) are read by one step of the table, prsm_io_step_dynamics_vibration, each
  * section by its own generated table ($defs of the schema) into prsm_io_vib_request; the rules
- * between them (which section belongs to which analysis, the sizes of sweeps and grids) and the
- * vibration model's own checks (prsm_vib_options_check, prsm_vib_gear_pair_check) follow. Every
+ * between them follow: which sections and members belong with which analysis by the schema's
+ * "rules" (prsm_io_check_rules), the number of stages, the sizes of sweeps and grids and the
+ * vibration model's own checks (prsm_vib_options_check, prsm_vib_gear_pair_check) here. Every
  * problem is at its JSON pointer under /dynamics.
  *
  * The writers use the sticky-error writer of io/write.h: a result is whole or not at all.
