@@ -12,7 +12,10 @@ project headers it includes are read too) and the members the document does not 
   "field": "pitch_mm"            the struct member (a path: "losses.spin", "screw_material")
   "scale": 1000 | "(M_PI / 180.0)"  stored = JSON value x scale (numbers; an expression is
                                  written into the C table as it is)
-  "divide": 1000                 stored = JSON value / divide (for bit-identical unit changes)
+  "divide": 1000 | "(180.0 / M_PI)"  stored = JSON value / divide (for bit-identical unit changes;
+                                 an expression is written into the C table as it is)
+  "direction": "runout_phase_deg"  the number is a magnitude whose direction is that sibling: a
+                                 negative value is refused with a problem that says so
   "limits": {"maximum": "PRSM_X_MAX"}   the C constant must equal the schema (static assert;
                                  the root's "includes" names the headers that define them;
                                  arrays: "maxItems")
@@ -104,6 +107,11 @@ class GenError(Exception):
 
 def c_string(s):
     return '"' + s.replace('\\', '\\\\').replace('"', '\\"') + '"'
+
+
+def c_divide(v):
+    """A divisor: a number, or a C expression written as it is ("(180.0 / M_PI)")."""
+    return v if isinstance(v, str) else c_double(v)
 
 
 def c_double(v):
@@ -463,7 +471,9 @@ class Gen:
                 if 'scale' in note:
                     init_['scale'] = str(note['scale'])
                 if 'divide' in note:
-                    init_['divide'] = c_double(note['divide'])
+                    init_['divide'] = c_divide(note['divide'])
+                if 'direction' in note:
+                    self.direction(init_, note['direction'], props, where)
                 self.limits(note, prop, ptr, key, where)
             if 'set' in note:
                 self.write(scope, sname, prefix, [note['set']['field']])
@@ -599,6 +609,14 @@ class Gen:
         self.check_scope(iscope)
         return init_
 
+    def direction(self, init_, sibling, props, where):
+        """"direction": "runout_phase_deg": the number is a magnitude whose direction is that sibling
+        number; a negative value is refused with a problem saying so (prsm_io_read)."""
+        sib = self.resolve(props[sibling]) if isinstance(sibling, str) and sibling in props else None
+        if sib is None or sib.get('type') != 'number':
+            raise GenError(f'{where}: "direction" names {sibling}, which is no number of this object')
+        init_['direction'] = c_string(sibling)
+
     def only(self, init_, only, props, sname, where):
         """"only": {"with": "kind", "is": "torque", "code", "message", "required"}: the member belongs
         with that value of its sibling enum "with": present while the sibling holds another, a
@@ -635,7 +653,7 @@ class Gen:
         elif kind == 'PRSM_IO_NUMBER':
             v = c_double(d)
             if 'divide' in note:
-                value = f'({v} / {c_double(note["divide"])})'
+                value = f'({v} / {c_divide(note["divide"])})'
             elif 'scale' in note:
                 value = f'({v} * {note["scale"]})'
             else:
@@ -734,7 +752,7 @@ class Pools:
                'missing': 'strings', 'code': 'strings', 'message': 'strings', 'names': 'names',
                'values': 'values', 'child': 'tables', 'hook': 'hooks', 'init': 'inits', 'step': 'steps',
                'after': 'steps', 'key': 'keys', 'only_key': 'strings', 'only_code': 'strings',
-               'only_message': 'strings', 'only_required': 'strings',
+               'only_message': 'strings', 'only_required': 'strings', 'direction': 'strings',
                'member': 'strings', 'sub': 'strings', 'with': 'strings', 'with_default': 'strings',
                'present': 'strings', 'absent': 'strings', 'with_names': 'names', 'allowed': 'names',
                'keep': 'names', 'sub_values': 'names'}

@@ -317,4 +317,15 @@ RULE_CHECKS = [  # (name, edit of the dynamics schema or None, exit code, text t
 ]
 for name, edit, rc, text in RULE_CHECKS:
     doc_check('dynamics', name, edit, rc, text)
+# ---- the analyze request's errors: "divide" as a C expression, "direction" -------------------
+with open(os.path.join(src, 'schemas', 'analyze-request.schema.json'), encoding='utf-8') as f:
+    docs['analyze-request'] = json.load(f)
+doc_check('analyze-request', '"divide" may be a C expression, written as it is', None, 0,
+          '.offset = offsetof(prsm_body_errors, runout_phase_rad), .kind = PRSM_IO_NUMBER, .min = -3600.0, '
+          '.max = 3600.0, .min_exclusive = 0, .max_exclusive = 0, .divide = (180.0 / M_PI)}')
+doc_check('analyze-request', '"direction": a magnitude names its direction', None, 0,
+          '.divide = 1000.0, .direction = "runout_phase_deg"}')
+doc_check('analyze-request', '"direction" naming no number of the object is refused',
+          lambda s: s['$defs']['body']['properties']['runout_um']['x-prsm'].update(direction='start_index_mrad'),
+          1, '"direction" names start_index_mrad, which is no number of this object')
 sys.exit(1 if failed else 0)

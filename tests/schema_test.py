@@ -1900,24 +1900,24 @@ check("study.schema.json names the dynamic model's tolerance parameters", sorted
       f"{schema_dynamic}")
 check("study.schema.json output names are prsm_model.c's", c_outputs == schema_outputs,
       f"{c_outputs} vs {schema_outputs}")
-with open(os.path.join(SRC, "src", "io", "errors_json.c"), encoding="utf-8") as f:
-    text = f.read()
+# the errors tables: analyze-request.schema.json's $defs/body, roller and carrier, each property's
+# x-prsm naming its member (a magnitude its "direction", the phase, which is not toleranced)
+ERRORS_DEFS = schemas["analyze-request.schema.json"]["$defs"]
 c_fields, c_radial = set(), set()
-TABLES = (("body_fields[]", ("screw", "nut")), ("roller_fields[]", ("roller",)), ("carrier_fields[]", ("carrier",)))
-for table, parts in TABLES:
-    block = text[text.index(table):]
-    block = block[:block.index("};")]
-    # {"key", offset, SCALE, limit, NULL or "phase key"}
-    for key, scale, phase in re.findall(r'\{"(\w+)",[^,]+,\s*(\w+),[^,]+,\s*(NULL|"\w+")\s*\}', block):
-        if scale != "SCALE_DEG":
-            c_fields.update(f"{p}.{key}" for p in parts)
-        if phase != "NULL":
-            c_radial.update(f"{p}.{key}" for p in parts)
+for defn, parts in (("body", ("screw", "nut")), ("roller", ("roller",)), ("carrier", ("carrier",))):
+    eprops = ERRORS_DEFS[defn]["properties"]
+    phases = {p["x-prsm"]["direction"] for p in eprops.values() if "direction" in p.get("x-prsm", {})}
+    for key, p in eprops.items():
+        note = p.get("x-prsm", {})
+        if "field" in note and key not in phases:
+            c_fields.update(f"{part}.{key}" for part in parts)
+        if "direction" in note:
+            c_radial.update(f"{part}.{key}" for part in parts)
 c_fields |= {"screw.start_index_mrad", "nut.start_index_mrad", "friction.screw_roller_mu", "friction.nut_roller_mu"}
-check("study.schema.json design parameters are the errors fields of errors_json.c (phases left out)",
+check("study.schema.json design parameters are the errors tables' fields (phases left out)",
       set(ALL_DESIGN) == c_fields, f"{sorted(set(ALL_DESIGN) ^ c_fields)}")
 radial = set(schemas["study.schema.json"]["$defs"]["tolerance"]["allOf"][-1]["if"]["properties"]["parameter"]["enum"])
-check("study.schema.json radial magnitudes are those with a phase in errors_json.c", radial == c_radial,
+check("study.schema.json radial magnitudes are the errors tables' with a direction", radial == c_radial,
       f"{sorted(radial ^ c_radial)}")
 
 # 9f. several mistakes at once: every one reported

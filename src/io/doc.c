@@ -3,6 +3,7 @@
  */
 #include "io/doc.h"
 
+#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
@@ -92,6 +93,22 @@ static void read_items(const prsm_io_at *r, void *base, const prsm_io_field *f, 
 		put_count(base, f, (size_t)i);
 }
 
+/* A magnitude (f->direction) given negative: the problem says what to give instead. Returns 1
+ * when it added it. */
+static int negative_magnitude(const prsm_io_field *f, const cJSON *obj, const char *ptr, prsm_problems *problems)
+{
+	const cJSON *item = cJSON_GetObjectItemCaseSensitive(obj, NAME(f));
+	if (!cJSON_IsNumber(item) || !isfinite(item->valuedouble) || !(item->valuedouble < 0.0))
+		return 0;
+	char got[40], lim[40];
+	prsm_json_format_number(got, sizeof got, item->valuedouble);
+	prsm_json_format_number(lim, sizeof lim, f->max);
+	prsm_io_problem(problems, ptr, NAME(f), "range",
+	                "must be a number from 0 to %s (got %s): it is a magnitude; give its direction with %s "
+	                "instead (-a is a with the phase turned by 180 deg)", lim, got, STR(f->direction));
+	return 1;
+}
+
 /* One field of obj (pointer ptr) into base. Returns 1 when it was there and valid (scalars). */
 static int read_field(const prsm_io_at *r, void *base, const prsm_io_field *f, const cJSON *obj, const char *ptr,
                       prsm_problems *problems)
@@ -106,6 +123,8 @@ static int read_field(const prsm_io_at *r, void *base, const prsm_io_field *f, c
 	switch (f->kind) {
 	case PRSM_IO_NUMBER: {
 		const prsm_json_range range = {f->min, f->max, f->min_exclusive, f->max_exclusive};
+		if (f->direction && negative_magnitude(f, obj, ptr, problems))
+			break;
 		present = prsm_json_get_number(&d, obj, ptr, NAME(f), req, range, problems) == PRSM_JSON_PRESENT;
 		if (present) {
 			d = f->divide != 0.0 ? d / f->divide : f->scale != 0.0 ? d * f->scale : d;

@@ -111,6 +111,8 @@ typedef struct {
 	size_t item_size, count_offset, count_size;
 	unsigned short after;          /* arrays: a step run once the array is read, present or not */
 	unsigned short key;            /* maps */
+	unsigned short direction;      /* numbers: a magnitude whose direction is this sibling (a
+	                                  negative value: a problem naming it) */
 } prsm_io_field;
 
 /* A field names its strings, enum arrays, child table, hooks, steps and keys by index into

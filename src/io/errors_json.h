@@ -3,17 +3,19 @@
  * or one Monte Carlo sample, docs/model/errors-and-assembly.md) to prsm_errors and back, and its `assembly` options
  * object to prsm_assembly_options (schemas/analyze-request.schema.json).
  *
- * Units convert here and nowhere else: the API names the unit in the field, the engine works in
- * mm, rad and mm per mm (model/errors.h):
+ * Units convert by the tables generated from the schema's x-prsm ($defs/body, roller, carrier:
+ * "divide") and nowhere else: the API names the unit in the field, the engine works in mm, rad
+ * and mm per mm (model/errors.h):
  *   *_um                       -> mm            (/ 1000)
  *   *_mrad                     -> rad           (/ 1000)
- *   *_deg                      -> rad           (* pi / 180)
- *   *_um_per_300mm             -> mm per mm     (/ 1000 / 300)
+ *   *_deg                      -> rad           (/ (180 / pi))
+ *   *_um_per_300mm             -> mm per mm     (/ 300000)
  * Every problem is added with its JSON pointer, all of them at once (io/json_util.h).
  *
  * The limits below are the schema's; schemas/analyze-request.schema.json states the same
- * numbers. The two rules a schema cannot express are checked here only: `rollers` has exactly
- * Z = d->rollers elements and each `start_index_mrad` exactly n = d->starts.
+ * numbers (tests/schema_test.py). The two rules a schema cannot express are checked by hand
+ * (a step and a hook of the tables): `rollers` has exactly Z = d->rollers elements and each
+ * `start_index_mrad` exactly n = d->starts.
  */
 #ifndef PRSM_IO_ERRORS_JSON_H
 #define PRSM_IO_ERRORS_JSON_H

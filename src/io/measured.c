@@ -561,54 +561,63 @@ void prsm_io_hook_calibrate_parameters(void *base, const cJSON *obj, const char 
 	}
 }
 
+/* After the fields (the table's last step): a standard uncertainty, or the load and speed of a
+ * measurement, needs the measured value it belongs to. */
+int prsm_io_step_measured_needs(prsm_io_at *at, prsm_problems *problems)
+{
+	static const char *const pairs[][2] = {{"cage_ratio_sd", "cage_ratio"}, {"efficiency_sd", "efficiency"},
+	                                       {"cage_axial_load_N", "cage_ratio"},
+	                                       {"cage_screw_speed_rad_s", "cage_ratio"},
+	                                       {"efficiency_axial_load_N", "efficiency"},
+	                                       {"efficiency_screw_speed_rad_s", "efficiency"}};
+	for (size_t k = 0; k < sizeof pairs / sizeof pairs[0]; k++)
+		if (cJSON_GetObjectItemCaseSensitive(at->obj, pairs[k][0]) &&
+		    !cJSON_GetObjectItemCaseSensitive(at->obj, pairs[k][1]))
+			prsm_io_problem(problems, at->pointer, pairs[k][0], "needs", "belongs to a measured %s, which is not given",
+			                pairs[k][1]);
+	return 0;
+}
+
+/* obj (NULL: absent, nothing read) at pointer into base by table t. */
+static int read_object(void *base, const prsm_io_table *t, const cJSON *obj, const char *pointer, prsm_problems *problems)
+{
+	if (obj == NULL)
+		return 0;
+	if (prsm_json_object_value(obj, pointer, problems))
+		return PRSM_EINVAL;
+	return prsm_io_read(base, t, obj, pointer, problems);
+}
+
 int prsm_io_measured_read(prsm_meas_data *m, const cJSON *obj, prsm_problems *problems)
 {
 	prsm_meas_data_init(m);
-	if (obj == NULL)
-		return 0;
-	const int before = prsm_problems_total(problems);
-	if (prsm_json_object_value(obj, "/measured", problems))
-		return PRSM_EINVAL;
-	prsm_io_read(m, &prsm_io_t_measured, obj, "/measured", problems);
-	/* a standard uncertainty needs its value */
-	static const struct {
-		const char *sd, *value;
-		size_t off_sd, off_value;
-	} pairs[] = {{"cage_ratio_sd", "cage_ratio", offsetof(prsm_meas_data, cage_ratio_sd), offsetof(prsm_meas_data, cage_ratio)},
-	             {"efficiency_sd", "efficiency", offsetof(prsm_meas_data, efficiency_sd), offsetof(prsm_meas_data, efficiency)},
-	             {"cage_axial_load_N", "cage_ratio", 0, 0},
-	             {"cage_screw_speed_rad_s", "cage_ratio", 0, 0},
-	             {"efficiency_axial_load_N", "efficiency", 0, 0},
-	             {"efficiency_screw_speed_rad_s", "efficiency", 0, 0}};
-	for (size_t k = 0; k < sizeof pairs / sizeof pairs[0]; k++)
-		if (cJSON_GetObjectItemCaseSensitive(obj, pairs[k].sd) && !cJSON_GetObjectItemCaseSensitive(obj, pairs[k].value))
-			prsm_io_problem(problems, "/measured", pairs[k].sd, "needs", "belongs to a measured %s, which is not given",
-			                pairs[k].value);
-	return prsm_problems_total(problems) > before ? PRSM_EINVAL : 0;
+	return read_object(m, &prsm_io_t_measured, obj, "/measured", problems);
 }
 
-int prsm_io_calibrate_options_read(prsm_calib_options *o, const cJSON *obj, prsm_problems *problems)
+/* After the fields (the table's last step): the members of the other model than `model` names,
+ * and the physical model's parameters. */
+int prsm_io_step_calibrate_model_members(prsm_io_at *at, prsm_problems *problems)
 {
-	prsm_calib_options_init(o);
-	if (obj == NULL)
-		return 0;
-	const int before = prsm_problems_total(problems);
-	if (prsm_json_object_value(obj, "/dynamics/calibrate", problems))
-		return PRSM_EINVAL;
-	prsm_io_read(o, &prsm_io_t_dynamics_calibrate, obj, "/dynamics/calibrate", problems);
-	const cJSON *model = cJSON_GetObjectItemCaseSensitive(obj, "model");
+	const prsm_calib_options *o = at->base;
+	const cJSON *model = cJSON_GetObjectItemCaseSensitive(at->obj, "model");
 	const int physical = o->model == PRSM_CALIB_MODEL_PHYSICAL;
-	if (physical && o->fields == 0 && !prsm_io_problem_at(problems, before, "/dynamics/calibrate", "parameters"))
-		prsm_io_problem(problems, "/dynamics/calibrate", "parameters", "required",
+	if (physical && o->fields == 0 && !prsm_io_problem_at(problems, at->start, at->pointer, "parameters"))
+		prsm_io_problem(problems, at->pointer, "parameters", "required",
 		                "the physical model calibrates the error fields named here (e.g. [\"nut.runout_um\", "
 		                "\"nut.runout_phase_deg\"])");
 	static const char *const line_only[] = {"lines", "carrier_ratio_prior", "grid_half_width", "grid_points", "refine", NULL};
 	static const char *const phys_only[] = {"parameters", "max_evaluations", NULL};
 	const char *const *wrong = physical ? line_only : phys_only;
 	for (int i = 0; wrong[i]; i++)
-		if (cJSON_GetObjectItemCaseSensitive(obj, wrong[i]))
-			prsm_io_problem(problems, "/dynamics/calibrate", wrong[i], "not_used", "belongs to the %s model, not the %s "
+		if (cJSON_GetObjectItemCaseSensitive(at->obj, wrong[i]))
+			prsm_io_problem(problems, at->pointer, wrong[i], "not_used", "belongs to the %s model, not the %s "
 			                "model (\"model\": \"%s\")", physical ? "line" : "physical", physical ? "physical" : "line",
 			                model && cJSON_IsString(model) ? model->valuestring : "line");
-	return prsm_problems_total(problems) > before ? PRSM_EINVAL : 0;
+	return 0;
+}
+
+int prsm_io_calibrate_options_read(prsm_calib_options *o, const cJSON *obj, prsm_problems *problems)
+{
+	prsm_calib_options_init(o);
+	return read_object(o, &prsm_io_t_dynamics_calibrate, obj, "/dynamics/calibrate", problems);
 }
