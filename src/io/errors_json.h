@@ -27,15 +27,10 @@
 #include "model/errors.h"
 #include "util/problems.h"
 
-/* errors: |x| <= limit for signed values, [0, limit] for magnitudes (run-out, periodic lead
- * amplitude, tilt), whose direction is a separate phase. */
-#define PRSM_IO_ERRORS_LENGTH_MAX_UM 500.0      /* pitch_radius, thickness, arc_radius, pin_* */
-#define PRSM_IO_ERRORS_MAGNITUDE_MAX_UM 500.0   /* runout_um, lead_periodic_um: [0, max] */
-#define PRSM_IO_ERRORS_FLANK_ANGLE_MAX_MRAD 50.0
-#define PRSM_IO_ERRORS_INDEX_MAX_MRAD 100.0     /* start_index_mrad[], gear_phase_mrad */
-#define PRSM_IO_ERRORS_TILT_MAX_MRAD 20.0       /* tilt_mrad: [0, max]; tilt_radial/tangential: |x| */
-#define PRSM_IO_ERRORS_LEAD_MAX_UM_PER_300MM 1000.0
-#define PRSM_IO_ERRORS_PHASE_MAX_DEG 3600.0     /* every *_phase_deg */
+/* |x| limit of an index error, mrad: start_index_mrad[] (read by a step) and gear_phase_mrad; the
+ * other errors' limits are the schema's own, in the generated tables (analyze-request.schema.json
+ * "$defs"), and the generated tables assert that this one is the schema's too. */
+#define PRSM_IO_ERRORS_INDEX_MAX_MRAD 100.0
 
 /* assembly options */
 #define PRSM_IO_ASSEMBLY_LOAD_MAX_N 1e6         /* measuring_load_N in (0, max] */
