@@ -65,23 +65,12 @@ int prsm_app_multistage_load(prsm_io_multistage *out, const cJSON *doc, prsm_pro
 
 /* ---- one design ------------------------------------------------------------------------------- */
 
-/* A number member of geometry, or fallback when it is absent or not a number (as the reader
- * takes the flank angle and the running clearance a catalogue size is resolved with). */
-static double geometry_number(const cJSON *geometry, const char *key, double fallback)
-{
-	const cJSON *v = cJSON_GetObjectItemCaseSensitive(geometry, key);
-	return cJSON_IsNumber(v) ? v->valuedouble : fallback;
-}
-
 /* The same diameter and lead with starts 3 to 6: each analysed on its own (MODEL.md §1, §6).
  * design is the document's design with its `nominal` (already resolved into out->given). No
  * problem or warning of theirs reaches the request's lists: an invalid one says why in its
  * own entry. */
 static void nominal_alternatives(prsm_io_nominal_result *out, const cJSON *design)
 {
-	const cJSON *geometry = cJSON_GetObjectItemCaseSensitive(design, "geometry");
-	const double beta = geometry_number(geometry, "flank_angle_deg", 45.0) * M_PI / 180.0;
-	const double clearance_mm = geometry_number(geometry, "running_clearance_mm", 0.1);
 	prsm_problems *scratch = malloc(2 * sizeof *scratch);
 	prsm_design *d = malloc(sizeof *d);
 	prsm_analysis *a = malloc(sizeof *a);
@@ -98,7 +87,7 @@ static void nominal_alternatives(prsm_io_nominal_result *out, const cJSON *desig
 		prsm_problems_init(&scratch[0]);
 		prsm_problems_init(&scratch[1]);
 		alt->starts = n;
-		if (prsm_nominal_resolve(&g, &given, beta, clearance_mm, &scratch[0])) {
+		if (prsm_nominal_resolve(&g, &given, out->beta_rad, out->clearance_mm, &scratch[0])) {
 			snprintf(alt->problem, sizeof alt->problem, "%s", scratch[0].items[0].message);
 			continue;
 		}

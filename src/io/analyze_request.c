@@ -126,8 +126,11 @@ int prsm_io_design_load_sized(prsm_design *out, prsm_geometry *geom, prsm_proble
 	free(errors);
 	if (rc)
 		return rc;
-	if (nominal)
+	if (nominal) {
 		nominal->resolved = g;
+		nominal->beta_rad = beta;
+		nominal->clearance_mm = clearance;
+	}
 	cJSON *expanded = prsm_io_nominal_expanded(design, &g);
 	if (expanded == NULL)
 		return PRSM_ENOMEM;

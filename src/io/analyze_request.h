@@ -47,6 +47,8 @@ typedef struct {
 typedef struct {
 	prsm_nominal given;                       /* as the document gave it (0: by the rules) */
 	prsm_nominal_geometry resolved;           /* the geometry the analysis used */
+	double beta_rad, clearance_mm;            /* the flank angle, rad, and running clearance, mm, it
+	                                             was resolved with (the alternatives use them too) */
 	prsm_io_nominal_alternative alternatives[PRSM_NOMINAL_ALTERNATIVES]; /* starts 3 to 6 */
 	int n_alternatives;
 } prsm_io_nominal_result;

@@ -18,17 +18,23 @@
 #define STR(i) prsm_io_gen_strings[(i)]
 #define NAME(f) STR((f)->name)
 
-void prsm_io_problem(prsm_problems *problems, const char *pointer, const char *key, const char *code,
-                     const char *fmt, ...)
+static void vproblem(prsm_problems *problems, const char *pointer, const char *key, const char *code,
+                     const char *fmt, va_list ap)
 {
 	char p[PRSM_JSON_POINTER_MAX], msg[4 * PRSM_PROBLEM_MESSAGE_MAX]; /* cut by prsm_problems_add */
 	if (key)
 		prsm_json_pointer_append(p, sizeof p, pointer, key);
+	vsnprintf(msg, sizeof msg, fmt, ap);
+	prsm_problems_add(problems, key ? p : pointer, code, "%s", msg);
+}
+
+void prsm_io_problem(prsm_problems *problems, const char *pointer, const char *key, const char *code,
+                     const char *fmt, ...)
+{
 	va_list ap;
 	va_start(ap, fmt);
-	vsnprintf(msg, sizeof msg, fmt, ap);
+	vproblem(problems, pointer, key, code, fmt, ap);
 	va_end(ap);
-	prsm_problems_add(problems, key ? p : pointer, code, "%s", msg);
 }
 
 static int read_object(const prsm_io_at *r, void *base, const prsm_io_table *t, const cJSON *obj, const char *ptr,
@@ -270,9 +276,10 @@ int prsm_io_read(void *base, const prsm_io_table *t, const cJSON *obj, const cha
 int prsm_io_problem_at(const prsm_problems *problems, int from, const char *obj_pointer, const char *key)
 {
 	char ptr[PRSM_JSON_POINTER_MAX];
-	prsm_json_pointer_append(ptr, sizeof ptr, obj_pointer, key);
+	if (key)
+		prsm_json_pointer_append(ptr, sizeof ptr, obj_pointer, key);
 	for (int i = from; i < problems->count; i++)
-		if (strcmp(problems->items[i].pointer, ptr) == 0)
+		if (strcmp(problems->items[i].pointer, key ? ptr : obj_pointer) == 0)
 			return 1;
 	return 0;
 }
@@ -315,19 +322,12 @@ static int listed(unsigned short names, const char *s)
 void prsm_io_problem_once(prsm_problems *problems, int from, const char *pointer, const char *key, const char *code,
                           const char *fmt, ...)
 {
-	char p[PRSM_JSON_POINTER_MAX], msg[PRSM_PROBLEM_MESSAGE_MAX];
-	if (key)
-		prsm_json_pointer_append(p, sizeof p, pointer, key);
-	else
-		snprintf(p, sizeof p, "%s", pointer);
-	for (int i = from; i < problems->count; i++)
-		if (strcmp(problems->items[i].pointer, p) == 0)
-			return;
+	if (prsm_io_problem_at(problems, from, pointer, key))
+		return;
 	va_list ap;
 	va_start(ap, fmt);
-	vsnprintf(msg, sizeof msg, fmt, ap);
+	vproblem(problems, pointer, key, code, fmt, ap);
 	va_end(ap);
-	prsm_problems_add(problems, p, code, "%s", msg);
 }
 
 /* A rule's problem at pointer/member[/key] ("{value}" in its message: the sibling's value). */

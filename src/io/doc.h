@@ -165,8 +165,8 @@ int prsm_io_read(void *base, const prsm_io_table *t, const cJSON *obj, const cha
 int prsm_io_read_ctx(void *base, const prsm_io_table *t, const cJSON *obj, const char *obj_pointer, void *ctx,
                      prsm_problems *problems);
 
-/* 1 when a problem was added, since the first `from` problems, at obj_pointer/key: the member
- * was there and invalid (for hooks whose rules need their fields valid). */
+/* 1 when a problem was added, since the first `from` problems, at obj_pointer/key (key NULL: at
+ * obj_pointer): the member was there and invalid (for hooks whose rules need their fields valid). */
 int prsm_io_problem_at(const prsm_problems *problems, int from, const char *obj_pointer, const char *key);
 
 /* Read only member key of table t from obj (e.g. one section of a document read elsewhere). */

@@ -11,7 +11,6 @@
 
 #include <inttypes.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -87,8 +86,8 @@ static void check_inertia_form(const cJSON *obj, int stages, prsm_problems *prob
 			}
 		if (cJSON_IsArray(arr) && cJSON_GetArraySize(arr) != stages)
 			prsm_io_problem_once(problems, 0, "/dynamics/inertia/stages", NULL, "size",
-			                  "must have %d objects, one per stage of the chain (got %d)", stages,
-			                  cJSON_GetArraySize(arr));
+			                     "must have %d objects, one per stage of the chain (got %d)", stages,
+			                     cJSON_GetArraySize(arr));
 	}
 }
 
@@ -296,8 +295,7 @@ static void observable_rules(prsm_problems *p, int from, const prsm_io_vib_reque
 	if (clock == PRSM_VIB_CLOCK_TE && (pair || v->vibration.te_source == PRSM_VIB_TE_NONE))
 		prsm_io_problem_once(p, from, section, "clock", "no_te",
 		                     "the te clock is the common period of the TE lines: %s",
-		                     pair ? "a gear pair has none"
-		                                                                               : "give vibration.te_lines");
+		                     pair ? "a gear pair has none" : "give vibration.te_lines");
 }
 
 static void periods_rule(prsm_problems *p, int from, const char *section, int transient, int recorded,
@@ -370,8 +368,7 @@ static void sweep_rules(prsm_problems *p, int from, const cJSON *obj, const prsm
 		                     "a frequency response sweeps both ways (its jumps are where they disagree): [\"up\", \"down\"]");
 	if (!(s->to >= s->from)) {
 		prsm_io_problem_once(p, from, "/dynamics/sweep", "to", "order",
-		                     "the sweep runs from %g to %g: to must be >= from", s->from,
-		                     s->to);
+		                     "the sweep runs from %g to %g: to must be >= from", s->from, s->to);
 		return;
 	}
 	const double q = floor((s->to - s->from) / s->step + 1e-9);
@@ -442,8 +439,7 @@ static void basins_rules(prsm_problems *p, int from, const prsm_io_vib_request *
 	else if (cells * ((double)b->periods + b->identify_periods) > 2e8)
 		prsm_io_problem_once(p, from, "/dynamics/basins", "periods", "too_long",
 		                     "the grid integrates %.3g forcing periods in all, at most 2e8",
-		                     cells * ((double)b->periods +
-		                                                                                             b->identify_periods));
+		                     cells * ((double)b->periods + b->identify_periods));
 	if (v->gear_pair_model && b->roller != 0)
 		prsm_io_problem_once(p, from, "/dynamics/basins", "roller", "model",
 		                     "a gear pair has one mesh: roller 0");

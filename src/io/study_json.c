@@ -1224,8 +1224,10 @@ int prsm_io_study_options_init(prsm_io_study_options *o)
 	return 0;
 }
 
-int prsm_io_study_read(prsm_io_study *out, const cJSON *doc, const prsm_io_study_options *hooks,
-                       prsm_problems *warnings, prsm_problems *pr)
+/* prsm_io_study_load without hooks->check_study (the range checks of app/study.c) and the
+ * warning on the older output name: the document as read. */
+static int study_read(prsm_io_study *out, const cJSON *doc, const prsm_io_study_options *hooks,
+                      prsm_problems *warnings, prsm_problems *pr)
 {
 	static const prsm_io_study_options none = PRSM_IO_STUDY_OPTIONS_INIT;
 	memset(out, 0, sizeof *out);
@@ -1240,7 +1242,7 @@ int prsm_io_study_read(prsm_io_study *out, const cJSON *doc, const prsm_io_study
 int prsm_io_study_load(prsm_io_study *out, const cJSON *doc, const prsm_io_study_options *hooks,
                        prsm_problems *warnings, prsm_problems *pr)
 {
-	int rc = prsm_io_study_read(out, doc, hooks, warnings, pr);
+	int rc = study_read(out, doc, hooks, warnings, pr);
 	if (rc)
 		return rc;
 	const int before = prsm_problems_total(pr);

@@ -113,12 +113,6 @@ int prsm_io_study_options_init(prsm_io_study_options *o);
 int prsm_io_study_load(prsm_io_study *out, const cJSON *doc, const prsm_io_study_options *hooks,
                        prsm_problems *warnings, prsm_problems *problems);
 
-/* prsm_io_study_load without hooks->check_study (the range checks of app/study.c) and the
- * warning on the older output name: the document as read, which the side-by-side proof
- * compares with the reader it replaced. */
-int prsm_io_study_read(prsm_io_study *out, const cJSON *doc, const prsm_io_study_options *hooks,
-                       prsm_problems *warnings, prsm_problems *pr);
-
 /* The result document (schemas/study-result.schema.json). The caller owns the tree. */
 cJSON *prsm_io_study_result_to_json(const prsm_io_study *s, const prsm_study_result *r);
 

@@ -861,22 +861,11 @@ PRSM_TARGET_AVX2 static uint64_t uniform_chunk_strided_avx2(const double *uk, si
 }
 #endif
 
-/* The scalar values of the normal and the uniform, exactly as prsm_dist_quantile computes them. */
-static double normal_value(const double *p, double v)
-{
-	return isnan(v) ? NAN : v <= 0.0 ? -INFINITY : v >= 1.0 ? INFINITY : p[0] + p[1] * normal_quantile_open(v);
-}
-
-static double uniform_value(const double *p, double v)
-{
-	return isnan(v) ? NAN : v <= 0.0 ? p[0] : v >= 1.0 ? p[1] : clamp(p[0] + v * (p[1] - p[0]), p[0], p[1]);
-}
-
 #if PRSM_HAVE_AVX2_CLONES
 /* The normal's tails of a chunk, four at a time: lg[i] = log(min(v, 1 - v)) of the values v in
  * (0, 1) outside the central region (the library call, scalar, as normal_quantile_open makes it),
  * lower[i] -0 when v < 1/2 (its sign bit turns x into -x), +0 otherwise; each result mean + sd x goes to xk[idx[i] xs]. Per lane the
- * operations of normal_quantile_open and normal_value: r = sqrt(-lg), both rational functions of
+ * operations of normal_quantile_open and prsm_dist_quantile: r = sqrt(-lg), both rational functions of
  * the middle and the far tail, the one r picks (r <= 5), its sign, then mean + sd x; so the same
  * doubles. lg, lower: m rounded up to a multiple of four, the padding lanes not stored. */
 PRSM_TARGET_AVX2 static void normal_tails_avx2(const double *lg, const double *lower, const unsigned char *idx,
@@ -898,12 +887,14 @@ PRSM_TARGET_AVX2 static void normal_tails_avx2(const double *lg, const double *l
 	}
 }
 
-/* The normal's (normal = 1) or the uniform's column by whole chunks with the AVX2 kernels, the
- * values outside the kernel's region again by the scalar path (the normal's tails, four at a
- * time, by normal_tails_avx2); returns how many values were done (a multiple of QN_CHUNK). */
-static size_t whole_chunks_avx2(const double *p, int normal, const double *u, size_t u_stride, double *x,
-                                size_t x_stride, size_t n)
+/* The normal's or the uniform's column (d) by whole chunks with the AVX2 kernels, the values
+ * outside the kernel's region again by prsm_dist_quantile (the normal's tails four at a time, by
+ * normal_tails_avx2); returns how many values were done (a multiple of QN_CHUNK). */
+static size_t whole_chunks_avx2(const prsm_dist *d, const double *u, size_t u_stride, double *x, size_t x_stride,
+                                size_t n)
 {
+	const double *p = d->p;
+	const int normal = d->kind == PRSM_DIST_NORMAL;
 	double ut[QN_CHUNK];
 	size_t k0 = 0;
 	for (; n - k0 >= QN_CHUNK; k0 += QN_CHUNK) {
@@ -915,7 +906,7 @@ static size_t whole_chunks_avx2(const double *p, int normal, const double *u, si
 			while (outside) {
 				const size_t k = (size_t)__builtin_ctzll(outside);
 				outside &= outside - 1;
-				xk[k * x_stride] = uniform_value(p, ut[k]);
+				xk[k * x_stride] = prsm_dist_quantile(d, ut[k]);
 			}
 			continue;
 		}
@@ -928,7 +919,7 @@ static size_t whole_chunks_avx2(const double *p, int normal, const double *u, si
 			outside &= outside - 1;
 			const double v = ut[k];
 			if (!(v > 0.0 && v < 1.0)) {
-				xk[k * x_stride] = normal_value(p, v); /* NaN, 0 or 1 */
+				xk[k * x_stride] = prsm_dist_quantile(d, v); /* NaN, 0 or 1 */
 				continue;
 			}
 			lg[m] = log(v < 0.5 ? v : 1.0 - v);
@@ -967,7 +958,7 @@ void prsm_dist_quantile_n(const prsm_dist *d, const double *u, size_t u_stride, 
 		size_t k0 = 0;
 #if PRSM_HAVE_AVX2_CLONES
 		if (prsm_simd_avx2())
-			k0 = whole_chunks_avx2(p, normal, u, u_stride, x, x_stride, n);
+			k0 = whole_chunks_avx2(d, u, u_stride, x, x_stride, n);
 #endif
 		for (; k0 < n; k0 += QN_CHUNK) {
 			const size_t m = n - k0 < QN_CHUNK ? n - k0 : QN_CHUNK;
@@ -987,9 +978,7 @@ void prsm_dist_quantile_n(const prsm_dist *d, const double *u, size_t u_stride, 
 			chunk(ut, xt, p[0], p[1]);
 #if PRSM_HAVE_AVX2_CLONES
 			/* the whole chunk stored, then the values outside the region again by the scalar path */
-			uint64_t outside = outside_mask(ut, normal);
-			if (m < QN_CHUNK)
-				outside &= (UINT64_C(1) << m) - 1;
+			uint64_t outside = outside_mask(ut, normal); /* the padding (1/2) is inside */
 			for (k = 0; k + 4 <= m; k += 4) {
 				xk[k * x_stride] = xt[k];
 				xk[(k + 1) * x_stride] = xt[k + 1];
@@ -1001,16 +990,16 @@ void prsm_dist_quantile_n(const prsm_dist *d, const double *u, size_t u_stride, 
 			while (outside) {
 				k = (size_t)__builtin_ctzll(outside);
 				outside &= outside - 1;
-				xk[k * x_stride] = normal ? normal_value(p, ut[k]) : uniform_value(p, ut[k]);
+				xk[k * x_stride] = prsm_dist_quantile(d, ut[k]);
 			}
 #else
 			/* the region's test is true only for u in it: NaN, 0, 1 and beyond take the scalar path */
 			for (k = 0; k < m; k++) {
 				const double v = ut[k];
 				if (normal)
-					xk[k * x_stride] = fabs(v - 0.5) <= 0.425 ? xt[k] : normal_value(p, v);
+					xk[k * x_stride] = fabs(v - 0.5) <= 0.425 ? xt[k] : prsm_dist_quantile(d, v);
 				else
-					xk[k * x_stride] = v > 0.0 && v < 1.0 ? xt[k] : uniform_value(p, v);
+					xk[k * x_stride] = v > 0.0 && v < 1.0 ? xt[k] : prsm_dist_quantile(d, v);
 			}
 #endif
 		}

@@ -257,6 +257,15 @@ void prsm_assembly_perturbation(double *out, const prsm_assembly *as, const prsm
 	thread_perturbation(out, e0, e1, as, e, k, side, dir, t.start_offset);
 }
 
+/* The gap change of the roller's pitch radius (dr) and flank arc radius (dR) deviations, mm: they
+ * enter the gap only through z_c - sqrt(R^2 - u^2), evaluated exactly at the frozen contact. */
+static double radius_change(const prsm_assembly_pair *ap, double dr, double dR)
+{
+	const double r = ap->pair.roller_radius_mm, R = ap->pair.arc_radius_mm;
+	const double r1 = r + dr, R1 = R + dR;
+	return sqrt(R1 * R1 - r1 * r1) - sqrt(R * R - r * r) - (sqrt(R1 * R1 - ap->u2_mm2) - sqrt(R * R - ap->u2_mm2));
+}
+
 /* Linear-mode gap change of e at the frozen nominal contact. The roller's pitch and arc radii
  * enter G only through z_c - sqrt(R^2 - u^2), which is cheap to evaluate exactly at the fixed
  * point: its curvature would otherwise cost 1.5 % at 50 um of pitch radius (test_perturb). The
@@ -279,12 +288,8 @@ static double linear_change(const prsm_assembly_pair *ap, const double *e)
 	s += g[PRSM_PERTURB_ROLLER_DY] * e[PRSM_PERTURB_ROLLER_DY];
 	s += g[PRSM_PERTURB_ROLLER_SHIFT] * e[PRSM_PERTURB_ROLLER_SHIFT];
 	const double dr = e[PRSM_PERTURB_ROLLER_RADIUS], dR = e[PRSM_PERTURB_ROLLER_ARC];
-	if (dr != 0.0 || dR != 0.0) {
-		const double r = ap->pair.roller_radius_mm, R = ap->pair.arc_radius_mm;
-		const double r1 = r + dr, R1 = R + dR;
-		s += sqrt(R1 * R1 - r1 * r1) - sqrt(R * R - r * r) -
-		     (sqrt(R1 * R1 - ap->u2_mm2) - sqrt(R * R - ap->u2_mm2));
-	}
+	if (dr != 0.0 || dR != 0.0)
+		s += radius_change(ap, dr, dR);
 	return s;
 }
 
@@ -316,12 +321,8 @@ static void pair_gap(double *g0, double *g1, const prsm_assembly_pair *ap, const
 	s += g[PRSM_PERTURB_ROLLER_DY] * t->roller_dy;
 	s += g[PRSM_PERTURB_ROLLER_SHIFT] * (-0.5 * r->thickness_mm + ax * t->roller_D[side]);
 	const double dr = r->pitch_radius_mm, dR = r->arc_radius_mm;
-	if (dr != 0.0 || dR != 0.0) {
-		const double rr = ap->pair.roller_radius_mm, R = ap->pair.arc_radius_mm;
-		const double r1 = rr + dr, R1 = R + dR;
-		s += sqrt(R1 * R1 - r1 * r1) - sqrt(R * R - rr * rr) -
-		     (sqrt(R1 * R1 - ap->u2_mm2) - sqrt(R * R - ap->u2_mm2));
-	}
+	if (dr != 0.0 || dR != 0.0)
+		s += radius_change(ap, dr, dR);
 	*g0 = ap->gap_mm + s;
 	double z = 0.0;
 	z += g[PRSM_PERTURB_BODY_DX] * t->body_dx_z[side];

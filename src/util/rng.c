@@ -125,6 +125,14 @@ double prsm_rng_uniform_pos(gsl_rng *r)
 #define FILL_BLOCKS 16u
 #define FILL_VALUES (4u * FILL_BLOCKS)
 
+/* The 53-bit number k of one 64-bit block word, as rng_next_u64 reads its two halves (low half
+ * first, as the high bits) and prsm_rng_uniform_pos keeps the top 53 bits: k / 2^53 is the
+ * uniform. */
+static inline uint64_t word_k(uint64_t v)
+{
+	return ((v << 32) | (v >> 32)) >> 11;
+}
+
 #if PRSM_HAVE_AVX2_CLONES
 /* The uniform of one 64-bit block word, as prsm_rng_uniform_pos reads the word's two halves (low
  * half first, as the high bits): k = the top 53 bits, k / 2^53 = 0 when k = 0. Built exactly
@@ -133,7 +141,7 @@ double prsm_rng_uniform_pos(gsl_rng *r)
  * b = 1 and 1/2 more than it when b = 0 (subtracting 1/2 is exact then, Sterbenz). */
 static inline double uniform_of_word(uint64_t v)
 {
-	const uint64_t k = ((v << 32) | (v >> 32)) >> 11;
+	const uint64_t k = word_k(v);
 	const uint64_t half_bits = UINT64_C(0x3fe0000000000000);
 	const uint64_t a_bits = half_bits | (k & ((UINT64_C(1) << 52) - 1));
 	const uint64_t b_bits = ((k >> 52) - 1) & half_bits; /* 1/2 when bit 52 of k is clear, else +0 */
@@ -277,10 +285,8 @@ void prsm_rng_fill_uniform_pos(gsl_rng *r, double *u, size_t n)
 	while (st->next_word == PRSM_RNG_WORDS_PER_BLOCK && n - i >= 4) {
 		rng_refill(st);
 		uint64_t k[4];
-		for (int j = 0; j < 4; j++) {
-			const uint64_t v = st->block[j];
-			k[j] = ((v << 32) | (v >> 32)) >> 11;
-		}
+		for (int j = 0; j < 4; j++)
+			k[j] = word_k(st->block[j]);
 		if (k[0] == 0 || k[1] == 0 || k[2] == 0 || k[3] == 0)
 			break;
 		for (int j = 0; j < 4; j++)
@@ -297,8 +303,7 @@ void prsm_rng_fill_uniform_pos(gsl_rng *r, double *u, size_t n)
 		/* fast path: two unread words of the current block, in the order rng_next_u64 reads
 		 * them (low half first, as the high bits) */
 		if (st->next_word % 2 == 0 && st->next_word < PRSM_RNG_WORDS_PER_BLOCK) {
-			uint64_t v = st->block[st->next_word / 2];
-			uint64_t k = ((v << 32) | (v >> 32)) >> 11;
+			const uint64_t k = word_k(st->block[st->next_word / 2]);
 			if (k != 0) {
 				st->next_word += 2;
 				u[i++] = (double)k * 0x1p-53;

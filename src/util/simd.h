@@ -4,7 +4,8 @@
  *
  * The build targets baseline x86-64 (SSE2, two doubles a vector) and takes no -march flag, so
  * that one binary runs on any x86-64. The few loops that carry the engine's sampling (the normal
- * quantile's central region, the Philox generator and its conversion to doubles) are compiled a
+ * quantile's central region and tails, the uniform's chunk, the Philox generator and its
+ * conversion to doubles) are compiled a
  * second time for AVX2 (four doubles a vector) and BMI2 (mulx: PRSM_TARGET_AVX2) and chosen at
  * run time. Either
  * build gives the same bits: the integer arithmetic is exact, and the floating-point operations
