@@ -259,7 +259,7 @@ void prsm_assembly_perturbation(double *out, const prsm_assembly *as, const prsm
 
 /* The gap change of the roller's pitch radius (dr) and flank arc radius (dR) deviations, mm: they
  * enter the gap only through z_c - sqrt(R^2 - u^2), evaluated exactly at the frozen contact. */
-static double radius_change(const prsm_assembly_pair *ap, double dr, double dR)
+static inline double radius_change(const prsm_assembly_pair *ap, double dr, double dR)
 {
 	const double r = ap->pair.roller_radius_mm, R = ap->pair.arc_radius_mm;
 	const double r1 = r + dr, R1 = R + dR;
