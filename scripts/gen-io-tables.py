@@ -820,8 +820,9 @@ def emit(gens, out_dir):
                          f'_Static_assert({cname_c} == {value}, {message});\n#endif')
             else:
                 c.append(f'_Static_assert({cname_c} == {value}, {message});')
-        for base, names, values in g.enum_arrays:
-            c.append(f'static const char *const {base}_names[] = {{' +
+        for base, names, values in g.enum_arrays:  # the names, for the C code that writes them too
+            h.append(f'extern const char *const {base}_names[]; /* {len(names)} and NULL */')
+            c.append(f'const char *const {base}_names[] = {{' +
                      ', '.join(c_string(n) for n in names) + ', NULL};')
             c.append(f'static const int {base}_values[] = {{' + ', '.join(values) + '};')
         for wrapper, st, fn in g.wrappers:

@@ -66,6 +66,8 @@ def props(s, *path):
 
 
 check('the project schema generates', design, 0)
+check("an enum's names are exported, for the C code that writes them", design, 0,
+      '\nconst char *const prsm_io_t_design_geometry_hand_names[] = {"right", "left", NULL};')
 s = copy.deepcopy(design)
 del props(s, 'losses', 'seal_torque_Nm')['x-prsm']
 check('a property without x-prsm is refused', s, 1, '/losses/seal_torque_Nm has no "x-prsm"')

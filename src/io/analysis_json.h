@@ -32,52 +32,20 @@ void prsm_io_analysis_write(prsm_jw *w, cJSON *obj, const prsm_analysis *a, cons
 cJSON *prsm_io_problem_document(int status, const char *title, const prsm_problems *p);
 
 /* What the generated tables of the analysis result read (the x-prsm "field"s of
- * schemas/analysis.schema.json): the parts of a result, and the values derived from them. */
-typedef struct {
-	const prsm_contact *c;
-	double gap0_mm;          /* the gap with no thinning */
-	const double *estimate;  /* the curvature estimate, 2 */
-} prsm_io_contact_view;
-
+ * schemas/analysis.schema.json): the parts of a result, and the values derived from them (the
+ * views of the contact, the analysis, the chain and the error analysis are the schema's "view"s,
+ * declared in prsm_io_writers.h). */
 typedef struct {
 	const prsm_loaddist_side_result *s;
 	const double *loads;     /* per thread */
 	int threads, most_loaded; /* n_t; the most loaded thread, from 1 */
 } prsm_io_side_view;
 
-typedef struct {
-	const prsm_analysis *a;
-	const prsm_design *d;
-	const prsm_performance *p;
-	const prsm_problems *warnings;
-	prsm_io_contact_view screw, nut;
-	prsm_io_side_view screw_side, nut_side;
-	int loaded; /* F > 0 */
-	double F, nut_travel_mm, nut_speed_mm_s, carrier_speed_rpm, spin_speed_rpm, slip_speed_mm_s;
-	double axial_N_per_um, approach_um, hours, speed_margin, buckling_margin;
-} prsm_io_analysis_view;
-
-typedef struct {
-	const prsm_io_multistage *m;
-	const prsm_performance *perf; /* per stage */
-	const prsm_problems *warnings;
-	int stage[PRSM_STAGES_MAX];   /* the stages' numbers, from 1 */
-} prsm_io_multistage_view;
-
-/* The error analysis (its "assembly" member, io/assembly_json.h). */
+/* The error analysis (its "assembly" member, io/assembly_json.h): the gaps of one pair. */
 typedef struct {
 	double min_mm, max_mm;  /* the gaps of one pair and direction */
 	const double *gap_mm;   /* every gap, roller by roller (when curve) */
 	int rollers, threads, curve;
 } prsm_io_gap_view;
-
-typedef struct {
-	const prsm_assembly_report *r;
-	const prsm_assembly *as;
-	const prsm_assembly_workspace *ws;
-	prsm_io_gap_view gaps[2][2];  /* [side][direction] */
-	int curve, loaded, rollers;  /* the curve's members; a load to share */
-	double hz, lead_deviation_um, peak_Hz, step_deg, travel_per_step_mm;
-} prsm_io_assembly_view;
 
 #endif

@@ -23,17 +23,11 @@
 
 #define DEG (180.0 / M_PI)     /* rad -> deg */
 
-/* The per-stage fields of `inertia` (the single-stage form; a chain's are in inertia.stages). */
-static const char *const stage_keys[] = {"gear_face_width_mm", "roller_mass_kg", "roller_inertia_kg_mm2",
-                                         "carrier_mass_kg", "carrier_inertia_kg_mm2", "nut_mass_kg",
-                                         "screw_mass_kg", "screw_inertia_kg_mm2", NULL};
+/* The per-stage fields of `inertia` (the single-stage form; a chain's are in inertia.stages): the
+ * members of one stage's table ($defs/stage_inertia). */
+#define STAGE_KEYS (prsm_io_t_dynamics_stage_inertia.keys)
 
 /* ---- the hooks of the table (schemas/dynamics.schema.json, x-prsm) ---------------------------- */
-
-static int has(const cJSON *obj, const char *key)
-{
-	return cJSON_GetObjectItemCaseSensitive(obj, key) != NULL;
-}
 
 /* The masses: the single-stage fields into stage 0, each item of `stages` into its stage, by
  * the table of one stage (schemas/dynamics.schema.json, $defs/stage_inertia). Which form the
@@ -41,8 +35,8 @@ static int has(const cJSON *obj, const char *key)
 void prsm_io_hook_dynamics_inertia(void *base, const cJSON *obj, const char *obj_pointer, prsm_problems *problems)
 {
 	prsm_dyn_options *o = base;
-	for (int i = 0; stage_keys[i]; i++)
-		prsm_io_read_member(&o->inertia.stage[0], &prsm_io_t_dynamics_stage_inertia, stage_keys[i], obj, obj_pointer,
+	for (int i = 0; STAGE_KEYS[i]; i++)
+		prsm_io_read_member(&o->inertia.stage[0], &prsm_io_t_dynamics_stage_inertia, STAGE_KEYS[i], obj, obj_pointer,
 		                    problems);
 	const cJSON *arr = cJSON_GetObjectItemCaseSensitive(obj, "stages");
 	if (arr == NULL)
@@ -77,9 +71,9 @@ static void check_inertia_form(const cJSON *obj, int stages, prsm_problems *prob
 		prsm_problems_add(problems, "/dynamics/inertia/stages", "single_stage",
 		                  "a single-stage screw gives its masses directly in inertia (stages is for a chain)");
 	} else if (stages > 1) {
-		for (int i = 0; stage_keys[i]; i++)
-			if (has(in, stage_keys[i])) {
-				prsm_json_pointer_append(ptr, sizeof ptr, "/dynamics/inertia", stage_keys[i]);
+		for (int i = 0; STAGE_KEYS[i]; i++)
+			if (cJSON_GetObjectItemCaseSensitive(in, STAGE_KEYS[i])) {
+				prsm_json_pointer_append(ptr, sizeof ptr, "/dynamics/inertia", STAGE_KEYS[i]);
 				prsm_problems_add(problems, ptr, "chain",
 				                  "a chain of %d stages gives each stage's masses in inertia.stages "
 				                  "(%d objects, stage 1 first)", stages, stages);
@@ -101,13 +95,11 @@ const char *prsm_io_dynamics_analysis_name(int analysis)
 	return analysis >= 0 && analysis < PRSM_IO_DYN_ANALYSES ? analysis_names[analysis] : "unknown";
 }
 
-static const char *const sweep_parameter_names[PRSM_IO_SWEEP_PARAMETERS] = {
-	"frequency_ratio", "screw_speed_rad_s", "mesh_error_um", "mesh_damping_ratio",
-	"error_amplitude", "damping_ratio", "mean_load", "stiffness_variation"};
-
+/* the schema's names (prsm_io_tables.c), in the order of PRSM_IO_SWEEP_* */
 const char *prsm_io_sweep_parameter_name(int parameter)
 {
-	return parameter >= 0 && parameter < PRSM_IO_SWEEP_PARAMETERS ? sweep_parameter_names[parameter] : "unknown";
+	return parameter >= 0 && parameter < PRSM_IO_SWEEP_PARAMETERS ? prsm_io_t_dynamics_sweep_parameter_names[parameter]
+	                                                              : "unknown";
 }
 
 int prsm_io_sweep_parameter_engine(int parameter, double *to_engine)
@@ -663,8 +655,10 @@ static int checks_passed(const prsm_dyn_result *r, prsm_problems *warnings)
 	return pb_ok && ne_ok;
 }
 
-void prsm_io_dynamics_write(prsm_jw *w, cJSON *obj, const char *key, const prsm_dyn_model *m,
-                            const prsm_dyn_result *r, prsm_problems *warnings)
+/* The dynamics result (the document's `dynamics` member) of a finished simulation r of model m,
+ * as obj[key]; warnings (may be NULL) gets a problem per failed check. */
+static void dynamics_write(prsm_jw *w, cJSON *obj, const char *key, const prsm_dyn_model *m,
+                           const prsm_dyn_result *r, prsm_problems *warnings)
 {
 	const prsm_dyn_options *o = prsm_dyn_model_options(m);
 	prsm_io_dyn_result_view v = {
@@ -713,7 +707,7 @@ void prsm_io_whook_dyn_document(prsm_jw *w, cJSON *obj, const char *key, const v
 {
 	const prsm_io_dyn_document_view *d = at;
 	if (d->vib == NULL) {
-		prsm_io_dynamics_write(w, obj, key, d->m, d->r, NULL);
+		dynamics_write(w, obj, key, d->m, d->r, NULL);
 		return;
 	}
 	void *ctx = w->ctx;
@@ -805,8 +799,6 @@ int prsm_io_dynamics_write_csv(FILE *f, const prsm_dyn_model *m, const prsm_dyn_
 /* ---- the vibration analyses' results (schemas/dynamics-result.schema.json) ----------------------- */
 
 static const char *const class_names[] = {"periodic", "non_periodic", "quasi_periodic", "chaotic", "failed"};
-static const char *const obs_names[] = {"mesh_deflection", "mesh_rate", "mesh_force",
-                                        "axial_deflection", "axial_rate", "thread_force"};
 
 
 void prsm_io_vib_result_free(prsm_io_vib_result *r)
@@ -1071,7 +1063,7 @@ int prsm_io_vibration_write_csv(FILE *f, const prsm_io_vib_request *q, const prs
 	switch (q->analysis) {
 	case PRSM_IO_DYN_VIBRATION: {
 		const prsm_vib_steady *s = &r->steady;
-		const char *obs = NAME(obs_names, q->steady_state.observable);
+		const char *obs = prsm_io_t_dynamics_steady_state_observable_names[q->steady_state.observable];
 		fprintf(f, "time_tau,time_s,%s,%s_rate\n", obs, obs);
 		const int per = q->steady_state.samples_per_period;
 		for (size_t i = 0; i < s->portrait_points; i++) {
@@ -1089,11 +1081,12 @@ int prsm_io_vibration_write_csv(FILE *f, const prsm_io_vib_request *q, const prs
 		double to_engine = 1.0;
 		prsm_io_sweep_parameter_engine(q->sweep.parameter, &to_engine);
 		csv_sweep(f, &r->sweep, prsm_io_sweep_parameter_name(q->sweep.parameter), 1.0 / to_engine,
-		          NAME(obs_names, q->sweep.observable));
+		          prsm_io_t_dynamics_sweep_observable_names[q->sweep.observable]);
 		break;
 	}
 	case PRSM_IO_DYN_FREQUENCY_RESPONSE:
-		csv_sweep(f, &r->fr.sweep, "frequency_ratio", 1.0, NAME(obs_names, q->sweep.observable));
+		csv_sweep(f, &r->fr.sweep, "frequency_ratio", 1.0,
+		          prsm_io_t_dynamics_sweep_observable_names[q->sweep.observable]);
 		break;
 	case PRSM_IO_DYN_BASINS: {
 		const prsm_vib_basins *b = &r->basins;

@@ -58,11 +58,6 @@
  */
 int prsm_io_dynamics_from_json(prsm_dyn_options *o, const cJSON *obj, int stages, prsm_problems *problems);
 
-/* The dynamics result (the `dynamics` member of the document) of a finished simulation r of
- * model m, as obj[key]. warnings (may be NULL) gets a problem per failed check. */
-void prsm_io_dynamics_write(prsm_jw *w, cJSON *obj, const char *key, const prsm_dyn_model *m,
-                            const prsm_dyn_result *r, prsm_problems *warnings);
-
 /* The whole result document {engine, name, warnings, dynamics} (schemas/dynamics-result.schema.json);
  * name may be NULL or "". The caller owns it; NULL when out of memory. The checks' warnings are
  * appended to a copy of warnings (may be NULL). */
@@ -179,13 +174,9 @@ typedef struct {
 
 /* The defaults of each section: the gear pair's (dyn/vib.h, checked by the generated
  * prsm_io_defaults_*); those of steady_state, sweep, basins, linear and frequency_response are
- * generated from the schema ("init": {"generate"}, prsm_io_tables.c); the request's, each. */
+ * generated from the schema ("init": {"generate"}, declared in prsm_io_tables.h); the request's,
+ * each. */
 void prsm_io_gear_pair_init(prsm_vib_gear_pair *g);
-void prsm_io_vib_steady_init(prsm_io_vib_steady *s);
-void prsm_io_vib_sweep_init(prsm_io_vib_sweep *s);
-void prsm_io_vib_basins_init(prsm_io_vib_basins *b);
-void prsm_io_vib_linear_init(prsm_io_vib_linear *l);
-void prsm_io_vib_frequency_response_init(prsm_io_vib_frequency_response *f);
 void prsm_io_vib_request_init(prsm_io_vib_request *r);
 
 /*

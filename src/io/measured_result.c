@@ -24,19 +24,6 @@ void prsm_io_whook_calib_by_name(prsm_jw *w, cJSON *obj, const char *key, const 
 		prsm_jw_number(w, o, v->key[j], x[j]);
 }
 
-/* The correlation matrix, row by row (at: the fit). */
-void prsm_io_whook_calib_correlation(prsm_jw *w, cJSON *obj, const char *key, const void *at)
-{
-	const prsm_calib_fit *f = at;
-	const int P = f->params;
-	cJSON *corr = prsm_jw_array(w, obj, key);
-	for (int a = 0; a < P; a++) {
-		cJSON *row = prsm_jw_array(w, corr, NULL);
-		for (int b = 0; b < P; b++)
-			prsm_jw_number(w, row, NULL, f->correlation[a * P + b]);
-	}
-}
-
 /* A physical field's sensitivity (at: its element of sensitivity_um), the key naming the unit. */
 void prsm_io_whook_calib_sensitivity(prsm_jw *w, cJSON *obj, const char *key, const void *at)
 {
