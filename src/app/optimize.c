@@ -303,7 +303,7 @@ int prsm_app_optimize_with(cJSON **result, const cJSON *doc, prsm_cancel_flag *c
 	o->progress_ctx = progress_ctx;
 	if (max_time_s > 0.0 && max_time_s < o->max_time_s)
 		o->max_time_s = max_time_s;
-	cJSON *out = prsm_io_optimization_result_head(od, &warnings);
+	cJSON *out = cJSON_CreateObject();
 	if (!out) {
 		rc = prsm_error_set(err, PRSM_ENOMEM, NULL, "out of memory");
 		goto cleanup;
@@ -328,11 +328,11 @@ int prsm_app_optimize_with(cJSON **result, const cJSON *doc, prsm_cancel_flag *c
 		                             front->anchor[0].pruned, front->local_runs,
 		                             front->local_runs_feasible, front->runs_truncated, front->stop,
 		                             front->cancelled, front->elapsed_s};
-		prsm_io_optimization_run_json(out, od, &run);
-		if (lead >= 0)
+		rc = prsm_io_optimization_run_json(out, od, &warnings, &run);
+		if (rc == 0 && lead >= 0)
 			rc = write_point(out, NULL, od, PRSM_OPT_FEASIBLE, front->points[lead].x,
 			                 front->points[lead].levels, 0.0);
-		else
+		else if (rc == 0)
 			rc = write_point(out, NULL, od, PRSM_OPT_NOTHING, NULL, NULL, 0.0);
 		cJSON *pts = prsm_io_optimization_pareto_json(out, od, front);
 		if (!pts && rc == 0)
@@ -356,8 +356,9 @@ int prsm_app_optimize_with(cJSON **result, const cJSON *doc, prsm_cancel_flag *c
 		const prsm_io_opt_run run = {r->evaluations, r->combinations, r->pruned, r->runs,
 		                             r->runs_feasible, r->runs_truncated, r->stop,
 		                             r->cancelled || run_rc == PRSM_ECANCELLED, r->elapsed_s};
-		prsm_io_optimization_run_json(out, od, &run);
-		rc = write_point(out, NULL, od, r->status, r->x, r->levels, 0.0);
+		rc = prsm_io_optimization_run_json(out, od, &warnings, &run);
+		if (rc == 0)
+			rc = write_point(out, NULL, od, r->status, r->x, r->levels, 0.0);
 		if (od->method == PRSM_IO_OPT_WEIGHTED)
 			prsm_io_optimization_normalisation_json(out, od, ideal, range);
 		if (rc == 0)

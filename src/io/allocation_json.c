@@ -339,13 +339,6 @@ int prsm_io_step_alloc_mc(prsm_io_at *at, prsm_problems *pr)
 	return 1;
 }
 
-void prsm_io_hook_alloc_seed(void *base, const cJSON *mc, const char *p, prsm_problems *pr)
-{
-	int seed;
-	if (prsm_json_get_int(&seed, mc, p, "seed", PRSM_JSON_OPTIONAL, 0, 2147483647, pr) == PRSM_JSON_PRESENT)
-		((prsm_io_allocation *)base)->seed = (uint64_t)seed;
-}
-
 /* The samples of every run within the cap, and enough to show each target yield. */
 int prsm_io_step_alloc_samples(prsm_io_at *at, prsm_problems *pr)
 {

@@ -1,17 +1,8 @@
 /*
- * allocation_json.h: the tolerance-allocation document (schemas/allocation.schema.json) to the
- * allocation problem of src/opt/alloc.h, its Monte Carlo verification and correction
- * (src/opt/alloc_mc.h), and the result (schemas/allocation-result.schema.json). Issue 7, item 4.
- *
- * A document is either a tolerance study (schemas/study.schema.json, under `study`) whose
- * tolerances get a cost model and bounds, or a pure analytic stack (`analytic`: explicit
- * sensitivities and nominals, no design, no Monte Carlo), plus the constraints (an output with
- * its spec and a target yield or ppm, or an assembly tolerance given directly), the stack model
- * (`rss` or `worst_case`) and the solver. Every problem of the document is reported at once with
- * its JSON pointer. The result carries, per tolerance, the allocated half-width (in the
- * parameter's unit) and its cost; the total cost; per constraint the assembly tolerance, the
- * predicted (linear) yield and the Monte Carlo yield with its 95 % Wilson interval; the
- * correction steps; the stop reason, the time and the versions.
+ * allocation_json.h: the tolerance-allocation document (schemas/allocation.schema.json, whose
+ * descriptions say what it holds and what the reader checks) to the allocation problem of
+ * src/opt/alloc.h and its Monte Carlo verification and correction (src/opt/alloc_mc.h), and the
+ * result (schemas/allocation-result.schema.json). Issue 7, item 4.
  */
 #ifndef PRSM_IO_ALLOCATION_JSON_H
 #define PRSM_IO_ALLOCATION_JSON_H
@@ -24,11 +15,7 @@
 #include "opt/alloc_mc.h"
 #include "util/problems.h"
 
-/* Limits of the document (schemas/allocation.schema.json states the same numbers). */
-#define PRSM_IO_ALLOC_MAX_TOLERANCES 64      /* tolerances allocated */
-#define PRSM_IO_ALLOC_MAX_CONSTRAINTS 16     /* constrained outputs */
-#define PRSM_IO_ALLOC_MAX_CORRECTIONS 30     /* monte_carlo.max_corrections */
-#define PRSM_IO_ALLOC_MAX_SAMPLES 4000000    /* samples of all Monte Carlo runs together */
+#define PRSM_IO_ALLOC_MAX_SAMPLES 4000000 /* samples of all Monte Carlo runs together, at most */
 
 /* A loaded document. Large: on the heap. */
 typedef struct {
@@ -48,7 +35,7 @@ typedef struct {
 	prsm_alloc_model model;
 	prsm_alloc_mc_options opt;
 	int threads;                                  /* monte_carlo.threads, 0: the study's */
-	uint64_t seed;
+	long seed;                                    /* monte_carlo.seed, else the study's */
 	size_t samples;
 } prsm_io_allocation;
 

@@ -25,8 +25,6 @@
 #include "opt/design_problem.h"
 #include "prsm_io_tables.h"
 
-const char *const prsm_io_opt_method_names[] = {"single", "weighted_sum", "pareto", NULL};
-
 /* Robust studies: default samples per candidate. */
 #define ROBUST_DEFAULT_SAMPLES 256
 
@@ -405,7 +403,7 @@ static void add_study_problem(prsm_problems *pr, const prsm_io_optimization *od,
 				i++;
 			}
 		}
-		int k = o >= 0 && o < PRSM_MC_MAX_OUTPUTS ? od->robust_output_of[o] : 0;
+		int k = o >= 0 && o < od->robust.n ? o : 0; /* output k is robust constraint k's */
 		char base[PRSM_JSON_POINTER_MAX];
 		prsm_json_pointer_append_index(base, sizeof base, "/robust/constraints", k);
 		prsm_json_pointer_append(ptr, sizeof ptr, base, q[1] == 'o' ? "output" : "spec");
@@ -442,7 +440,6 @@ int prsm_io_step_opt_robust_study(prsm_io_at *at, prsm_problems *pr)
 	cJSON *specs = cJSON_AddObjectToObject(st, "specs");
 	for (int k = 0; k < od->robust.n; k++) {
 		const prsm_robust_constraint *rc = &od->robust.c[k];
-		od->robust_output_of[k] = k;
 		cJSON_AddItemToArray(outs, cJSON_CreateString(rc->output));
 		cJSON *so = cJSON_AddObjectToObject(specs, rc->output);
 		if (rc->spec.has_lower)

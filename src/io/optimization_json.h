@@ -1,21 +1,8 @@
 /*
- * optimization_json.h: the design-optimisation document (schemas/optimization.schema.json) to
- * the PRSM design problem of src/opt/design_problem.h, and its result to JSON
- * (schemas/optimization-result.schema.json). Issue 7, DESIGN.md "Optimisation".
- *
- * A document is a base design (every field the optimiser does not vary is taken from it), the
- * variables (starts, pitch or lead, roller or screw radius, roller count, engaged threads,
- * flank angle: each fixed, a range or a set of values), one or more objectives (efficiency,
- * stiffness, mass, reflected inertia), constraints (nut outer diameter, screw diameter range,
- * static safety, L10 life, p_max, critical speed, roller fit and standard rules always) and the
- * solver settings (algorithm, multi-start, evaluation and time caps, seed), with an optional
- * multi-objective section (weighted sum or an epsilon-constraint Pareto sweep). Every problem
- * of the document is reported at once with its JSON pointer. The result carries the best design
- * as a design document `prsm analyze` accepts, its analysis, every constraint with its value,
- * limit and whether it holds (judged on a fresh analysis against the raw limit: the document's
- * constraint_tolerance only steers the solver), the objectives, the evaluation count, the runs
- * and those truncated, the stop reason, the time, the versions, and for a sweep the Pareto front
- * with each point's design, figures and full analysis.
+ * optimization_json.h: the design-optimisation document (schemas/optimization.schema.json, whose
+ * descriptions say what it holds and what the reader checks) to the design problem of
+ * src/opt/design_problem.h, and its result (schemas/optimization-result.schema.json) to JSON.
+ * Issue 7, DESIGN.md "Optimisation".
  */
 #ifndef PRSM_IO_OPTIMIZATION_JSON_H
 #define PRSM_IO_OPTIMIZATION_JSON_H
@@ -35,15 +22,10 @@
 #include "util/error.h"
 #include "util/problems.h"
 
-/* Limits of the document (schemas/optimization.schema.json states the same numbers). */
-#define PRSM_IO_OPT_MAX_EVALUATIONS 1000000  /* solver.max_evaluations, the document's cap */
-#define PRSM_IO_OPT_MAX_TIME_S 86400.0       /* solver.max_time_s */
-#define PRSM_IO_OPT_MAX_MULTISTART 64        /* solver.multistart */
-#define PRSM_IO_OPT_MAX_PARETO_POINTS 50     /* multi_objective.points */
+#define PRSM_IO_OPT_MAX_EVALUATIONS 1000000 /* solver.max_evaluations' cap (the schema's maximum) */
 
-/* The methods of multi_objective.method, and their names (NULL-terminated). */
+/* The methods of multi_objective.method. */
 enum { PRSM_IO_OPT_SINGLE = 0, PRSM_IO_OPT_WEIGHTED = 1, PRSM_IO_OPT_PARETO = 2 };
-extern const char *const prsm_io_opt_method_names[];
 
 /* A loaded document. The run (src/app/optimize.c) points the problem's context at spec and the
  * robust studies' builder at its own code, so the struct must not move once read. */
@@ -65,7 +47,6 @@ typedef struct {
 	                                     geometry replaced per candidate), the section's tolerances,
 	                                     correlations, assembly and monte_carlo, the constrained
 	                                     outputs and specs, no sensitivities; owned */
-	int robust_output_of[PRSM_MC_MAX_OUTPUTS]; /* constraint index of each study output */
 	char sampler[16];                 /* the robust studies' sampler, as run */
 	size_t block_size;
 	int threads;
@@ -116,11 +97,10 @@ typedef struct {
 	double elapsed_s;                       /* s */
 } prsm_io_opt_run;
 
-/* The head of the result: name, versions, method, warnings. NULL when out of memory. */
-cJSON *prsm_io_optimization_result_head(const prsm_io_optimization *od, const prsm_problems *warnings);
-
-/* cancelled, stop_reason, evaluations, solver and search into doc. */
-void prsm_io_optimization_run_json(cJSON *doc, const prsm_io_optimization *od, const prsm_io_opt_run *run);
+/* The head of the result into doc: name, versions, method, warnings, the run's stop reason,
+ * evaluations, solver and search. Returns 0 or PRSM_ENOMEM. */
+int prsm_io_optimization_run_json(cJSON *doc, const prsm_io_optimization *od, const prsm_problems *warnings,
+                                  const prsm_io_opt_run *run);
 
 /* status, feasible, violated and best (p NULL when the run found nothing). Returns 0 or
  * PRSM_ENOMEM. */
