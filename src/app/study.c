@@ -249,10 +249,7 @@ static void check_ranges(prsm_io_study *out, prsm_problems *warnings, prsm_probl
 
 int prsm_app_study_options(prsm_io_study_options *o)
 {
-	prsm_io_study_options_init(o);
-	o->analyse_design = analyse_design;
-	o->prepare_model = prepare_model;
-	o->check_study = check_ranges;
+	*o = (prsm_io_study_options){analyse_design, prepare_model, check_ranges, NULL};
 	return 0;
 }
 

@@ -319,88 +319,79 @@ static void put_expression(prsm_expr_model *m, const char *name, const char *tex
 	m->n_exprs++;
 }
 
-/* "expression" (the one output, y) or "expressions" (named outputs), exactly one. Returns 0 when
- * they were read. */
-static int read_expression_texts(prsm_expr_model *m, const cJSON *o, prsm_problems *pr)
+/* "expressions" (outputs: 1 or more) or "constants", a map of named items: an object without
+ * repeated keys, at most max items. Returns its first item, or NULL (after a problem, or when it
+ * is empty). */
+static const cJSON *named_items(const cJSON *map, const char *p, int outputs, int max, prsm_problems *pr)
+{
+	if (prsm_json_object_value(map, p, pr) || prsm_json_check_duplicates(map, p, pr))
+		return NULL;
+	const int n = cJSON_GetArraySize(map);
+	if (n >= outputs && n <= max)
+		return map->child;
+	if (outputs)
+		prsm_problems_add(pr, p, "range", "expressions: 1 to %d named outputs (got %d)", max, n);
+	else
+		prsm_problems_add(pr, p, "range", "constants: at most %d", max);
+	return NULL;
+}
+
+/* An item of a map of named items: its pointer ip, its name checked. Returns 0 when it is valid. */
+static int named_item(char ip[PRSM_JSON_POINTER_MAX], const cJSON *it, const char *p, prsm_problems *pr)
+{
+	char msg[200];
+	prsm_json_pointer_append(ip, PRSM_JSON_POINTER_MAX, p, it->string);
+	if (prsm_expr_name_check(it->string, msg, sizeof msg) == 0)
+		return 0;
+	prsm_problems_add(pr, ip, "bad_name", "%s", msg);
+	return 1;
+}
+
+/* "expression" (the one output, y) or "expressions" (named outputs), exactly one. */
+static void read_expression_texts(prsm_expr_model *m, const cJSON *o, prsm_problems *pr)
 {
 	const size_t text_max = sizeof m->exprs[0] - 1;
 	const cJSON *one = cJSON_GetObjectItemCaseSensitive(o, "expression");
 	const cJSON *many = cJSON_GetObjectItemCaseSensitive(o, "expressions");
 	const char *text;
+	char ip[PRSM_JSON_POINTER_MAX];
 	if (one && many) {
 		prsm_io_problem(pr, "/model", "expressions", "conflict",
 		                "give expression (one output, y) or expressions (named outputs), not both");
-		return 1;
-	}
-	if (!one && !many) {
+	} else if (!one && !many) {
 		prsm_problems_add(pr, "/model", "required", "an expression model needs expression (one output, y) or "
 		                  "expressions (named outputs, each with its expression)");
-		return 1;
+	} else if (one) {
+		if (prsm_json_string_value(&text, one, "/model/expression", text_max, pr) == 0)
+			put_expression(m, "y", text);
+	} else {
+		for (const cJSON *it = named_items(many, "/model/expressions", 1, PRSM_EXPR_MAX_OUTPUTS, pr); it; it = it->next)
+			if (named_item(ip, it, "/model/expressions", pr) == 0 &&
+			    prsm_json_string_value(&text, it, ip, text_max, pr) == 0)
+				put_expression(m, it->string, text);
 	}
-	if (one) {
-		if (prsm_json_string_value(&text, one, "/model/expression", text_max, pr))
-			return 1;
-		put_expression(m, "y", text);
-		return 0;
-	}
-	if (prsm_json_object_value(many, "/model/expressions", pr) || prsm_json_check_duplicates(many, "/model/expressions", pr))
-		return 1;
-	const int n = cJSON_GetArraySize(many);
-	if (n < 1 || n > PRSM_EXPR_MAX_OUTPUTS) {
-		prsm_problems_add(pr, "/model/expressions", "range", "expressions: 1 to %d named outputs (got %d)",
-		                  PRSM_EXPR_MAX_OUTPUTS, n);
-		return 1;
-	}
-	int bad = 0;
-	for (const cJSON *it = many->child; it; it = it->next) {
-		char ip[PRSM_JSON_POINTER_MAX], msg[200];
-		prsm_json_pointer_append(ip, sizeof ip, "/model/expressions", it->string);
-		if (prsm_expr_name_check(it->string, msg, sizeof msg)) {
-			prsm_problems_add(pr, ip, "bad_name", "%s", msg);
-			bad = 1;
-		} else if (prsm_json_string_value(&text, it, ip, text_max, pr)) {
-			bad = 1;
-		} else {
-			put_expression(m, it->string, text);
-		}
-	}
-	return bad;
 }
 
-/* "constants": named numbers, no input's name. Returns 0 when they were read. */
-static int read_constants(prsm_expr_model *m, const cJSON *o, prsm_problems *pr)
+/* "constants": named numbers, no input's name. */
+static void read_constants(prsm_expr_model *m, const cJSON *o, prsm_problems *pr)
 {
 	const cJSON *cs = cJSON_GetObjectItemCaseSensitive(o, "constants");
-	if (!cs)
-		return 0;
-	if (prsm_json_object_value(cs, "/model/constants", pr) || prsm_json_check_duplicates(cs, "/model/constants", pr))
-		return 1;
-	if (cJSON_GetArraySize(cs) > PRSM_EXPR_MAX_CONSTANTS) {
-		prsm_problems_add(pr, "/model/constants", "range", "constants: at most %d", PRSM_EXPR_MAX_CONSTANTS);
-		return 1;
-	}
-	int bad = 0;
-	for (const cJSON *it = cs->child; it; it = it->next) {
-		char ip[PRSM_JSON_POINTER_MAX], msg[200];
-		double v;
-		prsm_json_pointer_append(ip, sizeof ip, "/model/constants", it->string);
+	char ip[PRSM_JSON_POINTER_MAX];
+	double v;
+	for (const cJSON *it = cs ? named_items(cs, "/model/constants", 0, PRSM_EXPR_MAX_CONSTANTS, pr) : NULL; it;
+	     it = it->next) {
+		if (named_item(ip, it, "/model/constants", pr))
+			continue;
 		int clash = 0;
 		for (size_t i = 0; i < m->n_inputs && !clash; i++)
 			clash = strcmp(m->inputs[i], it->string) == 0;
-		if (prsm_expr_name_check(it->string, msg, sizeof msg)) {
-			prsm_problems_add(pr, ip, "bad_name", "%s", msg);
-			bad = 1;
-		} else if (clash) {
+		if (clash) {
 			prsm_problems_add(pr, ip, "duplicate", "'%s' is an input: a constant has a name of its own", it->string);
-			bad = 1;
-		} else if (prsm_json_number_value(&v, it, ip, ANY, pr)) {
-			bad = 1;
-		} else {
+		} else if (prsm_json_number_value(&v, it, ip, ANY, pr) == 0) {
 			snprintf(m->constant_names[m->n_constants], sizeof m->constant_names[0], "%s", it->string);
 			m->constant_values[m->n_constants++] = v;
 		}
 	}
-	return bad;
 }
 
 /* "model" of expressions, once its inputs are read: the expressions and constants, then each
@@ -410,9 +401,9 @@ int prsm_io_step_expr_model(prsm_io_at *at, prsm_problems *pr)
 {
 	prsm_expr_model *m = at->base;
 	const study_reading *c = at->ctx;
-	int bad = read_expression_texts(m, at->obj, pr);
-	bad |= read_constants(m, at->obj, pr);
-	if (bad || prsm_problems_total(pr) != at->start)
+	read_expression_texts(m, at->obj, pr);
+	read_constants(m, at->obj, pr);
+	if (prsm_problems_total(pr) != at->start)
 		return 0;
 	unsigned char used[PRSM_EXPR_MAX_INPUTS] = {0}, one[PRSM_EXPR_MAX_INPUTS];
 	for (size_t e = 0; e < m->n_exprs; e++) {
@@ -454,6 +445,16 @@ int prsm_io_step_expr_model(prsm_io_at *at, prsm_problems *pr)
 
 static const char *const hist_arrays[] = {"edges", "weights", NULL};
 
+/* 1 when distribution kind takes the member name: a parameter, or a histogram's bins (the arrays
+ * it takes instead of parameters: bin i on [edges[i], edges[i + 1]), weights[i] its weight). */
+static int takes(int kind, const char *name)
+{
+	for (int q = 0; q < 4 && prsm_dist_param_name(kind, q); q++)
+		if (strcmp(prsm_dist_param_name(kind, q), name) == 0)
+			return 1;
+	return kind == PRSM_DIST_HISTOGRAM && (strcmp(name, hist_arrays[0]) == 0 || strcmp(name, hist_arrays[1]) == 0);
+}
+
 /* The shorthand {"tol_<unit>": t, "cpk": c[, "nominal": x]}: a normal of sd t / (3 cpk) around the
  * nominal, or for a radial magnitude the Rayleigh with the out-of-tolerance fraction of a centred
  * normal of that Cpk, P(R > t) = 2 Q(3 Cpk). */
@@ -478,13 +479,9 @@ static void read_shorthand(prsm_io_at *at, const char *tol_key, const char *path
 	for (int k = 0; k < PRSM_DIST_KIND_COUNT; k++)
 		for (int q = 0; q < 4 && prsm_dist_param_name(k, q); q++) {
 			const char *pn = prsm_dist_param_name(k, q);
-			/* each name once (location and scale belong to several kinds) */
-			int seen = 0;
+			int seen = 0; /* each name once (location and scale belong to several kinds) */
 			for (int j = 0; j < k && !seen; j++)
-				for (int r = 0; r < 4 && prsm_dist_param_name(j, r) && !seen; r++)
-					seen = strcmp(prsm_dist_param_name(j, r), pn) == 0;
-			for (int r = 0; r < q && !seen; r++)
-				seen = strcmp(prsm_dist_param_name(k, r), pn) == 0;
+				seen = takes(j, pn);
 			if (!seen && strcmp(pn, "mean") != 0 && cJSON_GetObjectItemCaseSensitive(o, pn))
 				prsm_io_problem(pr, at->pointer, pn, "not_allowed", "%s is a distribution parameter: not with %s",
 				                pn, tol_key);
@@ -506,16 +503,6 @@ static void read_shorthand(prsm_io_at *at, const char *tol_key, const char *path
 	} else {
 		prsm_dist_from_tolerance(&t->dist, nominal, t->tol, t->cpk);
 	}
-}
-
-/* The histogram's bins (bin i on [edges[i], edges[i + 1]), weights[i] its weight): the arrays the
- * tolerance's histogram takes instead of parameters. */
-static int hist_array(const char *key)
-{
-	for (int a = 0; hist_arrays[a]; a++)
-		if (strcmp(hist_arrays[a], key) == 0)
-			return 1;
-	return 0;
 }
 
 /* A histogram's edges and weights, then its bins checked: a problem at the array at fault. */
@@ -565,18 +552,10 @@ static void read_named(prsm_io_at *at, prsm_problems *pr)
 	if (kind == PRSM_DIST_HISTOGRAM)
 		snprintf(list, sizeof list, "edges, weights");
 	for (const cJSON *it = o->child; it; it = it->next) { /* the parameters of other distributions */
-		int any = 0, mine = 0;
-		for (int j = 0; j < PRSM_DIST_KIND_COUNT; j++)
-			for (int q = 0; q < 4 && prsm_dist_param_name(j, q) && it->string; q++)
-				if (strcmp(prsm_dist_param_name(j, q), it->string) == 0) {
-					any = 1;
-					mine |= j == kind;
-				}
-		if (it->string && hist_array(it->string)) {
-			any = 1;
-			mine |= kind == PRSM_DIST_HISTOGRAM;
-		}
-		if (any && !mine)
+		int any = 0;
+		for (int j = 0; j < PRSM_DIST_KIND_COUNT && it->string; j++)
+			any |= takes(j, it->string);
+		if (any && !takes(kind, it->string))
 			prsm_io_problem(pr, at->pointer, it->string, "not_allowed", "%s is not a parameter of %s (it takes %s)",
 			                it->string, prsm_dist_name(kind), list);
 	}
@@ -920,29 +899,20 @@ int prsm_io_step_output(prsm_io_at *at, prsm_problems *pr)
 	prsm_io_study *s = at->root;
 	const study_reading *c = at->ctx;
 	const char *name = at->obj->valuestring;
-	prsm_output_kind k;
-	if (s->is_benchmark && s->bench.kind == PRSM_BENCH_EXPRESSION) {
-		const prsm_expr_model *m = &s->expr;
-		size_t e = 0;
-		while (e < m->n_exprs && strcmp(m->expr_names[e], name) != 0)
-			e++;
-		if (e == m->n_exprs && c->design_rc == 0) {
-			char list[300] = "";
-			for (size_t j = 0; j < m->n_exprs; j++)
-				snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", j ? ", " : "", m->expr_names[j]);
-			prsm_problems_add(pr, at->pointer, "unknown_output", "'%s' is not an output of the model (%s)", name, list);
-			return 0;
-		}
-		if (output_index(s, name) >= 0) {
-			prsm_problems_add(pr, at->pointer, "duplicate", "output '%s' is listed twice", name);
-			return 0;
-		}
-		snprintf(s->study.outputs[s->study.m].name, sizeof s->study.outputs[0].name, "%s", name);
-		s->expr.output_expr[s->study.m] = e < m->n_exprs ? e : 0;
-		s->study.m++;
+	const prsm_expr_model *m = &s->expr;
+	const int expr = s->is_benchmark && s->bench.kind == PRSM_BENCH_EXPRESSION;
+	prsm_output_kind k = PRSM_OUT_BACKLASH;
+	size_t e = 0;
+	while (expr && e < m->n_exprs && strcmp(m->expr_names[e], name) != 0)
+		e++;
+	if (expr && e == m->n_exprs && c->design_rc == 0) {
+		char list[300] = "";
+		for (size_t j = 0; j < m->n_exprs; j++)
+			snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", j ? ", " : "", m->expr_names[j]);
+		prsm_problems_add(pr, at->pointer, "unknown_output", "'%s' is not an output of the model (%s)", name, list);
 		return 0;
 	}
-	if (s->is_benchmark ? strcmp(name, "y") != 0 : prsm_output_parse(name, &k) != 0) {
+	if (!expr && (s->is_benchmark ? strcmp(name, "y") != 0 : prsm_output_parse(name, &k) != 0)) {
 		if (s->is_benchmark)
 			prsm_problems_add(pr, at->pointer, "unknown_output", "a benchmark has one output, y");
 		else
@@ -961,7 +931,9 @@ int prsm_io_step_output(prsm_io_at *at, prsm_problems *pr)
 		return 0;
 	}
 	snprintf(s->study.outputs[s->study.m].name, sizeof s->study.outputs[0].name, "%s", name);
-	if (!s->is_benchmark)
+	if (expr)
+		s->expr.output_expr[s->study.m] = e < m->n_exprs ? e : 0;
+	else if (!s->is_benchmark)
 		s->prsm.outputs[s->study.m] = k;
 	s->study.m++;
 	return 0;
@@ -1082,6 +1054,15 @@ int prsm_io_step_model(prsm_io_at *at, prsm_problems *pr)
 	return 0;
 }
 
+/* "dynamic_monte_carlo"."grid_per_segment": a power of 2 from 8 to 256 */
+void prsm_io_hook_grid_per_segment(void *base, const cJSON *dmc, const char *p, prsm_problems *pr)
+{
+	int *grid = &((prsm_io_study *)base)->dynamics.options.grid_per_segment;
+	if (prsm_json_get_int(grid, dmc, p, "grid_per_segment", PRSM_JSON_OPTIONAL, 8, 256, pr) == PRSM_JSON_PRESENT &&
+	    (*grid & (*grid - 1)) != 0)
+		prsm_io_problem(pr, p, "grid_per_segment", "enum", "grid_per_segment is a power of 2 (8 to 256)");
+}
+
 /* "dynamics" and "dynamic_monte_carlo" (docs/vibration.md, "Monte Carlo over dynamic outputs"):
  * read when a dynamic output is asked (the section as a vibration analysis takes it), refused
  * otherwise; contact_loss, regime and integrated are added to the outputs when missing (the
@@ -1092,7 +1073,6 @@ int prsm_io_step_dynamics(prsm_io_at *at, prsm_problems *pr)
 	prsm_io_study *s = at->root;
 	const study_reading *c = at->ctx;
 	const cJSON *dyn = cJSON_GetObjectItemCaseSensitive(at->obj, "dynamics");
-	const cJSON *dmc = cJSON_GetObjectItemCaseSensitive(at->obj, "dynamic_monte_carlo");
 	s->has_dynamics = 0;
 	if (c->design_rc != 0)
 		return 0;
@@ -1110,7 +1090,7 @@ int prsm_io_step_dynamics(prsm_io_at *at, prsm_problems *pr)
 			prsm_problems_add(pr, "/dynamics", "not_used", "the dynamics section is for dynamic outputs (%s): name one "
 			                  "in outputs, or leave the section out", "peak_dynamic_te_um, peak_thread_force_N, "
 			                  "axial_vibration_rms_m_s2, contact_loss, mesh_force_peak_N, regime, integrated, lyapunov_max");
-		if (dmc)
+		if (cJSON_GetObjectItemCaseSensitive(at->obj, "dynamic_monte_carlo"))
 			prsm_problems_add(pr, "/dynamic_monte_carlo", "not_used", "dynamic_monte_carlo is for dynamic outputs");
 		if (first_tol >= 0) {
 			char tp[PRSM_JSON_POINTER_MAX];
@@ -1160,28 +1140,8 @@ int prsm_io_step_dynamics(prsm_io_at *at, prsm_problems *pr)
 	d->vib.axial_half_play_um = NAN;
 	prsm_vib_mc_options_init(&d->options);
 	d->window_rev = 0.0;
-	if (dmc && prsm_json_object_value(dmc, "/dynamic_monte_carlo", pr) == 0) {
-		static const char *const keys[] = {"window_revolutions", "max_windows", "max_period", "period_tolerance",
-		                                   "rel_tol", "grid_per_segment", "stop_half_width", NULL};
-		const char *mp = "/dynamic_monte_carlo";
-		prsm_json_check_keys(dmc, mp, keys, pr);
-		prsm_json_get_number(&d->window_rev, dmc, mp, "window_revolutions", PRSM_JSON_OPTIONAL,
-		                     (prsm_json_range){0.0, 64.0, 1, 0}, pr);
-		prsm_json_get_int(&d->options.max_windows, dmc, mp, "max_windows", PRSM_JSON_OPTIONAL, 3, 200, pr);
-		prsm_json_get_int(&d->options.max_period, dmc, mp, "max_period", PRSM_JSON_OPTIONAL, 1, 16, pr);
-		prsm_json_get_number(&d->options.period_tol, dmc, mp, "period_tolerance", PRSM_JSON_OPTIONAL,
-		                     (prsm_json_range){0.0, 1.0, 1, 0}, pr);
-		double tol = d->options.integration.rel_tol;
-		prsm_json_get_number(&tol, dmc, mp, "rel_tol", PRSM_JSON_OPTIONAL, (prsm_json_range){1e-13, 1e-5, 0, 0}, pr);
-		d->options.integration.rel_tol = d->options.integration.abs_tol = tol;
-		int grid = d->options.grid_per_segment;
-		if (prsm_json_get_int(&grid, dmc, mp, "grid_per_segment", PRSM_JSON_OPTIONAL, 8, 256, pr) == PRSM_JSON_PRESENT &&
-		    (grid & (grid - 1)) != 0)
-			prsm_io_problem(pr, mp, "grid_per_segment", "enum", "grid_per_segment is a power of 2 (8 to 256)");
-		d->options.grid_per_segment = grid;
-		prsm_json_get_number(&s->dyn_stop_half_width, dmc, mp, "stop_half_width", PRSM_JSON_OPTIONAL,
-		                     (prsm_json_range){0.0, 0.5, 1, 0}, pr);
-	}
+	prsm_io_get(at, "dynamic_monte_carlo", pr); /* its table; rel_tol is the absolute tolerance too */
+	d->options.integration.abs_tol = d->options.integration.rel_tol;
 	if (prsm_problems_total(pr) != before)
 		return 0;
 	/* contact_loss, regime, integrated always (the probabilities and the screening summary) */
@@ -1218,18 +1178,12 @@ int prsm_io_step_dynamics(prsm_io_at *at, prsm_problems *pr)
 	return 0;
 }
 
-int prsm_io_study_options_init(prsm_io_study_options *o)
-{
-	*o = (prsm_io_study_options)PRSM_IO_STUDY_OPTIONS_INIT;
-	return 0;
-}
-
 /* prsm_io_study_load without hooks->check_study (the range checks of app/study.c) and the
  * warning on the older output name: the document as read. */
 static int study_read(prsm_io_study *out, const cJSON *doc, const prsm_io_study_options *hooks,
                       prsm_problems *warnings, prsm_problems *pr)
 {
-	static const prsm_io_study_options none = PRSM_IO_STUDY_OPTIONS_INIT;
+	static const prsm_io_study_options none = {NULL, NULL, NULL, NULL};
 	memset(out, 0, sizeof *out);
 	if (prsm_json_object_value(doc, "", pr))
 		return PRSM_EINVAL;
