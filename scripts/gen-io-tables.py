@@ -223,6 +223,7 @@ class Gen:
         self.keys = set()     # prsm_io_key_<name>
         self.by = set()       # steps that fields name in "by"
         self.asserts = []
+        self.limit_asserts = []  # a schema limit against its C constant: a floating comparison
         self.inits = []       # (scope name, struct, init function, [(member path, C value, pointer, kind)])
         self.wrappers = []    # (wrapper name, struct, init function)
         self.generated_init = None  # (function, struct, [(member path, C value)]): "init": {"generate"}
@@ -527,7 +528,7 @@ class Gen:
             v = prop.get(bound)
             if v is None:
                 raise GenError(f'{where}: "limits" names {bound}, which the schema lacks')
-            self.asserts.append((cname_c, c_double(v), f'{ptr}/{key} {bound}'))
+            self.limit_asserts.append((cname_c, c_double(v), f'{ptr}/{key} {bound}'))
 
     def array(self, init_, prop, note, ptr, key, sname, prefix, scope, where):
         """An array: its items one by one, objects by their table, strings checked."""
@@ -810,16 +811,15 @@ def emit(gens, out_dir):
         for name in sorted(g.keys):
             h.append(f'void *prsm_io_key_{name}(const prsm_io_at *at, const char *key, prsm_problems *problems);')
         for cname_c, value, what in g.asserts:
+            c.append(f'_Static_assert({cname_c} == {value}, "{cname_c} differs from the schema ({what})");')
+        for cname_c, value, what in g.limit_asserts:
+            # no floating comparison is an integer constant expression: GCC folds one as an
+            # extension, clang refuses it, so the build checks it with GCC, and
+            # prsm_io_defaults_all() (test_io_defaults) with any compiler
             message = f'"{cname_c} differs from the schema ({what})"'
-            if re.fullmatch(r'-?[0-9.]+(e[-+]?[0-9]+)?', value) and not re.fullmatch(r'-?[0-9]+', value):
-                # a floating limit: no floating comparison is an integer constant expression; GCC
-                # folds one as an extension, clang refuses it, so the build checks it with GCC, and
-                # prsm_io_defaults_all() (test_io_defaults) with any compiler
-                limit_checks.append((cname_c, value, message))
-                c.append(f'#if defined(__GNUC__) && !defined(__clang__)\n'
-                         f'_Static_assert({cname_c} == {value}, {message});\n#endif')
-            else:
-                c.append(f'_Static_assert({cname_c} == {value}, {message});')
+            limit_checks.append((cname_c, value, message))
+            c.append(f'#if defined(__GNUC__) && !defined(__clang__)\n'
+                     f'_Static_assert({cname_c} == {value}, {message});\n#endif')
         for base, names, values in g.enum_arrays:  # the names, for the C code that writes them too
             h.append(f'extern const char *const {base}_names[]; /* {len(names)} and NULL */')
             c.append(f'const char *const {base}_names[] = {{' +

@@ -249,7 +249,10 @@ static void check_ranges(prsm_io_study *out, prsm_problems *warnings, prsm_probl
 
 int prsm_app_study_options(prsm_io_study_options *o)
 {
-	*o = (prsm_io_study_options){analyse_design, prepare_model, check_ranges, NULL};
+	prsm_io_study_options_init(o);
+	o->analyse_design = analyse_design;
+	o->prepare_model = prepare_model;
+	o->check_study = check_ranges;
 	return 0;
 }
 

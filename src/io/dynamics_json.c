@@ -800,6 +800,13 @@ int prsm_io_dynamics_write_csv(FILE *f, const prsm_dyn_model *m, const prsm_dyn_
 
 static const char *const class_names[] = {"periodic", "non_periodic", "quasi_periodic", "chaotic", "failed"};
 
+/* An observable's name (PRSM_VIB_OBS_*: the schema's names in their order, prsm_io_tables.c) */
+static const char *observable_name(int obs)
+{
+	return obs >= 0 && obs <= PRSM_VIB_OBS_THREAD_FORCE ? prsm_io_t_dynamics_steady_state_observable_names[obs]
+	                                                    : "unknown";
+}
+
 
 void prsm_io_vib_result_free(prsm_io_vib_result *r)
 {
@@ -1063,7 +1070,7 @@ int prsm_io_vibration_write_csv(FILE *f, const prsm_io_vib_request *q, const prs
 	switch (q->analysis) {
 	case PRSM_IO_DYN_VIBRATION: {
 		const prsm_vib_steady *s = &r->steady;
-		const char *obs = prsm_io_t_dynamics_steady_state_observable_names[q->steady_state.observable];
+		const char *obs = observable_name(q->steady_state.observable);
 		fprintf(f, "time_tau,time_s,%s,%s_rate\n", obs, obs);
 		const int per = q->steady_state.samples_per_period;
 		for (size_t i = 0; i < s->portrait_points; i++) {
@@ -1081,12 +1088,11 @@ int prsm_io_vibration_write_csv(FILE *f, const prsm_io_vib_request *q, const prs
 		double to_engine = 1.0;
 		prsm_io_sweep_parameter_engine(q->sweep.parameter, &to_engine);
 		csv_sweep(f, &r->sweep, prsm_io_sweep_parameter_name(q->sweep.parameter), 1.0 / to_engine,
-		          prsm_io_t_dynamics_sweep_observable_names[q->sweep.observable]);
+		          observable_name(q->sweep.observable));
 		break;
 	}
 	case PRSM_IO_DYN_FREQUENCY_RESPONSE:
-		csv_sweep(f, &r->fr.sweep, "frequency_ratio", 1.0,
-		          prsm_io_t_dynamics_sweep_observable_names[q->sweep.observable]);
+		csv_sweep(f, &r->fr.sweep, "frequency_ratio", 1.0, observable_name(q->sweep.observable));
 		break;
 	case PRSM_IO_DYN_BASINS: {
 		const prsm_vib_basins *b = &r->basins;

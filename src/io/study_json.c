@@ -1178,12 +1178,18 @@ int prsm_io_step_dynamics(prsm_io_at *at, prsm_problems *pr)
 	return 0;
 }
 
+int prsm_io_study_options_init(prsm_io_study_options *o)
+{
+	*o = (prsm_io_study_options)PRSM_IO_STUDY_OPTIONS_INIT;
+	return 0;
+}
+
 /* prsm_io_study_load without hooks->check_study (the range checks of app/study.c) and the
  * warning on the older output name: the document as read. */
 static int study_read(prsm_io_study *out, const cJSON *doc, const prsm_io_study_options *hooks,
                       prsm_problems *warnings, prsm_problems *pr)
 {
-	static const prsm_io_study_options none = {NULL, NULL, NULL, NULL};
+	static const prsm_io_study_options none = PRSM_IO_STUDY_OPTIONS_INIT;
 	memset(out, 0, sizeof *out);
 	if (prsm_json_object_value(doc, "", pr))
 		return PRSM_EINVAL;

@@ -87,8 +87,8 @@ typedef struct {
  * refuses, at the field at fault, what the engine could not compute (app/study.c: the
  * distributions' and a benchmark's outputs' ranges), adding problems and warnings.
  *
- * NULL hooks: the design is taken as usable when it reads, and a design study's model is left
- * unbuilt (the study cannot run), nothing checked: a pure reading. */
+ * NULL hooks (PRSM_IO_STUDY_OPTIONS_INIT): the design is taken as usable when it reads, and a
+ * design study's model is left unbuilt (the study cannot run), nothing checked: a pure reading. */
 typedef struct {
 	int (*analyse_design)(prsm_io_study *s, prsm_problems *warnings, prsm_problems *problems, void *ctx);
 	void (*prepare_model)(prsm_io_study *s, prsm_problems *problems, void *ctx);
@@ -96,7 +96,12 @@ typedef struct {
 	void *ctx; /* the hooks' */
 } prsm_io_study_options;
 
-/* Read and check the study document doc, with the hooks (NULL: none), and
+#define PRSM_IO_STUDY_OPTIONS_INIT {NULL, NULL, NULL, NULL}
+
+/* Set *o to PRSM_IO_STUDY_OPTIONS_INIT. Returns 0. */
+int prsm_io_study_options_init(prsm_io_study_options *o);
+
+/* Read and check the study document doc, with the hooks (NULL: PRSM_IO_STUDY_OPTIONS_INIT), and
  * build the variables, then check what the reading alone cannot (hooks->check_study). Every
  * problem goes to problems with its pointer; rule warnings of the design to warnings (may be
  * NULL). Returns 0, PRSM_EINVAL (problems were added) or, from
