@@ -201,7 +201,7 @@ static void test_every_field(void **state)
 	assert_true(f == 1e-6);
 	assert_int_equal(prsm_io_sweep_parameter_engine(PRSM_IO_SWEEP_MEAN_LOAD, &f), PRSM_VIB_PARAM_MEAN_FORCE);
 	assert_true(f == 1.0);
-	assert_string_equal(prsm_io_sweep_parameter_name(PRSM_IO_SWEEP_SCREW_SPEED), "screw_speed_rad_s");
+	assert_string_equal(prsm_io_sweep_parameter_name(PRSM_IO_SWEEP_SCREW_SPEED_RAD_S), "screw_speed_rad_s");
 	/* the reduced model's sweep parameters */
 	assert_int_equal(read_text(&o, &v, "{\"analysis\": \"sweep\", \"sweep\": {\"parameter\": \"mesh_error_um\", "
 	                                   "\"from\": 0, \"to\": 0.5, \"step\": 0.1}}", 1, &p), 0);

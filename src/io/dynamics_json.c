@@ -87,21 +87,6 @@ static void check_inertia_form(const cJSON *obj, int stages, prsm_problems *prob
 
 /* ---- the vibration analyses: sections, step and rules (docs/vibration.md) ---------------------- */
 
-static const char *const analysis_names[] = {"transient", "linear", "vibration", "sweep", "frequency_response",
-                                             "basins", NULL};
-
-const char *prsm_io_dynamics_analysis_name(int analysis)
-{
-	return analysis >= 0 && analysis < PRSM_IO_DYN_ANALYSES ? analysis_names[analysis] : "unknown";
-}
-
-/* the schema's names (prsm_io_tables.c), in the order of PRSM_IO_SWEEP_* */
-const char *prsm_io_sweep_parameter_name(int parameter)
-{
-	return parameter >= 0 && parameter < PRSM_IO_SWEEP_PARAMETERS ? prsm_io_t_dynamics_sweep_parameter_names[parameter]
-	                                                              : "unknown";
-}
-
 int prsm_io_sweep_parameter_engine(int parameter, double *to_engine)
 {
 	static const int engine[PRSM_IO_SWEEP_PARAMETERS] = {
@@ -246,7 +231,7 @@ int prsm_io_step_dynamics_vibration(prsm_io_at *at, prsm_problems *problems)
 				                  "measured data (docs/measured-data.md); a simulation is transient, linear, vibration, "
 				                  "sweep, frequency_response or basins (docs/dynamics.md, docs/vibration.md)");
 			else
-				prsm_json_enum_value(&v->analysis, a, ptr, analysis_names, problems);
+				prsm_json_enum_value(&v->analysis, a, ptr, prsm_io_t_dynamics_analysis_names, problems);
 		}
 	}
 	v->gear_pair_model = cJSON_GetObjectItemCaseSensitive(obj, "gear_pair") != NULL;
@@ -306,7 +291,7 @@ static const char *sweep_value_invalid(const prsm_io_vib_request *v, int par, do
 	switch (par) {
 	case PRSM_IO_SWEEP_FREQUENCY_RATIO:
 		return x > 0.0 && x <= 1e3 ? NULL : "a frequency ratio is in (0, 1000]";
-	case PRSM_IO_SWEEP_SCREW_SPEED:
+	case PRSM_IO_SWEEP_SCREW_SPEED_RAD_S:
 		return x > 0.0 && x <= 1e6 ? NULL : "a screw speed is in (0, 1e6] rad/s";
 	case PRSM_IO_SWEEP_MESH_ERROR_UM:
 		return x >= 0.0 && x <= 1e4 ? NULL : "a mesh error is in [0, 10000] um";
@@ -332,7 +317,7 @@ static void sweep_rules(prsm_problems *p, int from, const cJSON *obj, const prsm
 	const prsm_io_vib_sweep *s = &v->sweep;
 	const cJSON *so = member(obj, "sweep");
 	const int pair = v->gear_pair_model;
-	static const int reduced_only[] = {PRSM_IO_SWEEP_SCREW_SPEED, PRSM_IO_SWEEP_MESH_ERROR_UM,
+	static const int reduced_only[] = {PRSM_IO_SWEEP_SCREW_SPEED_RAD_S, PRSM_IO_SWEEP_MESH_ERROR_UM,
 	                                   PRSM_IO_SWEEP_MESH_DAMPING_RATIO};
 	int ok_par = 1;
 	if (fr && s->parameter != PRSM_IO_SWEEP_FREQUENCY_RATIO) {

@@ -29,6 +29,7 @@
 #include "dyn/dyn.h"
 #include "dyn/vib.h"
 #include "io/write.h"
+#include "prsm_io_enums.h"
 #include "util/problems.h"
 
 /* The model a simulation result names ("engine"."model"). */
@@ -70,33 +71,12 @@ int prsm_io_dynamics_write_csv(FILE *f, const prsm_dyn_model *m, const prsm_dyn_
 
 /* ---- the vibration analyses (docs/vibration.md) ---------------------------------------------- */
 
-/* "analysis" */
-enum {
-	PRSM_IO_DYN_TRANSIENT = 0,          /* the rigid-body start-up (docs/dynamics.md) */
-	PRSM_IO_DYN_LINEAR = 1,             /* eigenvalues, modes, FRF, half-power damping */
-	PRSM_IO_DYN_VIBRATION = 2,          /* one steady state: class, Poincare, spectrum, extremes, Lyapunov */
-	PRSM_IO_DYN_SWEEP = 3,              /* bifurcation diagram up and down */
-	PRSM_IO_DYN_FREQUENCY_RESPONSE = 4, /* harmonic balance, sweeps up and down, jumps, exact folds */
-	PRSM_IO_DYN_BASINS = 5              /* a grid of initial states and the attractor each reaches */
-};
-#define PRSM_IO_DYN_ANALYSES 6
-
-/* sweep.parameter: the request's names (each in its unit: screw speed rad/s, mesh error um) */
-enum {
-	PRSM_IO_SWEEP_FREQUENCY_RATIO = 0,    /* either model */
-	PRSM_IO_SWEEP_SCREW_SPEED = 1,        /* reduced: screw_speed_rad_s */
-	PRSM_IO_SWEEP_MESH_ERROR_UM = 2,      /* reduced: e_g, um */
-	PRSM_IO_SWEEP_MESH_DAMPING_RATIO = 3, /* reduced: zeta_g */
-	PRSM_IO_SWEEP_ERROR_AMPLITUDE = 4,    /* gear pair: epsilon */
-	PRSM_IO_SWEEP_DAMPING_RATIO = 5,      /* gear pair: zeta */
-	PRSM_IO_SWEEP_MEAN_LOAD = 6,          /* gear pair: f_m */
-	PRSM_IO_SWEEP_STIFFNESS_VARIATION = 7 /* gear pair: kappa */
-};
-#define PRSM_IO_SWEEP_PARAMETERS 8
-
-/* The sweep parameter's request name ("frequency_ratio", "screw_speed_rad_s", ...), the engine's
- * PRSM_VIB_PARAM_* and the factor from the request's unit to the engine's (um -> m). */
-const char *prsm_io_sweep_parameter_name(int parameter);
+/* The analyses (PRSM_IO_DYN_TRANSIENT, _LINEAR, _VIBRATION, _SWEEP, _FREQUENCY_RESPONSE, _BASINS;
+ * PRSM_IO_DYN_ANALYSES of them) and the sweep's parameters (PRSM_IO_SWEEP_FREQUENCY_RATIO, ...,
+ * each in its unit: screw speed rad/s, mesh error um) are the schema's enums, generated with their
+ * names, prsm_io_dynamics_analysis_name() and prsm_io_sweep_parameter_name() (prsm_io_enums.h,
+ * "constants" in schemas/dynamics.schema.json). The engine's PRSM_VIB_PARAM_* of a sweep parameter
+ * and the factor from the request's unit to the engine's (um -> m): */
 int prsm_io_sweep_parameter_engine(int parameter, double *to_engine);
 
 /* steady_state: one steady state (analysis vibration) */
@@ -187,9 +167,6 @@ void prsm_io_vib_request_init(prsm_io_vib_request *r);
  */
 int prsm_io_dynamics_read(prsm_dyn_options *o, prsm_io_vib_request *v, const cJSON *obj, int stages,
                           prsm_problems *problems);
-
-/* The name of an analysis ("transient", "linear", ...). */
-const char *prsm_io_dynamics_analysis_name(int analysis);
 
 /* What a vibration analysis computed (filled by app/simulate.c, written here). */
 typedef struct {
