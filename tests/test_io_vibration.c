@@ -98,7 +98,7 @@ static void test_analysis_and_absent_sections(void **state)
 	assert_true(v.integration.rel_tol == 1e-8 && v.integration.abs_tol == 2e-8);
 	assert_int_equal(v.integration.max_steps, 1234L);
 	/* the old entry point checks the same */
-	assert_int_equal(prsm_io_dynamics_from_json(&o, NULL, 1, &p), 0);
+	assert_int_equal(prsm_io_dynamics_read(&o, NULL, NULL, 1, &p), 0);
 }
 
 static void test_every_field(void **state)

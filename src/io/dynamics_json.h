@@ -7,7 +7,7 @@
  * The reader is the table generated from the annotated schema (io/doc.h) filling
  * prsm_dyn_options directly; what a table cannot say is in the hooks of dynamics_json.c (the
  * input's kind-specific names, the per-stage masses, the step cap) and in
- * prsm_io_dynamics_from_json (the chain's form of the masses, the default output step, then
+ * prsm_io_dynamics_read (the chain's form of the masses, the default output step, then
  * the model's own cross-field rules, prsm_dyn_options_check). The analysis and the sections of
  * the vibration analyses (gear_pair, vibration, steady_state, sweep, basins, linear,
  * frequency_response) are read by one step of the table, prsm_io_step_dynamics_vibration, each
@@ -46,18 +46,6 @@
  * input power, the Newton-Euler recovery of the carrier acceleration (relative), -. */
 #define PRSM_IO_DYN_POWER_BALANCE_LIMIT 1e-6
 #define PRSM_IO_DYN_NEWTON_EULER_LIMIT 1e-9
-
-/*
- * Read the dynamics object obj (at /dynamics; NULL: absent, every default) of a request for a
- * chain of `stages` stages (1 for a single design) into *o, which is set to the defaults
- * first: the fields by the schema's table, output_step_s = end_s / 500 when not given, the
- * single-stage or chain form of the masses, then prsm_dyn_options_check (each of its problems
- * unless the field already has one). The vibration analyses' sections are read and checked too
- * (prsm_io_dynamics_read with no request to fill). couplings are not part of the object: the
- * caller copies a chain's from its multi-stage document. Returns 0 or PRSM_EINVAL (problems
- * added).
- */
-int prsm_io_dynamics_from_json(prsm_dyn_options *o, const cJSON *obj, int stages, prsm_problems *problems);
 
 /* The whole result document {engine, name, warnings, dynamics} (schemas/dynamics-result.schema.json);
  * name may be NULL or "". The caller owns it; NULL when out of memory. The checks' warnings are
@@ -160,10 +148,15 @@ void prsm_io_gear_pair_init(prsm_vib_gear_pair *g);
 void prsm_io_vib_request_init(prsm_io_vib_request *r);
 
 /*
- * Read the dynamics object obj (NULL: absent) into the transient's options *o and the vibration
- * request *v (may be NULL: checked only). stages: the request's stages, 1 for a design, 0 for a
- * request without a design (the gear-pair form, {"dynamics": {"analysis", "gear_pair", ...}}).
- * Every problem with its pointer. Returns 0 or PRSM_EINVAL.
+ * Read the dynamics object obj (at /dynamics; NULL: absent, every default) into the transient's
+ * options *o and the vibration request *v (may be NULL: checked only), both set to the defaults
+ * first: the fields by the schema's table, output_step_s = end_s / 500 when not given, the
+ * single-stage or chain form of the masses, then prsm_dyn_options_check (each of its problems
+ * unless the field already has one), and the vibration analyses' sections and rules. stages: the
+ * request's stages, 1 for a design, 0 for a request without a design (the gear-pair form,
+ * {"dynamics": {"analysis", "gear_pair", ...}}). couplings are not part of the object: the caller
+ * copies a chain's from its multi-stage document. Every problem with its pointer. Returns 0 or
+ * PRSM_EINVAL.
  */
 int prsm_io_dynamics_read(prsm_dyn_options *o, prsm_io_vib_request *v, const cJSON *obj, int stages,
                           prsm_problems *problems);

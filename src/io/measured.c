@@ -533,32 +533,17 @@ void prsm_io_hook_calibrate_lines(void *base, const cJSON *obj, const char *obj_
 		o->lines_mask = mask;
 }
 
-void prsm_io_hook_calibrate_parameters(void *base, const cJSON *obj, const char *obj_pointer, prsm_problems *problems)
+/* Each of `parameters` (a string of at most PRSM_CALIB_NAME_MAX - 1 characters, the schema's
+ * maxLength) in the order given; a name given twice is a problem, and kept. */
+int prsm_io_step_calibrate_parameter(prsm_io_at *at, prsm_problems *problems)
 {
-	prsm_calib_options *o = base;
-	const cJSON *a = cJSON_GetObjectItemCaseSensitive(obj, "parameters");
-	if (a == NULL)
-		return;
-	char ptr[PRSM_JSON_POINTER_MAX];
-	prsm_json_pointer_append(ptr, sizeof ptr, obj_pointer, "parameters");
-	if (!cJSON_IsArray(a) || cJSON_GetArraySize(a) < 1 || cJSON_GetArraySize(a) > PRSM_CALIB_FIELDS_MAX) {
-		prsm_problems_add(problems, ptr, "bad_array", "must be an array of 1 to %d error-field names (e.g. "
-		                  "\"nut.runout_um\")", PRSM_CALIB_FIELDS_MAX);
-		return;
-	}
-	int i = 0;
-	o->fields = 0;
-	for (const cJSON *it = a->child; it; it = it->next, i++) {
-		char ip[PRSM_JSON_POINTER_MAX];
-		prsm_json_pointer_append_index(ip, sizeof ip, ptr, i);
-		const char *s;
-		if (prsm_json_string_value(&s, it, ip, PRSM_CALIB_NAME_MAX - 1, problems))
-			continue;
-		for (int j = 0; j < o->fields; j++)
-			if (strcmp(o->field_names[j], s) == 0)
-				prsm_problems_add(problems, ip, "duplicate", "\"%s\" is named twice", s);
-		snprintf(o->field_names[o->fields++], PRSM_CALIB_NAME_MAX, "%s", s);
-	}
+	prsm_calib_options *o = at->base;
+	const char *s = at->obj->valuestring;
+	for (int j = 0; j < o->fields; j++)
+		if (strcmp(o->field_names[j], s) == 0)
+			prsm_problems_add(problems, at->pointer, "duplicate", "\"%s\" is named twice", s);
+	snprintf(o->field_names[o->fields++], PRSM_CALIB_NAME_MAX, "%s", s);
+	return 0;
 }
 
 /* After the fields (the table's last step): a standard uncertainty, or the load and speed of a
