@@ -39,11 +39,12 @@ def run(schema, header_edit=None, name='design.schema.json'):
                 f.write(text.replace(old, new))
         r = subprocess.run(['/usr/bin/python3', gen, '--out-dir', os.path.join(tmp, 'out'), '--src',
                             src_dir, path], capture_output=True, text=True)
-        out = os.path.join(tmp, 'out', 'prsm_io_tables.c')
         text = ''
-        if os.path.exists(out):
-            with open(out, encoding='utf-8') as f:
-                text = f.read()
+        for name in ('prsm_io_tables.c', 'prsm_io_enums.h'):
+            out = os.path.join(tmp, 'out', name)
+            if os.path.exists(out):
+                with open(out, encoding='utf-8') as f:
+                    text += f.read()
         # the fields name strings, tables and functions by index, with what the index names in a
         # comment (".name = 7 /* "pitch_mm" */"): the checks below read the named form
         text = INDEXED.sub(r'\1 = \2', text)
@@ -89,6 +90,18 @@ check('... and test_io_defaults with any compiler (clang has no floating constan
 s = copy.deepcopy(design)
 props(s, 'geometry', 'hand')['x-prsm']['values'] = ['PRSM_HAND_RIGHT']
 check('an enum with a C constant missing is refused', s, 1, 'one C constant per enum name')
+s = copy.deepcopy(design)
+props(s, 'geometry', 'hand')['x-prsm'] = {'field': 'hand', 'constants': {
+    'prefix': 'PRSM_T_HAND_', 'count': 'PRSM_T_HANDS', 'name': 'prsm_t_hand_name'}}
+check('"constants" generate an enum\'s C constants and its count', s, 0,
+      'enum {\n\tPRSM_T_HAND_RIGHT = 0, /* "right" */\n\tPRSM_T_HAND_LEFT = 1, /* "left" */\n};\n'
+      '#define PRSM_T_HANDS 2\n')
+check('... its name function, bounds-checked', s, 0,
+      'return v >= 0 && v < PRSM_T_HANDS ? prsm_io_t_design_geometry_hand_names[v] : "unknown";')
+check('... and the values they are, when "values" is left out', s, 0,
+      'static const int prsm_io_t_design_geometry_hand_values[] = {PRSM_T_HAND_RIGHT, PRSM_T_HAND_LEFT};')
+props(s, 'geometry', 'hand')['x-prsm']['values'] = ['PRSM_HAND_RIGHT', 'PRSM_HAND_LEFT']
+check('"values" that are not the generated constants are refused', s, 1, 'must be the constants')
 
 # docs/hacking.md's worked example: a new numeric field is one schema property and one member
 member = ('\tdouble lp_material_factor;', '\tdouble preload_spring_N_per_mm; /* N/mm */\n\tdouble lp_material_factor;')

@@ -21,7 +21,7 @@ static int read_text(prsm_dyn_options *o, const char *text, int stages, prsm_pro
 {
 	prsm_problems_init(p);
 	cJSON *doc = parse_ok(text);
-	const int rc = prsm_io_dynamics_from_json(o, doc, stages, p);
+	const int rc = prsm_io_dynamics_read(o, NULL, doc, stages, p);
 	cJSON_Delete(doc);
 	return rc;
 }
@@ -92,7 +92,7 @@ static void test_empty_and_absent_are_the_defaults(void **state)
 	assert_int_equal(read_text(&o, "{}", 1, &p), 0);
 	assert_int_equal(p.count, 0);
 	prsm_problems_init(&p);
-	assert_int_equal(prsm_io_dynamics_from_json(&none, NULL, 1, &p), 0);
+	assert_int_equal(prsm_io_dynamics_read(&none, NULL, NULL, 1, &p), 0);
 	/* the output step is end_s / 1000 unless given; everything else is the C default */
 	assert_true(o.time.output_step_s == d.time.end_s / PRSM_IO_DYN_DEFAULT_OUTPUTS);
 	assert_true(none.time.output_step_s == o.time.output_step_s);
@@ -305,7 +305,7 @@ static void test_every_invalid_case_at_its_pointer(void **state)
 		prsm_problems_init(&p);
 		cJSON *doc = cJSON_Parse(cases[i].doc); /* lax: duplicates kept for the reader to find */
 		assert_non_null(doc);
-		const int rc = prsm_io_dynamics_from_json(&o, doc, cases[i].stages, &p);
+		const int rc = prsm_io_dynamics_read(&o, NULL, doc, cases[i].stages, &p);
 		cJSON_Delete(doc);
 		int at = 0;
 		for (int j = 0; j < p.count; j++)

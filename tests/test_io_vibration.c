@@ -98,7 +98,7 @@ static void test_analysis_and_absent_sections(void **state)
 	assert_true(v.integration.rel_tol == 1e-8 && v.integration.abs_tol == 2e-8);
 	assert_int_equal(v.integration.max_steps, 1234L);
 	/* the old entry point checks the same */
-	assert_int_equal(prsm_io_dynamics_from_json(&o, NULL, 1, &p), 0);
+	assert_int_equal(prsm_io_dynamics_read(&o, NULL, NULL, 1, &p), 0);
 }
 
 static void test_every_field(void **state)
@@ -201,7 +201,7 @@ static void test_every_field(void **state)
 	assert_true(f == 1e-6);
 	assert_int_equal(prsm_io_sweep_parameter_engine(PRSM_IO_SWEEP_MEAN_LOAD, &f), PRSM_VIB_PARAM_MEAN_FORCE);
 	assert_true(f == 1.0);
-	assert_string_equal(prsm_io_sweep_parameter_name(PRSM_IO_SWEEP_SCREW_SPEED), "screw_speed_rad_s");
+	assert_string_equal(prsm_io_sweep_parameter_name(PRSM_IO_SWEEP_SCREW_SPEED_RAD_S), "screw_speed_rad_s");
 	/* the reduced model's sweep parameters */
 	assert_int_equal(read_text(&o, &v, "{\"analysis\": \"sweep\", \"sweep\": {\"parameter\": \"mesh_error_um\", "
 	                                   "\"from\": 0, \"to\": 0.5, \"step\": 0.1}}", 1, &p), 0);

@@ -148,7 +148,7 @@ static void read_dynamics(prsm_analyze_request *rq, const cJSON *doc, int stages
 	const cJSON *dyn = cJSON_GetObjectItemCaseSensitive(doc, "dynamics");
 	rq->with_dynamics = dyn != NULL;
 	if (dyn != NULL)
-		prsm_io_dynamics_from_json(&rq->dyn, dyn, stages, problems);
+		prsm_io_dynamics_read(&rq->dyn, NULL, dyn, stages, problems);
 }
 
 int prsm_io_analyze_read(prsm_analyze_request *rq, const cJSON *doc, prsm_problems *warnings,

@@ -31,7 +31,7 @@
 
 /* The masses: the single-stage fields into stage 0, each item of `stages` into its stage, by
  * the table of one stage (schemas/dynamics.schema.json, $defs/stage_inertia). Which form the
- * request may use depends on its number of stages: prsm_io_dynamics_from_json checks that. */
+ * request may use depends on its number of stages: prsm_io_dynamics_read checks that. */
 void prsm_io_hook_dynamics_inertia(void *base, const cJSON *obj, const char *obj_pointer, prsm_problems *problems)
 {
 	prsm_dyn_options *o = base;
@@ -86,21 +86,6 @@ static void check_inertia_form(const cJSON *obj, int stages, prsm_problems *prob
 }
 
 /* ---- the vibration analyses: sections, step and rules (docs/vibration.md) ---------------------- */
-
-static const char *const analysis_names[] = {"transient", "linear", "vibration", "sweep", "frequency_response",
-                                             "basins", NULL};
-
-const char *prsm_io_dynamics_analysis_name(int analysis)
-{
-	return analysis >= 0 && analysis < PRSM_IO_DYN_ANALYSES ? analysis_names[analysis] : "unknown";
-}
-
-/* the schema's names (prsm_io_tables.c), in the order of PRSM_IO_SWEEP_* */
-const char *prsm_io_sweep_parameter_name(int parameter)
-{
-	return parameter >= 0 && parameter < PRSM_IO_SWEEP_PARAMETERS ? prsm_io_t_dynamics_sweep_parameter_names[parameter]
-	                                                              : "unknown";
-}
 
 int prsm_io_sweep_parameter_engine(int parameter, double *to_engine)
 {
@@ -246,7 +231,7 @@ int prsm_io_step_dynamics_vibration(prsm_io_at *at, prsm_problems *problems)
 				                  "measured data (docs/measured-data.md); a simulation is transient, linear, vibration, "
 				                  "sweep, frequency_response or basins (docs/dynamics.md, docs/vibration.md)");
 			else
-				prsm_json_enum_value(&v->analysis, a, ptr, analysis_names, problems);
+				prsm_json_enum_value(&v->analysis, a, ptr, prsm_io_t_dynamics_analysis_names, problems);
 		}
 	}
 	v->gear_pair_model = cJSON_GetObjectItemCaseSensitive(obj, "gear_pair") != NULL;
@@ -300,13 +285,21 @@ static void periods_rule(prsm_problems *p, int from, const char *section, int tr
 		                     lyapunov ? " + Lyapunov" : "", PRSM_VIB_PERIODS_MAX);
 }
 
+/* A gear pair has one mesh: a roller other than 0 is the reduced model's. */
+static void one_mesh(prsm_problems *p, int from, const prsm_io_vib_request *v, const char *section, const char *key,
+                     int roller)
+{
+	if (v->gear_pair_model && roller != 0)
+		prsm_io_problem_once(p, from, section, key, "model", "a gear pair has one mesh: roller 0");
+}
+
 /* A sweep grid value of parameter par is valid for the model (the engine's ranges). */
 static const char *sweep_value_invalid(const prsm_io_vib_request *v, int par, double x)
 {
 	switch (par) {
 	case PRSM_IO_SWEEP_FREQUENCY_RATIO:
 		return x > 0.0 && x <= 1e3 ? NULL : "a frequency ratio is in (0, 1000]";
-	case PRSM_IO_SWEEP_SCREW_SPEED:
+	case PRSM_IO_SWEEP_SCREW_SPEED_RAD_S:
 		return x > 0.0 && x <= 1e6 ? NULL : "a screw speed is in (0, 1e6] rad/s";
 	case PRSM_IO_SWEEP_MESH_ERROR_UM:
 		return x >= 0.0 && x <= 1e4 ? NULL : "a mesh error is in [0, 10000] um";
@@ -332,7 +325,7 @@ static void sweep_rules(prsm_problems *p, int from, const cJSON *obj, const prsm
 	const prsm_io_vib_sweep *s = &v->sweep;
 	const cJSON *so = member(obj, "sweep");
 	const int pair = v->gear_pair_model;
-	static const int reduced_only[] = {PRSM_IO_SWEEP_SCREW_SPEED, PRSM_IO_SWEEP_MESH_ERROR_UM,
+	static const int reduced_only[] = {PRSM_IO_SWEEP_SCREW_SPEED_RAD_S, PRSM_IO_SWEEP_MESH_ERROR_UM,
 	                                   PRSM_IO_SWEEP_MESH_DAMPING_RATIO};
 	int ok_par = 1;
 	if (fr && s->parameter != PRSM_IO_SWEEP_FREQUENCY_RATIO) {
@@ -388,9 +381,7 @@ static void sweep_rules(prsm_problems *p, int from, const cJSON *obj, const prsm
 			                     "%s (the last grid value is %g)", why, last);
 	}
 	observable_rules(p, from, v, "/dynamics/sweep", s->observable, s->clock);
-	if (pair && s->roller != 0)
-		prsm_io_problem_once(p, from, "/dynamics/sweep", "roller", "model",
-		                     "a gear pair has one mesh: roller 0");
+	one_mesh(p, from, v, "/dynamics/sweep", "roller", s->roller);
 }
 
 static void steady_rules(prsm_problems *p, int from, const prsm_io_vib_request *v)
@@ -402,9 +393,7 @@ static void steady_rules(prsm_problems *p, int from, const prsm_io_vib_request *
 		                     "%d recorded periods x %d samples is more than 4e7 samples", s->recorded_periods,
 		                     s->samples_per_period);
 	observable_rules(p, from, v, "/dynamics/steady_state", s->observable, s->clock);
-	if (v->gear_pair_model && s->roller != 0)
-		prsm_io_problem_once(p, from, "/dynamics/steady_state", "roller", "model",
-		                     "a gear pair has one mesh: roller 0");
+	one_mesh(p, from, v, "/dynamics/steady_state", "roller", s->roller);
 	if (v->gear_pair_model && s->lyapunov_exponents > 2)
 		prsm_io_problem_once(p, from, "/dynamics/steady_state", "lyapunov_exponents", "range",
 		                     "a gear pair has 2 Lyapunov exponents (got %d)", s->lyapunov_exponents);
@@ -432,9 +421,7 @@ static void basins_rules(prsm_problems *p, int from, const prsm_io_vib_request *
 		prsm_io_problem_once(p, from, "/dynamics/basins", "periods", "too_long",
 		                     "the grid integrates %.3g forcing periods in all, at most 2e8",
 		                     cells * ((double)b->periods + b->identify_periods));
-	if (v->gear_pair_model && b->roller != 0)
-		prsm_io_problem_once(p, from, "/dynamics/basins", "roller", "model",
-		                     "a gear pair has one mesh: roller 0");
+	one_mesh(p, from, v, "/dynamics/basins", "roller", b->roller);
 	if (!v->gear_pair_model && v->vibration.branches == PRSM_VIB_BRANCHES_AXIAL)
 		prsm_io_problem_once(p, from, "/dynamics", "basins", "branch",
 		                     "the basins vary a roller's spin: the gear branch is off (vibration.branches axial)");
@@ -460,31 +447,22 @@ static void linear_rules(prsm_problems *p, int from, const cJSON *obj, const prs
 		                     "the band needs from < to");
 	if (!pair && !isnan(l->from_Hz) && !isnan(l->to_Hz) && !(l->to_Hz > l->from_Hz))
 		prsm_io_problem_once(p, from, "/dynamics/linear", "to_Hz", "order", "the band needs from_Hz < to_Hz");
-	const int axial_in = l->input != PRSM_VIB_IN_MESH_ERROR, axial_out = l->output != PRSM_VIB_OUT_MESH_DEFLECTION;
-	if (pair && axial_in)
+	/* the input and the output: axial, or the mesh's */
+	const int axial[2] = {l->input != PRSM_VIB_IN_MESH_ERROR, l->output != PRSM_VIB_OUT_MESH_DEFLECTION};
+	if (pair && axial[0])
 		prsm_io_problem_once(p, from, "/dynamics/linear", "input", "model",
 		                     "a gear pair is excited by its mesh error: mesh_error");
-	if (pair && axial_out)
+	if (pair && axial[1])
 		prsm_io_problem_once(p, from, "/dynamics/linear", "output", "model",
 		                     "a gear pair's output is its mesh deflection");
-	if (!pair && axial_in && br == PRSM_VIB_BRANCHES_GEAR)
-		prsm_io_problem_once(p, from, "/dynamics/linear", "input", "branch",
-		                     "the axial branch is off (vibration.branches gear)");
-	if (!pair && !axial_in && br == PRSM_VIB_BRANCHES_AXIAL)
-		prsm_io_problem_once(p, from, "/dynamics/linear", "input", "branch",
-		                     "the gear branch is off (vibration.branches axial)");
-	if (!pair && axial_out && br == PRSM_VIB_BRANCHES_GEAR)
-		prsm_io_problem_once(p, from, "/dynamics/linear", "output", "branch",
-		                     "the axial branch is off (vibration.branches gear)");
-	if (!pair && !axial_out && br == PRSM_VIB_BRANCHES_AXIAL)
-		prsm_io_problem_once(p, from, "/dynamics/linear", "output", "branch",
-		                     "the gear branch is off (vibration.branches axial)");
-	if (pair && l->input_roller != 0)
-		prsm_io_problem_once(p, from, "/dynamics/linear", "input_roller", "model",
-		                     "a gear pair has one mesh: roller 0");
-	if (pair && l->output_roller != 0)
-		prsm_io_problem_once(p, from, "/dynamics/linear", "output_roller", "model",
-		                     "a gear pair has one mesh: roller 0");
+	/* the reduced model's, on a branch that is off */
+	for (int i = 0; i < 2 && !pair; i++)
+		if (br == (axial[i] ? PRSM_VIB_BRANCHES_GEAR : PRSM_VIB_BRANCHES_AXIAL))
+			prsm_io_problem_once(p, from, "/dynamics/linear", i ? "output" : "input", "branch",
+			                     "the %s branch is off (vibration.branches %s)", axial[i] ? "axial" : "gear",
+			                     axial[i] ? "gear" : "axial");
+	one_mesh(p, from, v, "/dynamics/linear", "input_roller", l->input_roller);
+	one_mesh(p, from, v, "/dynamics/linear", "output_roller", l->output_roller);
 }
 
 /* The vibration model's own checks (dyn/vib.h), each problem at the request's name for it. */
@@ -616,11 +594,6 @@ int prsm_io_dynamics_read(prsm_dyn_options *o, prsm_io_vib_request *v_in, const 
 		v->integration.max_steps = o->time.max_steps;
 	free(scratch);
 	return prsm_problems_total(problems) > before ? PRSM_EINVAL : 0;
-}
-
-int prsm_io_dynamics_from_json(prsm_dyn_options *o, const cJSON *obj, int stages, prsm_problems *problems)
-{
-	return prsm_io_dynamics_read(o, NULL, obj, stages, problems);
 }
 
 /* ---- the result --------------------------------------------------------------------------------- */

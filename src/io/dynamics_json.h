@@ -7,7 +7,7 @@
  * The reader is the table generated from the annotated schema (io/doc.h) filling
  * prsm_dyn_options directly; what a table cannot say is in the hooks of dynamics_json.c (the
  * input's kind-specific names, the per-stage masses, the step cap) and in
- * prsm_io_dynamics_from_json (the chain's form of the masses, the default output step, then
+ * prsm_io_dynamics_read (the chain's form of the masses, the default output step, then
  * the model's own cross-field rules, prsm_dyn_options_check). The analysis and the sections of
  * the vibration analyses (gear_pair, vibration, steady_state, sweep, basins, linear,
  * frequency_response) are read by one step of the table, prsm_io_step_dynamics_vibration, each
@@ -29,6 +29,7 @@
 #include "dyn/dyn.h"
 #include "dyn/vib.h"
 #include "io/write.h"
+#include "prsm_io_enums.h"
 #include "util/problems.h"
 
 /* The model a simulation result names ("engine"."model"). */
@@ -46,18 +47,6 @@
 #define PRSM_IO_DYN_POWER_BALANCE_LIMIT 1e-6
 #define PRSM_IO_DYN_NEWTON_EULER_LIMIT 1e-9
 
-/*
- * Read the dynamics object obj (at /dynamics; NULL: absent, every default) of a request for a
- * chain of `stages` stages (1 for a single design) into *o, which is set to the defaults
- * first: the fields by the schema's table, output_step_s = end_s / 500 when not given, the
- * single-stage or chain form of the masses, then prsm_dyn_options_check (each of its problems
- * unless the field already has one). The vibration analyses' sections are read and checked too
- * (prsm_io_dynamics_read with no request to fill). couplings are not part of the object: the
- * caller copies a chain's from its multi-stage document. Returns 0 or PRSM_EINVAL (problems
- * added).
- */
-int prsm_io_dynamics_from_json(prsm_dyn_options *o, const cJSON *obj, int stages, prsm_problems *problems);
-
 /* The whole result document {engine, name, warnings, dynamics} (schemas/dynamics-result.schema.json);
  * name may be NULL or "". The caller owns it; NULL when out of memory. The checks' warnings are
  * appended to a copy of warnings (may be NULL). */
@@ -70,33 +59,12 @@ int prsm_io_dynamics_write_csv(FILE *f, const prsm_dyn_model *m, const prsm_dyn_
 
 /* ---- the vibration analyses (docs/vibration.md) ---------------------------------------------- */
 
-/* "analysis" */
-enum {
-	PRSM_IO_DYN_TRANSIENT = 0,          /* the rigid-body start-up (docs/dynamics.md) */
-	PRSM_IO_DYN_LINEAR = 1,             /* eigenvalues, modes, FRF, half-power damping */
-	PRSM_IO_DYN_VIBRATION = 2,          /* one steady state: class, Poincare, spectrum, extremes, Lyapunov */
-	PRSM_IO_DYN_SWEEP = 3,              /* bifurcation diagram up and down */
-	PRSM_IO_DYN_FREQUENCY_RESPONSE = 4, /* harmonic balance, sweeps up and down, jumps, exact folds */
-	PRSM_IO_DYN_BASINS = 5              /* a grid of initial states and the attractor each reaches */
-};
-#define PRSM_IO_DYN_ANALYSES 6
-
-/* sweep.parameter: the request's names (each in its unit: screw speed rad/s, mesh error um) */
-enum {
-	PRSM_IO_SWEEP_FREQUENCY_RATIO = 0,    /* either model */
-	PRSM_IO_SWEEP_SCREW_SPEED = 1,        /* reduced: screw_speed_rad_s */
-	PRSM_IO_SWEEP_MESH_ERROR_UM = 2,      /* reduced: e_g, um */
-	PRSM_IO_SWEEP_MESH_DAMPING_RATIO = 3, /* reduced: zeta_g */
-	PRSM_IO_SWEEP_ERROR_AMPLITUDE = 4,    /* gear pair: epsilon */
-	PRSM_IO_SWEEP_DAMPING_RATIO = 5,      /* gear pair: zeta */
-	PRSM_IO_SWEEP_MEAN_LOAD = 6,          /* gear pair: f_m */
-	PRSM_IO_SWEEP_STIFFNESS_VARIATION = 7 /* gear pair: kappa */
-};
-#define PRSM_IO_SWEEP_PARAMETERS 8
-
-/* The sweep parameter's request name ("frequency_ratio", "screw_speed_rad_s", ...), the engine's
- * PRSM_VIB_PARAM_* and the factor from the request's unit to the engine's (um -> m). */
-const char *prsm_io_sweep_parameter_name(int parameter);
+/* The analyses (PRSM_IO_DYN_TRANSIENT, _LINEAR, _VIBRATION, _SWEEP, _FREQUENCY_RESPONSE, _BASINS;
+ * PRSM_IO_DYN_ANALYSES of them) and the sweep's parameters (PRSM_IO_SWEEP_FREQUENCY_RATIO, ...,
+ * each in its unit: screw speed rad/s, mesh error um) are the schema's enums, generated with their
+ * names, prsm_io_dynamics_analysis_name() and prsm_io_sweep_parameter_name() (prsm_io_enums.h,
+ * "constants" in schemas/dynamics.schema.json). The engine's PRSM_VIB_PARAM_* of a sweep parameter
+ * and the factor from the request's unit to the engine's (um -> m): */
 int prsm_io_sweep_parameter_engine(int parameter, double *to_engine);
 
 /* steady_state: one steady state (analysis vibration) */
@@ -180,16 +148,18 @@ void prsm_io_gear_pair_init(prsm_vib_gear_pair *g);
 void prsm_io_vib_request_init(prsm_io_vib_request *r);
 
 /*
- * Read the dynamics object obj (NULL: absent) into the transient's options *o and the vibration
- * request *v (may be NULL: checked only). stages: the request's stages, 1 for a design, 0 for a
- * request without a design (the gear-pair form, {"dynamics": {"analysis", "gear_pair", ...}}).
- * Every problem with its pointer. Returns 0 or PRSM_EINVAL.
+ * Read the dynamics object obj (at /dynamics; NULL: absent, every default) into the transient's
+ * options *o and the vibration request *v (may be NULL: checked only), both set to the defaults
+ * first: the fields by the schema's table, output_step_s = end_s / 500 when not given, the
+ * single-stage or chain form of the masses, then prsm_dyn_options_check (each of its problems
+ * unless the field already has one), and the vibration analyses' sections and rules. stages: the
+ * request's stages, 1 for a design, 0 for a request without a design (the gear-pair form,
+ * {"dynamics": {"analysis", "gear_pair", ...}}). couplings are not part of the object: the caller
+ * copies a chain's from its multi-stage document. Every problem with its pointer. Returns 0 or
+ * PRSM_EINVAL.
  */
 int prsm_io_dynamics_read(prsm_dyn_options *o, prsm_io_vib_request *v, const cJSON *obj, int stages,
                           prsm_problems *problems);
-
-/* The name of an analysis ("transient", "linear", ...). */
-const char *prsm_io_dynamics_analysis_name(int analysis);
 
 /* What a vibration analysis computed (filled by app/simulate.c, written here). */
 typedef struct {

@@ -17,7 +17,7 @@
 #include "prsm_io_tables.h"
 #include "util/error.h"
 
-static const char *const column_names[3] = {"screw_angle_rad", "travel_mm", "te_um"};
+static const char *const column_names[] = {"screw_angle_rad", "travel_mm", "te_um", NULL};
 
 void prsm_io_csv_origin_free(prsm_io_csv_origin *o)
 {
@@ -261,7 +261,7 @@ int prsm_io_measured_csv_parse(prsm_meas_curve *c, prsm_io_csv_origin *origin, c
 		if (skip_blank_or_comment(&s))
 			continue;
 		const long line = s.line;
-		int k = 0, got = 0;
+		int k = 0;
 		more = 1;
 		while (more) {
 			more = csv_field(&s, k + 1);
@@ -277,7 +277,6 @@ int prsm_io_measured_csv_parse(prsm_meas_curve *c, prsm_io_csv_origin *origin, c
 			for (int j = 0; j < 3; j++) {
 				if (col[j] != k)
 					continue;
-				got++;
 				double v;
 				const int pr = s.field_len >= sizeof s.field ? -1 : parse_number(&v, s.field);
 				if (s.field_len == 0)
@@ -297,24 +296,20 @@ int prsm_io_measured_csv_parse(prsm_meas_curve *c, prsm_io_csv_origin *origin, c
 		}
 		if (rc)
 			break;
-		if (k < ncols) {
-			int missing = 0;
+		if (k < ncols) { /* the first of the columns read that the row does not reach */
+			int missing = -1;
 			for (int j = 0; j < 3; j++)
-				if (col[j] > k && (!missing || col[j] < missing))
-					missing = col[j];
-			if (missing) {
-				int j = 0;
-				while (col[j] != missing)
-					j++;
-				rc = csv_problem(&s, line, missing, column_names[j], "the row has %d field%s, the header %d: the value is "
-				                 "missing", k, k == 1 ? "" : "s", ncols);
+				if (col[j] > k && (missing < 0 || col[j] < col[missing]))
+					missing = j;
+			if (missing >= 0) {
+				rc = csv_problem(&s, line, col[missing], column_names[missing], "the row has %d field%s, the header "
+				                 "%d: the value is missing", k, k == 1 ? "" : "s", ncols);
 				break;
 			}
 		}
 		if (origin)
 			origin->line[row] = line;
 		row++;
-		(void)got;
 	}
 	if (rc) {
 		prsm_meas_curve_free(c);
@@ -340,13 +335,8 @@ int prsm_io_measured_csv_read(prsm_meas_curve *c, prsm_io_csv_origin *origin, co
 	int rc = 0;
 	while (buf) {
 		if (len == cap) {
-			if (cap > PRSM_IO_MEASURED_CSV_BYTES_MAX) {
-				prsm_problems_add(problems, path, "too_large",
-				                  "the measured CSV is larger than %u MiB: a TE curve is limited to %d points "
-				                  "(decimate it)", PRSM_IO_MEASURED_CSV_BYTES_MAX >> 20, PRSM_MEAS_POINTS_MAX);
-				rc = PRSM_EINVAL;
-				break;
-			}
+			if (cap > PRSM_IO_MEASURED_CSV_BYTES_MAX)
+				break; /* too large: said below */
 			char *nb = realloc(buf, cap * 2);
 			if (nb == NULL) {
 				free(buf);
@@ -427,8 +417,7 @@ void prsm_io_hook_measured_te(void *base, const cJSON *obj, const char *obj_poin
 	prsm_json_pointer_append(ptr, sizeof ptr, obj_pointer, "te");
 	if (prsm_json_object_value(te, ptr, problems))
 		return;
-	static const char *const keys[] = {"screw_angle_rad", "travel_mm", "te_um", NULL};
-	if (prsm_json_check_keys(te, ptr, keys, problems))
+	if (prsm_json_check_keys(te, ptr, column_names, problems))
 		return;
 	const cJSON *arr[3];
 	int n = -1, bad = 0;
@@ -533,32 +522,17 @@ void prsm_io_hook_calibrate_lines(void *base, const cJSON *obj, const char *obj_
 		o->lines_mask = mask;
 }
 
-void prsm_io_hook_calibrate_parameters(void *base, const cJSON *obj, const char *obj_pointer, prsm_problems *problems)
+/* Each of `parameters` (a string of at most PRSM_CALIB_NAME_MAX - 1 characters, the schema's
+ * maxLength) in the order given; a name given twice is a problem, and kept. */
+int prsm_io_step_calibrate_parameter(prsm_io_at *at, prsm_problems *problems)
 {
-	prsm_calib_options *o = base;
-	const cJSON *a = cJSON_GetObjectItemCaseSensitive(obj, "parameters");
-	if (a == NULL)
-		return;
-	char ptr[PRSM_JSON_POINTER_MAX];
-	prsm_json_pointer_append(ptr, sizeof ptr, obj_pointer, "parameters");
-	if (!cJSON_IsArray(a) || cJSON_GetArraySize(a) < 1 || cJSON_GetArraySize(a) > PRSM_CALIB_FIELDS_MAX) {
-		prsm_problems_add(problems, ptr, "bad_array", "must be an array of 1 to %d error-field names (e.g. "
-		                  "\"nut.runout_um\")", PRSM_CALIB_FIELDS_MAX);
-		return;
-	}
-	int i = 0;
-	o->fields = 0;
-	for (const cJSON *it = a->child; it; it = it->next, i++) {
-		char ip[PRSM_JSON_POINTER_MAX];
-		prsm_json_pointer_append_index(ip, sizeof ip, ptr, i);
-		const char *s;
-		if (prsm_json_string_value(&s, it, ip, PRSM_CALIB_NAME_MAX - 1, problems))
-			continue;
-		for (int j = 0; j < o->fields; j++)
-			if (strcmp(o->field_names[j], s) == 0)
-				prsm_problems_add(problems, ip, "duplicate", "\"%s\" is named twice", s);
-		snprintf(o->field_names[o->fields++], PRSM_CALIB_NAME_MAX, "%s", s);
-	}
+	prsm_calib_options *o = at->base;
+	const char *s = at->obj->valuestring;
+	for (int j = 0; j < o->fields; j++)
+		if (strcmp(o->field_names[j], s) == 0)
+			prsm_problems_add(problems, at->pointer, "duplicate", "\"%s\" is named twice", s);
+	snprintf(o->field_names[o->fields++], PRSM_CALIB_NAME_MAX, "%s", s);
+	return 0;
 }
 
 /* After the fields (the table's last step): a standard uncertainty, or the load and speed of a
