@@ -6,7 +6,9 @@ set(PRSM_IO_TABLES_SCRIPT ${PROJECT_SOURCE_DIR}/scripts/gen-io-tables.py)
 file(GLOB PRSM_IO_SCHEMAS CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/schemas/*.schema.json)
 # the structs the tables fill (the headers the schemas name, and those they include)
 file(GLOB_RECURSE PRSM_IO_HEADERS CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/*.h)
-set(PRSM_IO_TABLES ${PROJECT_BINARY_DIR}/generated/prsm_io_tables.c ${PROJECT_BINARY_DIR}/generated/prsm_io_tables.h)
+# prsm_vocab.h: the schemas' vocabularies as plain C (src/mc includes it)
+set(PRSM_IO_TABLES ${PROJECT_BINARY_DIR}/generated/prsm_io_tables.c ${PROJECT_BINARY_DIR}/generated/prsm_io_tables.h
+    ${PROJECT_BINARY_DIR}/generated/prsm_vocab.h)
 add_custom_command(
   OUTPUT ${PRSM_IO_TABLES}
   COMMAND /usr/bin/python3 ${PRSM_IO_TABLES_SCRIPT} --out-dir ${PROJECT_BINARY_DIR}/generated
