@@ -190,6 +190,13 @@ study_check('... every current name in one text, for messages', None, 0,
             '#define PRSM_OUTPUT_NAMES_TEXT "backlash_um, backlash_min_um, backlash_max_um, load_sharing_factor, ')
 study_check('a vocabulary name without its C constant is refused', lambda s: s[D][OUTPUTS[0]][OUTPUTS[1]]['values'].pop(),
             1, '$defs/output_name: a vocabulary is a oneOf of "const" names, one C constant each in "values"')
+study_check('a name\'s attributes: true is 1, a string a C string, a number a double (NAN where not given)', None, 0,
+            '#define PRSM_OUTPUT_RANGE { \\\n\t[PRSM_OUT_SHARING] = "at least 1", \\')
+study_check('... a number on every current name', None, 0,
+            '#define PRSM_OUTPUT_HIGH { \\\n\t[PRSM_OUT_BACKLASH] = NAN, \\')
+study_check('an attribute both true and a number is refused',
+            lambda s: s[D]['output_name']['oneOf'][3]['x-prsm'].update(low=True), 1,
+            'the attribute "low" is true, a string or a number on every name that has it')
 study_check('two current names of one C constant are refused',
             lambda s: s[D]['output_name']['oneOf'][9].pop('deprecated'), 1,
             '$defs/output_name: each C constant has one name')
