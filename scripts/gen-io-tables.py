@@ -973,18 +973,23 @@ def vocabulary_attributes(node, note, where):
             raise GenError(f'{where}: a "deprecated" name has the attributes of its constant\'s name')
         for a, x in b.get('x-prsm', {}).items():
             attrs.setdefault(a, {})[v] = x
+    def kind(x):
+        if x is True or isinstance(x, str):
+            return type(x)
+        return float if isinstance(x, (int, float)) and not isinstance(x, bool) else None
+
     lines = []
     for a, given in attrs.items():
-        kind = {bool if x is True else str if isinstance(x, str) else float if isinstance(x, (int, float)) and
-                not isinstance(x, bool) else None for x in given.values()}
-        if len(kind) != 1 or None in kind:
+        kinds = {kind(x) for x in given.values()}
+        if len(kinds) != 1 or None in kinds:
             raise GenError(f'{where}: the attribute "{a}" is true, a string or a number on every name that has it')
-        if kind == {float}:
+        if kinds == {float}:  # every current name, NAN where not given
             items = [(v, c_double(given[v]) if v in given else 'NAN')
                      for v, b in zip(note['values'], node['oneOf']) if not b.get('deprecated')]
         else:
             items = [(v, '1' if x is True else c_string(x)) for v, x in given.items()]
-        lines += [f'#define {note["vocabulary"]}_{a.upper()} {{ \\'] + [f'\t[{v}] = {x}, \\' for v, x in items] + ['}']
+        lines.append(f'#define {note["vocabulary"]}_{a.upper()} {{ \\')
+        lines += [f'\t[{v}] = {x}, \\' for v, x in items] + ['}']
     return lines
 
 

@@ -235,11 +235,11 @@ static int read_design(prsm_io_study *s, const cJSON *doc, const study_reading *
 	return c->o->analyse_design ? c->o->analyse_design(s, warnings, pr, c->o->ctx) : 0;
 }
 
-/* A model of expressions rather than a benchmark: no "benchmark", and what an expression model
- * has. */
+/* A model of expressions rather than a benchmark: no "benchmark", and a member an expression
+ * model has ($defs/expression_model's). */
 static int is_expression_model(const cJSON *m)
 {
-	static const char *const keys[] = {"expression", "expressions", "inputs", "constants", NULL};
+	const char *const *keys = prsm_io_t_expr_model.keys;
 	if (!cJSON_IsObject(m) || cJSON_GetObjectItemCaseSensitive(m, "benchmark"))
 		return 0;
 	for (int k = 0; keys[k]; k++)
