@@ -94,7 +94,10 @@ generator fails, and with it the build, when a property has no annotation, when 
 names no member of the struct, or when a member of a struct a table fills (the document's, an
 array's or a map's items) is neither read nor listed as computed.
 
-Output: DIR/prsm_io_tables.h, DIR/prsm_io_tables.c and DIR/prsm_io_enums.h.
+A $defs string vocabulary whose x-prsm names "vocabulary" (a oneOf of "const" names, each with
+its C constant in "values"; a "deprecated" one an older name) becomes plain C in prsm_vocab.h.
+
+Output: DIR/prsm_io_tables.h, DIR/prsm_io_tables.c, DIR/prsm_io_enums.h and DIR/prsm_vocab.h.
 """
 import argparse
 import json
@@ -819,7 +822,7 @@ def emit(gens, out_dir):
          '#include "prsm_io_tables.h"', '', '#include <limits.h>', '#include <math.h>', '#include <stddef.h>',
          '#include <stdlib.h>', '#include <string.h>', '']
     includes = sorted({g.root_note['header'] for g in gens})
-    h[5:5] = [f'#include "{i}"' for i in includes]
+    h[5:5] = [f'#include "{i}"' for i in includes] + ['#include "prsm_vocab.h"']
     extra = sorted({i for g in gens for i in g.root_note.get('includes', [])})
     c[6:6] = [f'#include "{i}"' for i in extra]
     for g in gens:
@@ -980,17 +983,89 @@ def emit_constants(gens, h, c):
     return e + ['#endif', '']
 
 
+def vocabulary(schema, doc, key, node):
+    """A $defs string vocabulary ("oneOf" of "const"s) whose x-prsm names "vocabulary" (a C
+    prefix), "header", "count" and "values" (each name's C constant, in the schema's order): the
+    lines of prsm_vocab.h that give code without JSON (src/mc) its names, by constant, and the
+    names as one text for messages. A "deprecated" name is an older one the readers still take."""
+    note, where = node['x-prsm'], f'{doc}: $defs/{key}'
+    if set(note) != {'vocabulary', 'header', 'count', 'values'}:
+        raise GenError(f'{where}: a vocabulary is {{"vocabulary", "header", "count", "values"}}')
+    names = [(b.get('const'), b.get('deprecated', False)) for b in node.get('oneOf', [])]
+    if not names or any(not isinstance(n, str) for n, _ in names) or len(note['values']) != len(names):
+        raise GenError(f'{where}: a vocabulary is a oneOf of "const" names, one C constant each in "values"')
+    current = [(n, v) for (n, old), v in zip(names, note['values']) if not old]
+    older = [(n, v) for (n, old), v in zip(names, note['values']) if old]
+    if len({v for _, v in current}) != len(current) or {v for _, v in older} - {v for _, v in current}:
+        raise GenError(f'{where}: each C constant has one name (a "deprecated" one names a constant '
+                       f'another name has)')
+    p, count = note['vocabulary'], note['count']
+    lines = [f'/* {doc} $defs/{key}: {count} names */', f'#include "{note["header"]}"',
+             f'_Static_assert({count} == {len(current)}, "{count} differs from the names of {doc} $defs/{key}");',
+             f'#define {p}_NAMES {{ \\']
+    lines += [f'\t[{v}] = {c_string(n)}, \\' for n, v in current] + ['}']
+    lines.append(f'#define {p}_NAMES_TEXT {c_string(", ".join(n for n, _ in current))}')
+    if older:
+        lines.append(f'#define {p}_OLDER_NAMES {{' + ', '.join(c_string(n) for n, _ in older) + ', NULL}')
+        lines.append(f'#define {p}_OLDER_VALUES {{' + ', '.join(v for _, v in older) + '}')
+    return lines + vocabulary_attributes(node, note, where) + ['']
+
+
+def vocabulary_attributes(node, note, where):
+    """What a vocabulary's names carry in their own x-prsm ({"needs_load": true, "low": 0}): one
+    initialiser by constant per attribute, <prefix>_<ATTRIBUTE>: true is 1 (absent 0), a string a C
+    string (absent NULL), a number a double (absent NAN: not given)."""
+    attrs = {}
+    for b, v in zip(node['oneOf'], note['values']):
+        if b.get('deprecated') and 'x-prsm' in b:
+            raise GenError(f'{where}: a "deprecated" name has the attributes of its constant\'s name')
+        for a, x in b.get('x-prsm', {}).items():
+            attrs.setdefault(a, {})[v] = x
+    def kind(x):
+        if x is True or isinstance(x, str):
+            return type(x)
+        return float if isinstance(x, (int, float)) and not isinstance(x, bool) else None
+
+    lines = []
+    for a, given in attrs.items():
+        kinds = {kind(x) for x in given.values()}
+        if len(kinds) != 1 or None in kinds:
+            raise GenError(f'{where}: the attribute "{a}" is true, a string or a number on every name that has it')
+        if kinds == {float}:  # every current name, NAN where not given
+            items = [(v, c_double(given[v]) if v in given else 'NAN')
+                     for v, b in zip(note['values'], node['oneOf']) if not b.get('deprecated')]
+        else:
+            items = [(v, '1' if x is True else c_string(x)) for v, x in given.items()]
+        lines.append(f'#define {note["vocabulary"]}_{a.upper()} {{ \\')
+        lines += [f'\t[{v}] = {x}, \\' for v, x in items] + ['}']
+    return lines
+
+
+def emit_vocabularies(parts, out_dir):
+    """prsm_vocab.h: every vocabulary (plain C: src/mc includes it, and prsm_io_tables.h)."""
+    lines = ['/* Generated by scripts/gen-io-tables.py from schemas/: do not edit. */',
+             '#ifndef PRSM_VOCAB_H', '#define PRSM_VOCAB_H', '', '#include <math.h>', ''] + parts + ['#endif', '']
+    text = '\n'.join(lines)
+    path = os.path.join(out_dir, 'prsm_vocab.h')
+    if not os.path.exists(path) or open(path, encoding='utf-8').read() != text:
+        with open(path, 'w', encoding='utf-8') as f:
+            f.write(text)
+
+
 def main(argv):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument('--out-dir', required=True)
     ap.add_argument('--src', required=True, help='the source tree\'s src/ (headers named by "header")')
     ap.add_argument('schemas', nargs='+')
     a = ap.parse_args(argv[1:])
-    gens = []
+    gens, vocabs = [], []
     try:
         for path in a.schemas:
             with open(path, encoding='utf-8') as f:
                 schema = json.load(f)
+            for key, d in schema.get('$defs', {}).items():
+                if 'vocabulary' in d.get('x-prsm', {}):
+                    vocabs += vocabulary(schema, os.path.basename(path), key, d)
             # a document's root, or a part of it under $defs, that names its table
             nodes = [None] if 'table' in schema.get('x-prsm', {}) else []
             nodes += [d for d in schema.get('$defs', {}).values() if 'table' in d.get('x-prsm', {})]
@@ -1004,6 +1079,7 @@ def main(argv):
                 if name not in steps:
                     raise GenError(f'{where}: "by" names {name}, which is no step or hook')
         emit(gens, a.out_dir)
+        emit_vocabularies(vocabs, a.out_dir)
     except GenError as e:
         print(f'gen-io-tables: {e}', file=sys.stderr)
         return 1

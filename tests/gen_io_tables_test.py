@@ -48,6 +48,10 @@ def run(schema, header_edit=None, name='design.schema.json'):
         # the fields name strings, tables and functions by index, with what the index names in a
         # comment (".name = 7 /* "pitch_mm" */"): the checks below read the named form
         text = INDEXED.sub(r'\1 = \2', text)
+        vocab = os.path.join(tmp, 'out', 'prsm_vocab.h')  # the vocabularies, plain C
+        if os.path.exists(vocab):
+            with open(vocab, encoding='utf-8') as f:
+                text += f.read()
         return r.returncode, r.stderr + text
 
 
@@ -187,6 +191,28 @@ study_check('a section\'s defaults function runs at its turn; its defaults are c
 study_check('... and a schema default it does not set is reported by prsm_io_defaults_study_monte_carlo()',
             lambda s: s[D]['monte_carlo']['properties']['samples'].update(default=20000), 0,
             'if (!(s->samples == 20000)) {')
+
+# ---- a vocabulary: the study's output names, by their C constants, for src/mc ----------------
+OUTPUTS = ('output_name', 'x-prsm')
+study_check('a vocabulary gives each name by its C constant, and the count is asserted', None, 0,
+            '_Static_assert(PRSM_OUT_COUNT == 20, "PRSM_OUT_COUNT differs from the names of study.schema.json '
+            '$defs/output_name");\n#define PRSM_OUTPUT_NAMES { \\\n\t[PRSM_OUT_BACKLASH] = "backlash_um", \\')
+study_check('... a "deprecated" name is an older one, of a constant another name has', None, 0,
+            '#define PRSM_OUTPUT_OLDER_NAMES {"efficiency", NULL}\n#define PRSM_OUTPUT_OLDER_VALUES {PRSM_OUT_EFFICIENCY}')
+study_check('... every current name in one text, for messages', None, 0,
+            '#define PRSM_OUTPUT_NAMES_TEXT "backlash_um, backlash_min_um, backlash_max_um, load_sharing_factor, ')
+study_check('a vocabulary name without its C constant is refused', lambda s: s[D][OUTPUTS[0]][OUTPUTS[1]]['values'].pop(),
+            1, '$defs/output_name: a vocabulary is a oneOf of "const" names, one C constant each in "values"')
+study_check('a name\'s attributes: true is 1, a string a C string, a number a double (NAN where not given)', None, 0,
+            '#define PRSM_OUTPUT_RANGE { \\\n\t[PRSM_OUT_SHARING] = "at least 1", \\')
+study_check('... a number on every current name', None, 0,
+            '#define PRSM_OUTPUT_HIGH { \\\n\t[PRSM_OUT_BACKLASH] = NAN, \\')
+study_check('an attribute both true and a number is refused',
+            lambda s: s[D]['output_name']['oneOf'][3]['x-prsm'].update(low=True), 1,
+            'the attribute "low" is true, a string or a number on every name that has it')
+study_check('two current names of one C constant are refused',
+            lambda s: s[D]['output_name']['oneOf'][9].pop('deprecated'), 1,
+            '$defs/output_name: each C constant has one name')
 
 # ---- the allocation and optimisation documents: "missing", "when", sections "by" a step -------
 docs = {}

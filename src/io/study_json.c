@@ -235,11 +235,11 @@ static int read_design(prsm_io_study *s, const cJSON *doc, const study_reading *
 	return c->o->analyse_design ? c->o->analyse_design(s, warnings, pr, c->o->ctx) : 0;
 }
 
-/* A model of expressions rather than a benchmark: no "benchmark", and what an expression model
- * has. */
+/* A model of expressions rather than a benchmark: no "benchmark", and a member an expression
+ * model has ($defs/expression_model's). */
 static int is_expression_model(const cJSON *m)
 {
-	static const char *const keys[] = {"expression", "expressions", "inputs", "constants", NULL};
+	const char *const *keys = prsm_io_t_expr_model.keys;
 	if (!cJSON_IsObject(m) || cJSON_GetObjectItemCaseSensitive(m, "benchmark"))
 		return 0;
 	for (int k = 0; keys[k]; k++)
@@ -654,24 +654,16 @@ static void build_vars(prsm_io_study *s, size_t g)
 	char msg[200];
 	param_find(pi, t->parameter, s, msg, sizeof msg); /* found when it was read */
 	snprintf(gr->name, sizeof gr->name, "%s", t->parameter);
-	if (s->is_benchmark) {
-		size_t i = (size_t)pi->bench_index;
-		st->vars[i].dist = t->dist;
-		st->vars[i].group = (int)g;
-		st->info[i].phase = st->info[i].phase_of = -1;
-		snprintf(st->info[i].name, sizeof st->info[i].name, "%s", t->parameter);
-		gr->first_var = i;
+	/* one variable, named as the tolerance */
+	if (s->is_benchmark || pi->part == PRSM_PART_DYNAMICS) {
+		const prsm_mc_binding b = {pi->part, 0, pi->offset, pi->scale};
+		if (s->is_benchmark) /* x_i is variable i - 1 (the step sets the count once all are in) */
+			st->d = (size_t)pi->bench_index;
+		gr->first_var = add_var(s, &t->dist, (int)g, &b, "%s", t->parameter);
 		gr->n_vars = 1;
 		return;
 	}
 	static const prsm_dist phase = {PRSM_DIST_UNIFORM, {0.0, 2.0 * M_PI, 0.0, 0.0}, NULL};
-	if (pi->part == PRSM_PART_DYNAMICS) { /* one variable, named as the tolerance */
-		const prsm_mc_binding b = {pi->part, 0, pi->offset, pi->scale};
-		gr->first_var = st->d;
-		add_var(s, &t->dist, (int)g, &b, "%s", t->parameter);
-		gr->n_vars = 1;
-		return;
-	}
 	const char *key = strchr(t->parameter, '.') + 1;
 	/* the key without its unit: runout_um -> runout, tilt_mrad -> tilt */
 	const size_t unit_len = strlen(prsm_io_error_unit_of(key));
@@ -882,11 +874,12 @@ int prsm_io_step_outputs(prsm_io_at *at, prsm_problems *pr)
 		s->study.m = s->expr.n_exprs;
 		return 0;
 	}
-	snprintf(o[0].name, sizeof o[0].name, "%s", s->is_benchmark ? "y" : "backlash_um");
+	const char *first = s->is_benchmark ? "y" : prsm_output_name(PRSM_OUT_BACKLASH);
+	snprintf(o[0].name, sizeof o[0].name, "%s", first);
 	s->prsm.outputs[0] = PRSM_OUT_BACKLASH;
 	s->study.m = 1;
 	if (!s->is_benchmark && s->design.axial_load_N > 0.0) {
-		snprintf(o[1].name, sizeof o[1].name, "load_sharing_factor");
+		snprintf(o[1].name, sizeof o[1].name, "%s", prsm_output_name(PRSM_OUT_SHARING));
 		s->prsm.outputs[1] = PRSM_OUT_SHARING;
 		s->study.m = 2;
 	}
@@ -923,9 +916,8 @@ int prsm_io_step_output(prsm_io_at *at, prsm_problems *pr)
 		prsm_problems_add(pr, at->pointer, "duplicate", "output '%s' is listed twice", name);
 		return 0;
 	}
-	if (!s->is_benchmark && c->design_rc == 0 && !(s->design.axial_load_N > 0.0) &&
-	    (k == PRSM_OUT_SHARING || k == PRSM_OUT_STIFFNESS || k == PRSM_OUT_STIFFNESS_RATIO ||
-	     k == PRSM_OUT_UNIT_STIFFNESS || k == PRSM_OUT_EFFICIENCY_LOSSES || prsm_output_is_dynamic(k))) {
+	static const char needs_load[PRSM_OUT_COUNT] = PRSM_OUTPUT_NEEDS_LOAD; /* the schema's */
+	if (!s->is_benchmark && c->design_rc == 0 && !(s->design.axial_load_N > 0.0) && needs_load[k]) {
 		prsm_problems_add(pr, at->pointer, "no_load", "%s needs an operating axial load "
 		                  "(/design/operating_point/axial_load_N > 0)", name);
 		return 0;
@@ -1086,10 +1078,10 @@ int prsm_io_step_dynamics(prsm_io_at *at, prsm_problems *pr)
 			first_tol = (int)g;
 	}
 	if (first_out < 0) {
-		if (dyn)
+		if (dyn) /* the names from the first dynamic one on (the schema lists them last) */
 			prsm_problems_add(pr, "/dynamics", "not_used", "the dynamics section is for dynamic outputs (%s): name one "
-			                  "in outputs, or leave the section out", "peak_dynamic_te_um, peak_thread_force_N, "
-			                  "axial_vibration_rms_m_s2, contact_loss, mesh_force_peak_N, regime, integrated, lyapunov_max");
+			                  "in outputs, or leave the section out",
+			                  strstr(PRSM_OUTPUT_NAMES_TEXT, prsm_output_name(PRSM_OUT_DYN_FIRST)));
 		if (cJSON_GetObjectItemCaseSensitive(at->obj, "dynamic_monte_carlo"))
 			prsm_problems_add(pr, "/dynamic_monte_carlo", "not_used", "dynamic_monte_carlo is for dynamic outputs");
 		if (first_tol >= 0) {

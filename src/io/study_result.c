@@ -10,6 +10,7 @@
 
 #include "io/write.h"
 #include "prsm_io_writers.h"
+#include "prsm_vocab.h"
 
 void prsm_io_whook_output_spec(prsm_jw *w, cJSON *obj, const char *key, const void *at)
 {
@@ -28,38 +29,20 @@ void prsm_io_whook_rss_interval(prsm_jw *w, cJSON *obj, const char *key, const v
 }
 
 /* The stack figures' caveat (schemas/study-result.schema.json, stack/caveat): the physical range
- * of the built-in outputs that have one, and the linearity of the output (the SRC fit's R²). */
+ * of the built-in outputs that have one (study.schema.json, $defs/output_name: a bound it does
+ * not give is NAN, which no value passes), and the linearity of the output (the SRC fit's R²). */
 void prsm_io_whook_stack_caveat(prsm_jw *w, cJSON *obj, const char *key, const void *at)
 {
+	static const char *const ranges[PRSM_OUT_COUNT] = PRSM_OUTPUT_RANGE;
+	static const double lows[PRSM_OUT_COUNT] = PRSM_OUTPUT_LOW, highs[PRSM_OUT_COUNT] = PRSM_OUTPUT_HIGH;
 	const prsm_study_output_result *q = at;
 	const prsm_io_study_result_view *v = w->ctx;
 	const char *name = v->s->study.outputs[v->o].name;
-	double lo = -INFINITY, hi = INFINITY;
-	const char *range = NULL;
-	prsm_output_kind k;
-	if (!v->s->is_benchmark && prsm_output_parse(name, &k) == 0) {
-		switch (k) {
-		case PRSM_OUT_SHARING:
-			lo = 1.0;
-			range = "at least 1";
-			break;
-		case PRSM_OUT_STIFFNESS: case PRSM_OUT_STIFFNESS_RATIO: case PRSM_OUT_UNIT_STIFFNESS:
-		case PRSM_OUT_TE_PP: case PRSM_OUT_TE_RMS:
-			lo = 0.0;
-			range = "never negative";
-			break;
-		case PRSM_OUT_EFFICIENCY: case PRSM_OUT_EFFICIENCY_BACK: case PRSM_OUT_EFFICIENCY_LOSSES:
-			lo = 0.0;
-			hi = 1.0;
-			range = "between 0 and 1";
-			break;
-		default:
-			break;
-		}
-	}
+	prsm_output_kind k = PRSM_OUT_BACKLASH;
+	const char *range = !v->s->is_benchmark && prsm_output_parse(name, &k) == 0 ? ranges[k] : NULL;
 	char msg[600] = "";
 	size_t n = 0;
-	if (range && (q->worst_low < lo || q->worst_high > hi))
+	if (range && (q->worst_low < lows[k] || q->worst_high > highs[k]))
 		n += (size_t)snprintf(msg, sizeof msg, "the worst case [%.4g, %.4g] reaches values %s cannot take (it is %s): "
 		                      "the one-at-a-time changes do not add up for it", q->worst_low, q->worst_high, name, range);
 	if (q->has_src && q->src_r2 < 0.9 && n < sizeof msg)

@@ -11,16 +11,16 @@
 #include "model/assembly_report.h"
 #include "model/efficiency.h"
 #include "model/losses.h"
+#include "prsm_vocab.h"
 
 #include <gsl/gsl_linalg.h>
 #include <gsl/gsl_matrix.h>
 
-static const char *const output_names[PRSM_OUT_COUNT] = {
-	"backlash_um", "backlash_min_um", "backlash_max_um", "load_sharing_factor",
-	"stiffness_N_per_um", "stiffness_ratio", "te_pp_um", "te_rms_um", "efficiency_sliding",
-	"efficiency_back", "nut_unit_stiffness_N_per_um", "efficiency_with_losses", "peak_dynamic_te_um",
-	"peak_thread_force_N", "axial_vibration_rms_m_s2", "contact_loss", "mesh_force_peak_N", "regime", "integrated",
-	"lyapunov_max"};
+/* The names are the schema's (study.schema.json, $defs/output_name: the generated prsm_vocab.h),
+ * each by its constant; the older names a document may still use, and what each names. */
+static const char *const output_names[PRSM_OUT_COUNT] = PRSM_OUTPUT_NAMES;
+static const char *const older_names[] = PRSM_OUTPUT_OLDER_NAMES;
+static const prsm_output_kind older_kinds[] = PRSM_OUTPUT_OLDER_VALUES;
 
 int prsm_output_is_dynamic(prsm_output_kind k)
 {
@@ -39,10 +39,11 @@ int prsm_output_parse(const char *name, prsm_output_kind *out)
 			*out = (prsm_output_kind)k;
 			return 0;
 		}
-	if (strcmp(name, "efficiency") == 0) { /* the older name of efficiency_sliding */
-		*out = PRSM_OUT_EFFICIENCY;
-		return 0;
-	}
+	for (int k = 0; older_names[k]; k++)
+		if (strcmp(name, older_names[k]) == 0) {
+			*out = older_kinds[k];
+			return 0;
+		}
 	return PRSM_ENOTFOUND;
 }
 

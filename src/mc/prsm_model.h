@@ -78,13 +78,9 @@ typedef enum {
 /* 1 for an output of the dynamic model */
 int prsm_output_is_dynamic(prsm_output_kind k);
 
-/* Every output name, for messages. */
-#define PRSM_OUTPUT_NAMES_TEXT                                                                     \
-	"backlash_um, backlash_min_um, backlash_max_um, load_sharing_factor, stiffness_N_per_um, "    \
-	"stiffness_ratio, te_pp_um, te_rms_um, efficiency_sliding, efficiency_back, nut_unit_stiffness_N_per_um, " \
-	"efficiency_with_losses, peak_dynamic_te_um, peak_thread_force_N, axial_vibration_rms_m_s2, "        \
-	"contact_loss, mesh_force_peak_N, regime, integrated, lyapunov_max"
-
+/* The names are the schema's: study.schema.json, $defs/output_name, whose "x-prsm" gives each
+ * its constant here (the build fails when they disagree); the generated prsm_vocab.h has them,
+ * and PRSM_OUTPUT_NAMES_TEXT, every name for messages. */
 const char *prsm_output_name(prsm_output_kind k);
 int prsm_output_parse(const char *name, prsm_output_kind *out); /* 0 or PRSM_ENOTFOUND */
 
