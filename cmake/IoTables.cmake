@@ -1,8 +1,8 @@
 # IoTables.cmake: the document readers' field tables (src/io/doc.h), generated from the annotated
 # JSON Schemas ("x-prsm") by scripts/gen-io-tables.py (Python standard library only) into
-# <build>/generated/prsm_io_tables.{h,c} (and prsm_io_enums.h, prsm_vocab.h) and compiled into prsm_core. The
-# generator fails the build when a schema property names no C member or a member of the struct is
-# left unread.
+# <build>/generated/prsm_io_tables.{h,c} (and prsm_io_enums.h, prsm_vocab.h) and compiled into
+# prsm_core. The generator fails the build when a schema property names no C member or a member
+# of the struct is left unread.
 set(PRSM_IO_TABLES_SCRIPT ${PROJECT_SOURCE_DIR}/scripts/gen-io-tables.py)
 file(GLOB PRSM_IO_SCHEMAS CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/schemas/*.schema.json)
 # the structs the tables fill (the headers the schemas name, and those they include)
