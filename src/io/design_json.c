@@ -51,14 +51,12 @@ void prsm_io_hook_engagement(void *base, const cJSON *g, const char *gp, prsm_pr
 {
 	prsm_design *d = base;
 	const int pitch_ok = member_read(g, gp, "pitch_mm", problems);
-	char ptr[PRSM_JSON_POINTER_MAX];
 	const int has_threads = has_member(g, "engaged_threads");
 	const int has_length = has_member(g, "nut_length_mm");
 	if (!has_threads && !has_length) {
-		prsm_json_pointer_append(ptr, sizeof ptr, gp, "engaged_threads");
-		prsm_problems_add(problems, ptr, "required",
-		                  "is required (an integer from 1 to %d), or give nut_length_mm instead",
-		                  PRSM_DESIGN_ENGAGED_THREADS_MAX);
+		prsm_io_problem(problems, gp, "engaged_threads", "required",
+		                "is required (an integer from 1 to %d), or give nut_length_mm instead",
+		                PRSM_DESIGN_ENGAGED_THREADS_MAX);
 		return;
 	}
 	if (has_threads)
@@ -68,10 +66,8 @@ void prsm_io_hook_engagement(void *base, const cJSON *g, const char *gp, prsm_pr
 	int length_ok = has_length && prsm_json_get_number(&length_mm, g, gp, "nut_length_mm",
 	                                                   PRSM_JSON_REQUIRED, positive(),
 	                                                   problems) == PRSM_JSON_PRESENT;
-	prsm_json_pointer_append(ptr, sizeof ptr, gp, "nut_length_mm");
 	if (has_threads && has_length) {
-		prsm_problems_add(problems, ptr, "conflict",
-		                  "give engaged_threads or nut_length_mm, not both");
+		prsm_io_problem(problems, gp, "nut_length_mm", "conflict", "give engaged_threads or nut_length_mm, not both");
 		return;
 	}
 	if (!length_ok || !pitch_ok)
@@ -79,13 +75,13 @@ void prsm_io_hook_engagement(void *base, const cJSON *g, const char *gp, prsm_pr
 	/* whole threads in the nut length; a ratio within 1e-9 of a whole number counts as whole */
 	double threads = floor(length_mm / d->pitch_mm + 1e-9);
 	if (threads < 1.0)
-		prsm_problems_add(problems, ptr, "range",
-		                  "nut_length_mm %g mm is shorter than one pitch (%g mm): no thread engages",
-		                  length_mm, d->pitch_mm);
+		prsm_io_problem(problems, gp, "nut_length_mm", "range",
+		                "nut_length_mm %g mm is shorter than one pitch (%g mm): no thread engages", length_mm,
+		                d->pitch_mm);
 	else if (threads > PRSM_DESIGN_ENGAGED_THREADS_MAX)
-		prsm_problems_add(problems, ptr, "range",
-		                  "nut_length_mm %g mm gives %g engaged threads at pitch %g mm, more than %d",
-		                  length_mm, threads, d->pitch_mm, PRSM_DESIGN_ENGAGED_THREADS_MAX);
+		prsm_io_problem(problems, gp, "nut_length_mm", "range",
+		                "nut_length_mm %g mm gives %g engaged threads at pitch %g mm, more than %d", length_mm,
+		                threads, d->pitch_mm, PRSM_DESIGN_ENGAGED_THREADS_MAX);
 	else
 		d->engaged_threads = (int)threads;
 }
@@ -116,17 +112,14 @@ int prsm_io_step_compliance_width_mm(prsm_io_at *at, prsm_problems *problems)
 void prsm_io_hook_reliability(void *base, const cJSON *l, const char *lp, prsm_problems *problems)
 {
 	prsm_design_life *o = base;
-	char ip[PRSM_JSON_POINTER_MAX];
 	int pct;
-	if (prsm_json_get_int(&pct, l, lp, "reliability_percent", PRSM_JSON_OPTIONAL, 90, 99, problems) ==
-	    PRSM_JSON_PRESENT) {
-		if (pct > 90 && pct < 95) {
-			prsm_json_pointer_append(ip, sizeof ip, lp, "reliability_percent");
-			prsm_problems_add(problems, ip, "enum", "must be 90, 95, 96, 97, 98 or 99 (got %d)", pct);
-		} else {
-			o->reliability_percent = pct;
-		}
-	}
+	if (prsm_json_get_int(&pct, l, lp, "reliability_percent", PRSM_JSON_OPTIONAL, 90, 99, problems) !=
+	    PRSM_JSON_PRESENT)
+		return;
+	if (pct > 90 && pct < 95)
+		prsm_io_problem(problems, lp, "reliability_percent", "enum", "must be 90, 95, 96, 97, 98 or 99 (got %d)", pct);
+	else
+		o->reliability_percent = pct;
 }
 
 /* "life"."duty_cycle": steps of load and travel (docs/model/kinematics-efficiency-stiffness-life.md) */
