@@ -51,9 +51,7 @@ int prsm_io_step_opt_design(prsm_io_at *at, prsm_problems *pr)
 	opt_reading *c = at->ctx;
 	prsm_design base;
 	c->design = cJSON_GetObjectItemCaseSensitive(at->obj, "design");
-	if (!c->design)
-		prsm_problems_add(pr, "/design", "required", "is required (the base design)");
-	else
+	if (c->design)
 		c->design_ok = prsm_io_design_from_json(&base, c->design, "/design", pr) == 0;
 	if (!c->design_ok)
 		prsm_design_init(&base);
