@@ -6,8 +6,6 @@
  */
 #include "io/stages_json.h"
 
-#include <math.h>
-#include <stdlib.h>
 #include <string.h>
 
 #include "io/analysis_json.h"
