@@ -20,8 +20,6 @@
 #include "util/problems.h"
 
 /* Limits of the design document; schemas/design.schema.json states the same numbers. */
-#define PRSM_DESIGN_NAME_MAX_CHARS 200
-#define PRSM_DESIGN_DESCRIPTION_MAX_CHARS 2000
 #define PRSM_DESIGN_STARTS_MAX 12
 #define PRSM_DESIGN_PITCH_MAX_MM 50.0
 #define PRSM_DESIGN_ROLLERS_MAX 64
