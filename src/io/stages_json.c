@@ -2,7 +2,7 @@
  * stages_json.c: the multi-stage document and its result (docs/model/kinematics-efficiency-stiffness-life.md);
  * the analysis of the chain is app/analyze.c's. The document is read by the table generated from
  * schemas/multistage-design.schema.json; here are its step (the stages, each a design at the
- * common operating point) and hooks (the coupling radii, one per coupling).
+ * common operating point) and a hook (the coupling radii, one per coupling).
  */
 #include "io/stages_json.h"
 
@@ -99,16 +99,12 @@ static void read_radii(double *r, int *is_default, const cJSON *c, const char *c
 	}
 }
 
-void prsm_io_hook_ms_spline_radii(void *base, const cJSON *c, const char *cp, prsm_problems *problems)
+/* "couplings": once its frictions are read, the radii. */
+void prsm_io_hook_ms_radii(void *base, const cJSON *c, const char *cp, prsm_problems *problems)
 {
 	prsm_io_multistage *m = base;
 	read_radii(m->chain_input.spline_radius_mm, m->spline_radius_default, c, cp, "spline_radius_mm", m->stages,
 	           problems);
-}
-
-void prsm_io_hook_ms_thrust_radii(void *base, const cJSON *c, const char *cp, prsm_problems *problems)
-{
-	prsm_io_multistage *m = base;
 	read_radii(m->chain_input.thrust_radius_mm, m->thrust_radius_default, c, cp, "thrust_bearing_radius_mm",
 	           m->stages, problems);
 }
