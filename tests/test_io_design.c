@@ -19,6 +19,7 @@
 #include "io/design_json.h"
 #include "io/stages_json.h"
 #include "io/json_util.h"
+#include "model/compliance.h"
 
 #include "test_problems.h"
 #include "test_support.h"
@@ -340,6 +341,71 @@ static void nut_length_converts_to_threads(void **state)
 	                                   " \"engaged_threads\": 10}}"), PRSM_EINVAL);
 	assert_int_equal(p.count, 1);
 	expect(&p, "/geometry/nut_length_mm", "conflict");
+}
+
+/* A case A design with this thread_compliance object. */
+#define THREAD_COMPLIANCE(tc) \
+	"{\"geometry\": {" CASE_A_GEOMETRY ", \"engaged_threads\": 10}, \"stiffness\": {\"thread_compliance\": " tc "}}"
+
+/* thread_compliance: model "none" wins over a width (a conflict at it), width "given" needs
+ * width_mm; the problems in the document's reading order. */
+static void thread_compliance_rules(void **state)
+{
+	(void)state;
+	prsm_design d;
+	prsm_problems p;
+	assert_int_equal(load_text(&d, &p, THREAD_COMPLIANCE("{\"model\": \"none\", \"width\": \"ellipse\"}")),
+	                 PRSM_EINVAL);
+	assert_int_equal(p.count, 1);
+	expect(&p, "/stiffness/thread_compliance/width", "conflict");
+	assert_int_equal(load_text(&d, &p, THREAD_COMPLIANCE("{\"model\": \"none\"}")), 0);
+	assert_int_equal(d.stiffness.width_rule, PRSM_THREAD_COMPLIANCE_NONE);
+	assert_int_equal(load_text(&d, &p, THREAD_COMPLIANCE("{\"width\": \"given\", \"width_mm\": 2.385,"
+	                                                     " \"negative_terms\": \"keep\"}")), 0);
+	assert_int_equal(d.stiffness.width_rule, PRSM_THREAD_WIDTH_GIVEN);
+	assert_near(d.stiffness.width_mm, 2.385, 0.0);
+	assert_int_equal(d.stiffness.negative_terms, PRSM_YAMAMOTO_KEEP);
+	assert_int_equal(load_text(&d, &p, THREAD_COMPLIANCE("{\"model\": \"rigid\", \"width\": \"given\","
+	                                                     " \"calibration\": 0}")), PRSM_EINVAL);
+	assert_int_equal(p.count, 3);
+	assert_string_equal(p.items[0].pointer, "/stiffness/thread_compliance/model");
+	assert_string_equal(p.items[1].pointer, "/stiffness/thread_compliance/width_mm");
+	assert_string_equal(p.items[1].message, "is required with width \"given\" (mm)");
+	assert_string_equal(p.items[2].pointer, "/stiffness/thread_compliance/calibration");
+}
+
+/* The multi-stage document's table: its keys, the stages, then the couplings' radii (one per
+ * coupling). */
+static void multistage_reads_by_its_table(void **state)
+{
+	(void)state;
+	prsm_io_multistage *ms = calloc(1, sizeof *ms);
+	assert_non_null(ms);
+	prsm_problems p;
+	prsm_problems_init(&p);
+	cJSON *doc = parse_ok("{\"nmae\": 1, \"stages\": [{\"geometry\": {" CASE_A_GEOMETRY ", \"engaged_threads\": 10}},"
+	                      " {\"geometry\": {" CASE_A_GEOMETRY ", \"engaged_threads\": 10}}], \"couplings\": {"
+	                      "\"spline_friction\": 1,"
+	                      " \"spline_radius_mm\": [3, 4], \"thrust_bearing_radius_mm\": [12.5]}}");
+	assert_int_equal(prsm_io_multistage_read(ms, doc, NULL, &p), PRSM_EINVAL);
+	assert_int_equal(p.count, 3);
+	assert_string_equal(p.items[0].pointer, "/nmae");
+	assert_string_equal(p.items[1].pointer, "/couplings/spline_friction");
+	assert_string_equal(p.items[2].pointer, "/couplings/spline_radius_mm");
+	assert_int_equal(ms->stages, 2);
+	assert_near(ms->chain_input.thrust_radius_mm[1], 12.5, 0.0);
+	assert_int_equal(ms->thrust_radius_default[1], 0);
+	assert_int_equal(ms->spline_radius_default[1], 1);
+	cJSON_Delete(doc);
+
+	/* stages that are no array stop the reading: no couplings problem after it */
+	prsm_problems_init(&p);
+	doc = parse_ok("{\"stages\": {}, \"couplings\": {\"spline_friction\": 1}}");
+	assert_int_equal(prsm_io_multistage_read(ms, doc, NULL, &p), PRSM_EINVAL);
+	assert_int_equal(p.count, 1);
+	expect(&p, "/stages", "type");
+	cJSON_Delete(doc);
+	free(ms);
 }
 
 static void thinning_or_target(void **state)
@@ -763,6 +829,8 @@ int main(void)
 		cmocka_unit_test(rollers_above_z_max),
 		cmocka_unit_test(two_starts_under_the_standard_rule),
 		cmocka_unit_test(nut_length_converts_to_threads),
+		cmocka_unit_test(thread_compliance_rules),
+		cmocka_unit_test(multistage_reads_by_its_table),
 		cmocka_unit_test(thinning_or_target),
 		cmocka_unit_test(base_pointer_prefixes_everything),
 		cmocka_unit_test(non_standard_design_warns),

@@ -4,14 +4,16 @@
  *
  * The fields, their limits, units and C members are stated once, in schemas/design.schema.json
  * ("x-prsm"); scripts/gen-io-tables.py turns them into the table io/doc.c reads by. What a table
- * cannot say is here, as hooks: the nut length converted to engaged threads, the reliability's
- * gaps, the thread-compliance rules that tie fields together, the duty cycle, the column.
+ * cannot say is here, as hooks and steps: the nut length converted to engaged threads, the
+ * reliability's gaps, the thread-compliance rules that tie fields together, the duty cycle, the
+ * column.
  */
 #include "io/design_json.h"
 
 #include <assert.h>
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "io/doc.h"
 #include "io/json_util.h"
@@ -19,15 +21,6 @@
 #include "model/life.h"
 #include "prsm_io_tables.h"
 
-/* enum names, in the order of the model's constants (design_json.h); the writers use them */
-static const char *const compliance_model_names[] = {"yamamoto", "none", NULL};
-const char *const prsm_io_width_names[] = {"share", "given", "ellipse", NULL};
-const char *const prsm_io_negative_terms_names[] = {"clamp", "keep", NULL};
-const char *const prsm_io_load_entry_names[] = {"same_side", "opposite_side", NULL};
-const char *const prsm_io_fixity_names[] = {"fixed_free", "supported_supported", "fixed_supported",
-                                            "fixed_fixed", NULL};
-static const char *const compliance_keys[] = {
-	"model", "width", "width_fraction", "width_mm", "ellipse_factor", "calibration", "negative_terms", NULL};
 static const char *const duty_keys[] = {"axial_load_N", "travel_mm", NULL};
 
 static prsm_json_range range(double min, int min_exclusive, double max, int max_exclusive)
@@ -58,14 +51,12 @@ void prsm_io_hook_engagement(void *base, const cJSON *g, const char *gp, prsm_pr
 {
 	prsm_design *d = base;
 	const int pitch_ok = member_read(g, gp, "pitch_mm", problems);
-	char ptr[PRSM_JSON_POINTER_MAX];
 	const int has_threads = has_member(g, "engaged_threads");
 	const int has_length = has_member(g, "nut_length_mm");
 	if (!has_threads && !has_length) {
-		prsm_json_pointer_append(ptr, sizeof ptr, gp, "engaged_threads");
-		prsm_problems_add(problems, ptr, "required",
-		                  "is required (an integer from 1 to %d), or give nut_length_mm instead",
-		                  PRSM_DESIGN_ENGAGED_THREADS_MAX);
+		prsm_io_problem(problems, gp, "engaged_threads", "required",
+		                "is required (an integer from 1 to %d), or give nut_length_mm instead",
+		                PRSM_DESIGN_ENGAGED_THREADS_MAX);
 		return;
 	}
 	if (has_threads)
@@ -75,10 +66,8 @@ void prsm_io_hook_engagement(void *base, const cJSON *g, const char *gp, prsm_pr
 	int length_ok = has_length && prsm_json_get_number(&length_mm, g, gp, "nut_length_mm",
 	                                                   PRSM_JSON_REQUIRED, positive(),
 	                                                   problems) == PRSM_JSON_PRESENT;
-	prsm_json_pointer_append(ptr, sizeof ptr, gp, "nut_length_mm");
 	if (has_threads && has_length) {
-		prsm_problems_add(problems, ptr, "conflict",
-		                  "give engaged_threads or nut_length_mm, not both");
+		prsm_io_problem(problems, gp, "nut_length_mm", "conflict", "give engaged_threads or nut_length_mm, not both");
 		return;
 	}
 	if (!length_ok || !pitch_ok)
@@ -86,74 +75,51 @@ void prsm_io_hook_engagement(void *base, const cJSON *g, const char *gp, prsm_pr
 	/* whole threads in the nut length; a ratio within 1e-9 of a whole number counts as whole */
 	double threads = floor(length_mm / d->pitch_mm + 1e-9);
 	if (threads < 1.0)
-		prsm_problems_add(problems, ptr, "range",
-		                  "nut_length_mm %g mm is shorter than one pitch (%g mm): no thread engages",
-		                  length_mm, d->pitch_mm);
+		prsm_io_problem(problems, gp, "nut_length_mm", "range",
+		                "nut_length_mm %g mm is shorter than one pitch (%g mm): no thread engages", length_mm,
+		                d->pitch_mm);
 	else if (threads > PRSM_DESIGN_ENGAGED_THREADS_MAX)
-		prsm_problems_add(problems, ptr, "range",
-		                  "nut_length_mm %g mm gives %g engaged threads at pitch %g mm, more than %d",
-		                  length_mm, threads, d->pitch_mm, PRSM_DESIGN_ENGAGED_THREADS_MAX);
+		prsm_io_problem(problems, gp, "nut_length_mm", "range",
+		                "nut_length_mm %g mm gives %g engaged threads at pitch %g mm, more than %d", length_mm,
+		                threads, d->pitch_mm, PRSM_DESIGN_ENGAGED_THREADS_MAX);
 	else
 		d->engaged_threads = (int)threads;
 }
 
-/* "stiffness"."thread_compliance": model and width share one member, and width_mm is required
- * with width "given" (docs/model/kinematics-efficiency-stiffness-life.md). */
-void prsm_io_hook_thread_compliance(void *base, const cJSON *s, const char *sp, prsm_problems *problems)
+/* "stiffness"."thread_compliance": model "none" (rigid threads) wins over any width, which then
+ * has no meaning (docs/model/kinematics-efficiency-stiffness-life.md). */
+int prsm_io_step_compliance_none(prsm_io_at *at, prsm_problems *problems)
 {
-	prsm_design_stiffness *o = base;
-	char cp[PRSM_JSON_POINTER_MAX];
-	const cJSON *c;
-	if (prsm_json_get_section(&c, cp, sizeof cp, s, sp, "thread_compliance", PRSM_JSON_OPTIONAL,
-	                          compliance_keys, problems) == PRSM_JSON_PRESENT) {
-		int model = 0, width = 0, neg;
-		int has_model = prsm_json_get_enum(&model, c, cp, "model", PRSM_JSON_OPTIONAL,
-		                                   compliance_model_names, problems) == PRSM_JSON_PRESENT;
-		if (prsm_json_get_enum(&width, c, cp, "width", PRSM_JSON_OPTIONAL, prsm_io_width_names, problems) ==
-		    PRSM_JSON_PRESENT)
-			o->width_rule = PRSM_THREAD_WIDTH_SHARE + width;
-		if (has_model && model == 1) {
-			o->width_rule = PRSM_THREAD_COMPLIANCE_NONE;
-			if (has_member(c, "width")) {
-				char wp[PRSM_JSON_POINTER_MAX];
-				prsm_json_pointer_append(wp, sizeof wp, cp, "width");
-				prsm_problems_add(problems, wp, "conflict",
-				                  "a width has no meaning with model \"none\" (rigid threads)");
-			}
-		}
-		prsm_json_get_number(&o->width_fraction, c, cp, "width_fraction", PRSM_JSON_OPTIONAL,
-		                     range(0.0, 1, 1.0, 0), problems);
-		int has_width_mm = prsm_json_get_number(&o->width_mm, c, cp, "width_mm", PRSM_JSON_OPTIONAL,
-		                                        range(0.0, 1, 1000.0, 0), problems) == PRSM_JSON_PRESENT;
-		if (o->width_rule == PRSM_THREAD_WIDTH_GIVEN && !has_width_mm && !has_member(c, "width_mm")) {
-			char wp[PRSM_JSON_POINTER_MAX];
-			prsm_json_pointer_append(wp, sizeof wp, cp, "width_mm");
-			prsm_problems_add(problems, wp, "required", "is required with width \"given\" (mm)");
-		}
-		prsm_json_get_number(&o->ellipse_factor, c, cp, "ellipse_factor", PRSM_JSON_OPTIONAL,
-		                     range(0.0, 1, 100.0, 0), problems);
-		prsm_json_get_number(&o->calibration, c, cp, "calibration", PRSM_JSON_OPTIONAL,
-		                     range(0.0, 1, 100.0, 0), problems);
-		if (prsm_json_get_enum(&neg, c, cp, "negative_terms", PRSM_JSON_OPTIONAL, prsm_io_negative_terms_names,
-		                       problems) == PRSM_JSON_PRESENT)
-			o->negative_terms = neg == 0 ? PRSM_YAMAMOTO_CLAMP : PRSM_YAMAMOTO_KEEP;
-	}
+	const cJSON *model = cJSON_GetObjectItemCaseSensitive(at->obj, "model");
+	if (!cJSON_IsString(model) || strcmp(model->valuestring, "none") != 0)
+		return 0;
+	((prsm_design_stiffness *)at->base)->width_rule = PRSM_THREAD_COMPLIANCE_NONE;
+	if (has_member(at->obj, "width"))
+		prsm_io_problem(problems, at->pointer, "width", "conflict",
+		                "a width has no meaning with model \"none\" (rigid threads)");
+	return 0;
 }
+
+/* width "given" needs width_mm. */
+int prsm_io_step_compliance_width_mm(prsm_io_at *at, prsm_problems *problems)
+{
+	if (((prsm_design_stiffness *)at->base)->width_rule == PRSM_THREAD_WIDTH_GIVEN && !has_member(at->obj, "width_mm"))
+		prsm_io_problem(problems, at->pointer, "width_mm", "required", "is required with width \"given\" (mm)");
+	return 0;
+}
+
 /* "life"."reliability_percent": 90, or 95 to 99 (the table of reliability factors, docs/model/kinematics-efficiency-stiffness-life.md) */
 void prsm_io_hook_reliability(void *base, const cJSON *l, const char *lp, prsm_problems *problems)
 {
 	prsm_design_life *o = base;
-	char ip[PRSM_JSON_POINTER_MAX];
 	int pct;
-	if (prsm_json_get_int(&pct, l, lp, "reliability_percent", PRSM_JSON_OPTIONAL, 90, 99, problems) ==
-	    PRSM_JSON_PRESENT) {
-		if (pct > 90 && pct < 95) {
-			prsm_json_pointer_append(ip, sizeof ip, lp, "reliability_percent");
-			prsm_problems_add(problems, ip, "enum", "must be 90, 95, 96, 97, 98 or 99 (got %d)", pct);
-		} else {
-			o->reliability_percent = pct;
-		}
-	}
+	if (prsm_json_get_int(&pct, l, lp, "reliability_percent", PRSM_JSON_OPTIONAL, 90, 99, problems) !=
+	    PRSM_JSON_PRESENT)
+		return;
+	if (pct > 90 && pct < 95)
+		prsm_io_problem(problems, lp, "reliability_percent", "enum", "must be 90, 95, 96, 97, 98 or 99 (got %d)", pct);
+	else
+		o->reliability_percent = pct;
 }
 
 /* "life"."duty_cycle": steps of load and travel (docs/model/kinematics-efficiency-stiffness-life.md) */

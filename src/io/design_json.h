@@ -20,13 +20,10 @@
 #include "util/problems.h"
 
 /* Limits of the design document; schemas/design.schema.json states the same numbers. */
-#define PRSM_DESIGN_NAME_MAX_CHARS 200
-#define PRSM_DESIGN_DESCRIPTION_MAX_CHARS 2000
 #define PRSM_DESIGN_STARTS_MAX 12
 #define PRSM_DESIGN_PITCH_MAX_MM 50.0
 #define PRSM_DESIGN_ROLLERS_MAX 64
 #define PRSM_DESIGN_ENGAGED_THREADS_MAX 500
-#define PRSM_DESIGN_THINNING_MAX_UM 20000.0
 #define PRSM_DESIGN_CLEARANCE_MAX_UM 5000.0
 #define PRSM_DESIGN_E_MAX_GPA 2000.0
 #define PRSM_DESIGN_LOAD_MAX_N 1e8
@@ -35,15 +32,6 @@
 #define PRSM_DESIGN_GEAR_TEETH_MAX 1000
 #define PRSM_DESIGN_TORQUE_MAX_NM 1e6
 #define PRSM_DESIGN_CURVE_POINTS_MAX 1000
-
-/* Names of the design's enumerations, NULL-terminated, indexed by the model's constants:
- * width rules by PRSM_THREAD_WIDTH_* - PRSM_THREAD_WIDTH_SHARE, negative terms by
- * PRSM_YAMAMOTO_*, load entry by PRSM_ENTRY_*, fixity by PRSM_FIXITY_*. The reader and the
- * result writers share them. */
-extern const char *const prsm_io_width_names[];
-extern const char *const prsm_io_negative_terms_names[];
-extern const char *const prsm_io_load_entry_names[];
-extern const char *const prsm_io_fixity_names[];
 
 /*
  * Read the design document doc into out (initialised here with prsm_design_init(); optional

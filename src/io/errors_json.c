@@ -98,37 +98,46 @@ int prsm_io_error_field_find(prsm_io_error_field *out, const char *part, const c
 
 /* ---- reading errors: the hand-written steps of the tables -------------------------------- */
 
+/* The array obj[key] (its pointer to ap) of one element per `what` of the design: n of them
+ * (its symbol's value; n 0: the design is unknown, it was invalid); items says what they are.
+ * NULL when it is absent or no array (a problem then). The caller checks the elements past n
+ * too, so that every problem shows at once. */
+static const cJSON *per_design(char *ap, const cJSON *obj, const char *pointer, const char *key, const char *items,
+                               const char *what, const char *symbol, int n, prsm_problems *problems)
+{
+	const cJSON *arr = cJSON_GetObjectItemCaseSensitive(obj, key);
+	if (arr == NULL)
+		return NULL;
+	prsm_json_pointer_append(ap, PRSM_JSON_POINTER_MAX, pointer, key);
+	if (!cJSON_IsArray(arr)) {
+		prsm_problems_add(problems, ap, "type", "must be an array of %s, one per %s (got %s)", items, what,
+		                  prsm_json_type_name(arr));
+		return NULL;
+	}
+	const int got = cJSON_GetArraySize(arr);
+	if (n > 0 && got != n)
+		prsm_problems_add(problems, ap, "array_length",
+		                  "must have exactly %d elements, one per %s of the design (%s = %d); got %d", n, what,
+		                  symbol, n, got);
+	return arr;
+}
+
 /* The `start_index_mrad` array of a screw or nut (at->base): exactly `starts` numbers of the
  * design (at->ctx), rad in start_index_rad[]. */
 int prsm_io_step_error_start_index(prsm_io_at *at, prsm_problems *problems)
 {
 	prsm_body_errors *b = at->base;
 	const int starts = at->ctx ? ((const prsm_design *)at->ctx)->starts : 0;
-	const cJSON *arr = cJSON_GetObjectItemCaseSensitive(at->obj, "start_index_mrad");
-	if (arr == NULL)
-		return 0;
-	char ap[PRSM_JSON_POINTER_MAX], ep[PRSM_JSON_POINTER_MAX];
-	prsm_json_pointer_append(ap, sizeof ap, at->pointer, "start_index_mrad");
-	if (!cJSON_IsArray(arr)) {
-		prsm_problems_add(problems, ap, "type",
-		                  "must be an array of numbers from -%g to %g, one per start (got %s)",
-		                  PRSM_IO_ERRORS_INDEX_MAX_MRAD, PRSM_IO_ERRORS_INDEX_MAX_MRAD,
-		                  prsm_json_type_name(arr));
-		return 0;
-	}
-	const int n = cJSON_GetArraySize(arr);
-	if (starts > 0 && n != starts) /* starts 0: the design is unknown (it was invalid) */
-		prsm_problems_add(problems, ap, "array_length",
-		                  "must have exactly %d elements, one per start of the design (n = %d); "
-		                  "got %d", starts, starts, n);
+	char ap[PRSM_JSON_POINTER_MAX], ep[PRSM_JSON_POINTER_MAX], items[64];
+	snprintf(items, sizeof items, "numbers from -%g to %g", PRSM_IO_ERRORS_INDEX_MAX_MRAD,
+	         PRSM_IO_ERRORS_INDEX_MAX_MRAD);
+	const cJSON *arr = per_design(ap, at->obj, at->pointer, "start_index_mrad", items, "start", "n", starts, problems);
 	const prsm_json_range r = {-PRSM_IO_ERRORS_INDEX_MAX_MRAD, PRSM_IO_ERRORS_INDEX_MAX_MRAD, 0, 0};
 	int i = 0;
-	for (const cJSON *el = arr->child; el != NULL; el = el->next, i++) {
+	for (const cJSON *el = arr ? arr->child : NULL; el != NULL; el = el->next, i++) {
 		prsm_json_pointer_append_index(ep, sizeof ep, ap, i);
 		double v;
-		/* elements past n are still checked, so that every problem shows at once */
-		if (prsm_json_number_value(&v, el, ep, r, problems) == 0 && i < starts &&
-		    i < PRSM_ERRORS_MAX_STARTS)
+		if (prsm_json_number_value(&v, el, ep, r, problems) == 0 && i < starts && i < PRSM_ERRORS_MAX_STARTS)
 			b->start_index_rad[i] = v / 1000.0; /* mrad -> rad */
 	}
 	return 0;
@@ -139,25 +148,11 @@ int prsm_io_step_error_start_index(prsm_io_at *at, prsm_problems *problems)
 void prsm_io_hook_error_rollers(void *base, const cJSON *obj, const char *obj_pointer, prsm_problems *problems)
 {
 	prsm_errors *out = base;
-	const cJSON *arr = cJSON_GetObjectItemCaseSensitive(obj, "rollers");
-	if (arr == NULL)
-		return;
 	const int z = out->rollers;
 	char ap[PRSM_JSON_POINTER_MAX], ep[PRSM_JSON_POINTER_MAX];
-	prsm_json_pointer_append(ap, sizeof ap, obj_pointer, "rollers");
-	if (!cJSON_IsArray(arr)) {
-		prsm_problems_add(problems, ap, "type",
-		                  "must be an array of objects, one per roller (got %s)",
-		                  prsm_json_type_name(arr));
-		return;
-	}
-	const int n = cJSON_GetArraySize(arr);
-	if (z > 0 && n != z) /* z 0: the design is unknown (it was invalid) */
-		prsm_problems_add(problems, ap, "array_length",
-		                  "must have exactly %d elements, one per roller of the design (Z = %d); "
-		                  "got %d", z, z, n);
+	const cJSON *arr = per_design(ap, obj, obj_pointer, "rollers", "objects", "roller", "Z", z, problems);
 	int j = 0;
-	for (const cJSON *el = arr->child; el != NULL; el = el->next, j++) {
+	for (const cJSON *el = arr ? arr->child : NULL; el != NULL; el = el->next, j++) {
 		prsm_json_pointer_append_index(ep, sizeof ep, ap, j);
 		if (prsm_json_object_value(el, ep, problems) != 0)
 			continue;

@@ -715,18 +715,6 @@ int prsm_json_enum_value(int *out, const cJSON *item, const char *pointer,
 	return PRSM_EINVAL;
 }
 
-int prsm_json_bool_value(int *out, const cJSON *item, const char *pointer, prsm_problems *problems)
-{
-	char got[DESCRIBE_MAX];
-	if (cJSON_IsBool(item)) {
-		*out = cJSON_IsTrue(item) ? 1 : 0;
-		return 0;
-	}
-	describe_got(got, sizeof got, item);
-	prsm_problems_add(problems, pointer, "type", "must be true or false (got %s)", got);
-	return PRSM_EINVAL;
-}
-
 int prsm_json_object_value(const cJSON *item, const char *pointer, prsm_problems *problems)
 {
 	char got[DESCRIBE_MAX];
@@ -809,11 +797,17 @@ int prsm_json_get_enum(int *out, const cJSON *obj, const char *obj_pointer, cons
 int prsm_json_get_bool(int *out, const cJSON *obj, const char *obj_pointer, const char *key,
                        int required, prsm_problems *problems)
 {
-	char ptr[PRSM_JSON_POINTER_MAX];
+	char ptr[PRSM_JSON_POINTER_MAX], got[DESCRIBE_MAX];
 	const cJSON *item = member(ptr, sizeof ptr, obj, obj_pointer, key);
 	if (item == NULL)
 		return missing(required, ptr, problems, "true or false");
-	return prsm_json_bool_value(out, item, ptr, problems) == 0 ? PRSM_JSON_PRESENT : PRSM_EINVAL;
+	if (cJSON_IsBool(item)) {
+		*out = cJSON_IsTrue(item) ? 1 : 0;
+		return PRSM_JSON_PRESENT;
+	}
+	describe_got(got, sizeof got, item);
+	prsm_problems_add(problems, ptr, "type", "must be true or false (got %s)", got);
+	return PRSM_EINVAL;
 }
 
 int prsm_json_get_object(const cJSON **out, const cJSON *obj, const char *obj_pointer,

@@ -120,7 +120,6 @@ int prsm_json_string_value(const char **out, const cJSON *item, const char *poin
 /* names: NULL-terminated; out is the index of the match. */
 int prsm_json_enum_value(int *out, const cJSON *item, const char *pointer,
                          const char *const *names, prsm_problems *problems);
-int prsm_json_bool_value(int *out, const cJSON *item, const char *pointer, prsm_problems *problems);
 int prsm_json_object_value(const cJSON *item, const char *pointer, prsm_problems *problems);
 
 /* Field readers: the value checkers applied to obj[key] (see the conventions at the top). */

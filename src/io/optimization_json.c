@@ -51,9 +51,7 @@ int prsm_io_step_opt_design(prsm_io_at *at, prsm_problems *pr)
 	opt_reading *c = at->ctx;
 	prsm_design base;
 	c->design = cJSON_GetObjectItemCaseSensitive(at->obj, "design");
-	if (!c->design)
-		prsm_problems_add(pr, "/design", "required", "is required (the base design)");
-	else
+	if (c->design)
 		c->design_ok = prsm_io_design_from_json(&base, c->design, "/design", pr) == 0;
 	if (!c->design_ok)
 		prsm_design_init(&base);
@@ -143,9 +141,9 @@ int prsm_io_step_opt_flank(prsm_io_at *at, prsm_problems *pr)
 }
 
 /* A discrete set {values} or {min, max} at obj[key] (integers in [lo, hi]). max may be left
- * out when allow_auto: *auto_min is then set and the caller fills the set. */
-static void read_set(prsm_dp_set *s, const cJSON *obj, const char *base, const char *key, int lo,
-                     int hi, int allow_auto, int *auto_min, prsm_problems *pr)
+ * out when auto_min is not NULL: *auto_min is then set and the caller fills the set. */
+static void read_set(prsm_dp_set *s, const cJSON *obj, const char *base, const char *key, int lo, int hi,
+                     int *auto_min, prsm_problems *pr)
 {
 	static const char *const set_keys[] = {"values", "min", "max", NULL};
 	const cJSON *o = NULL;
@@ -187,8 +185,7 @@ static void read_set(prsm_dp_set *s, const cJSON *obj, const char *base, const c
 	}
 	int mn = lo, mx = hi;
 	int a = prsm_json_get_int(&mn, o, ptr, "min", PRSM_JSON_REQUIRED, lo, hi, pr);
-	int b = prsm_json_get_int(&mx, o, ptr, "max", allow_auto ? PRSM_JSON_OPTIONAL : PRSM_JSON_REQUIRED,
-	                          lo, hi, pr);
+	int b = prsm_json_get_int(&mx, o, ptr, "max", auto_min ? PRSM_JSON_OPTIONAL : PRSM_JSON_REQUIRED, lo, hi, pr);
 	if (a != PRSM_JSON_PRESENT || b < 0)
 		return;
 	if (b == PRSM_JSON_ABSENT) {
@@ -196,10 +193,8 @@ static void read_set(prsm_dp_set *s, const cJSON *obj, const char *base, const c
 		return;
 	}
 	if (mx < mn || mx - mn + 1 > PRSM_OPT_MAX_LEVELS) {
-		char mp[PRSM_JSON_POINTER_MAX];
-		prsm_json_pointer_append(mp, sizeof mp, ptr, "max");
-		prsm_problems_add(pr, mp, "range", "max (%d) must be at least min (%d) and span at most %d "
-		                  "values", mx, mn, PRSM_OPT_MAX_LEVELS);
+		prsm_io_problem(pr, ptr, "max", "range", "max (%d) must be at least min (%d) and span at most %d values", mx,
+		                mn, PRSM_OPT_MAX_LEVELS);
 		return;
 	}
 	for (int v = mn; v <= mx; v++)
@@ -208,22 +203,20 @@ static void read_set(prsm_dp_set *s, const cJSON *obj, const char *base, const c
 
 void prsm_io_hook_opt_starts(void *base, const cJSON *v, const char *p, prsm_problems *pr)
 {
-	int unused = -1;
-	read_set(&((prsm_io_optimization *)base)->spec.starts, v, p, "starts", 3, PRSM_DESIGN_STARTS_MAX, 0, &unused, pr);
+	read_set(&((prsm_io_optimization *)base)->spec.starts, v, p, "starts", 3, PRSM_DESIGN_STARTS_MAX, NULL, pr);
 }
 
 void prsm_io_hook_opt_rollers(void *base, const cJSON *v, const char *p, prsm_problems *pr)
 {
 	prsm_io_optimization *od = base;
 	od->rollers_auto_max = -1;
-	read_set(&od->spec.rollers, v, p, "rollers", 1, PRSM_DESIGN_ROLLERS_MAX, 1, &od->rollers_auto_max, pr);
+	read_set(&od->spec.rollers, v, p, "rollers", 1, PRSM_DESIGN_ROLLERS_MAX, &od->rollers_auto_max, pr);
 }
 
 void prsm_io_hook_opt_threads(void *base, const cJSON *v, const char *p, prsm_problems *pr)
 {
-	int unused = -1;
 	read_set(&((prsm_io_optimization *)base)->spec.threads, v, p, "engaged_threads", 1,
-	         PRSM_DESIGN_ENGAGED_THREADS_MAX, 0, &unused, pr);
+	         PRSM_DESIGN_ENGAGED_THREADS_MAX, NULL, pr);
 }
 
 int prsm_io_step_opt_nothing_varies(prsm_io_at *at, prsm_problems *pr)

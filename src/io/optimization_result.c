@@ -4,7 +4,6 @@
  */
 #include "io/optimization_json.h"
 
-#include <math.h>
 #include <stdio.h>
 
 #include <nlopt.h>

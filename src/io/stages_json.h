@@ -1,6 +1,6 @@
 /*
- * stages_json.h: the multi-stage design document (docs/model/kinematics-efficiency-stiffness-life.md; schemas/design.schema.json,
- * its "stages" form) and its analysis result.
+ * stages_json.h: the multi-stage design document (docs/model/kinematics-efficiency-stiffness-life.md;
+ * schemas/multistage-design.schema.json) and its analysis result.
  *
  * {"name", "description", "stages": [design, ...], "couplings": {...}, "operating_point"}:
  * each stage is a single-stage design document without an operating point (the load F acts
