@@ -1078,10 +1078,16 @@ int prsm_io_step_dynamics(prsm_io_at *at, prsm_problems *pr)
 			first_tol = (int)g;
 	}
 	if (first_out < 0) {
-		if (dyn) /* the names from the first dynamic one on (the schema lists them last) */
+		if (dyn) {
+			char names[400] = ""; /* the dynamic outputs' names, in the order of their constants */
+			size_t n = 0;
+			for (int k = 0; k < PRSM_OUT_COUNT && n < sizeof names; k++)
+				if (prsm_output_is_dynamic((prsm_output_kind)k))
+					n += (size_t)snprintf(names + n, sizeof names - n, "%s%s", n ? ", " : "",
+					                      prsm_output_name((prsm_output_kind)k));
 			prsm_problems_add(pr, "/dynamics", "not_used", "the dynamics section is for dynamic outputs (%s): name one "
-			                  "in outputs, or leave the section out",
-			                  strstr(PRSM_OUTPUT_NAMES_TEXT, prsm_output_name(PRSM_OUT_DYN_FIRST)));
+			                  "in outputs, or leave the section out", names);
+		}
 		if (cJSON_GetObjectItemCaseSensitive(at->obj, "dynamic_monte_carlo"))
 			prsm_problems_add(pr, "/dynamic_monte_carlo", "not_used", "dynamic_monte_carlo is for dynamic outputs");
 		if (first_tol >= 0) {
